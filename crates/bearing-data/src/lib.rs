@@ -1,0 +1,1 @@
+//! CWRU bearing recordings: embedded catalog, MAT/CSV readers, checksums, decimation

@@ -1,0 +1,1 @@
+//! One-vs-one linear SVM and Gini trees on linfa, with honest evaluation protocols

@@ -1,0 +1,1 @@
+//! Close the loop with measured data: residual -> missing effect -> augmented model, error before and after

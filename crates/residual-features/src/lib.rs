@@ -1,0 +1,1 @@
+//! Windowing and window features of residual signals (energy, statistics, envelope spectrum)

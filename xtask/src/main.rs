@@ -1,0 +1,61 @@
+//! `cargo xtask`: the project's task runner (rust-analyzer's xtask pattern).
+//!
+//! One small binary with a subcommand enum. Algorithm code lives in the library crates; each
+//! module here only wires crates together, writes reports and figures, and checks results.
+
+mod chapters;
+mod close_loop;
+mod common;
+mod data;
+mod identify;
+mod simulate;
+
+use clap::{Parser, Subcommand};
+
+/// Tasks of the hybrid-fdd workspace.
+#[derive(Parser, Debug)]
+#[command(name = "cargo xtask", version, about)]
+struct Cli {
+    #[command(flatten)]
+    global: common::GlobalArgs,
+    #[command(subcommand)]
+    task: Task,
+}
+
+#[derive(Subcommand, Debug)]
+enum Task {
+    /// Print the CWRU catalog against what is on disk: present, verified, missing.
+    Data(data::Args),
+    /// Simulate a recording with the 5-DOF bearing model and write it as CSV.
+    Simulate(simulate::Args),
+    /// Compare ARX, ARX-Laguerre and fuzzy ARX-Laguerre one-step prediction on held-out CWRU data.
+    Identify(identify::Args),
+    /// Chapter 2: APIO, SMO, HOSTSMO on the 5-DOF model, energy features, one-vs-one SVM.
+    Chapter2(chapters::Args),
+    /// Chapter 3: APIO, FLO, PFLO on the 5-DOF model, energy features, one-vs-one SVM.
+    Chapter3(chapters::Args),
+    /// Chapter 4: APIO, SMALPIO on ARX-Laguerre, energy features, one-vs-one SVM.
+    Chapter4(chapters::Args),
+    /// Chapter 5: SMO, ASMO, AFSMO on fuzzy ARX-Laguerre, energy features, Gini decision tree.
+    Chapter5(chapters::Args),
+    /// Every chapter, in order.
+    All(chapters::Args),
+    /// Close the loop: residual -> missing effect -> augmented model, error before and after.
+    CloseLoop(close_loop::Args),
+}
+
+fn main() -> anyhow::Result<()> {
+    let cli = Cli::parse();
+    let ctx = common::Context::new(&cli.global)?;
+    match cli.task {
+        Task::Data(a) => data::run(&ctx, a),
+        Task::Simulate(a) => simulate::run(&ctx, a),
+        Task::Identify(a) => identify::run(&ctx, a),
+        Task::Chapter2(a) => chapters::run(&ctx, &[2], a),
+        Task::Chapter3(a) => chapters::run(&ctx, &[3], a),
+        Task::Chapter4(a) => chapters::run(&ctx, &[4], a),
+        Task::Chapter5(a) => chapters::run(&ctx, &[5], a),
+        Task::All(a) => chapters::run(&ctx, &[2, 3, 4, 5], a),
+        Task::CloseLoop(a) => close_loop::run(&ctx, a),
+    }
+}
