@@ -1,1 +1,52 @@
-//! 5-DOF Lagrange rolling-element bearing model, fault geometry, simulation (Piltan 2020, ch. 2-3)
+//! 5-DOF Lagrange rolling-element bearing model, fault geometry and simulation
+//! (Piltan 2020, chapters 2–3: eqs. (2.1)–(2.26), (3.1)–(3.8), Table 2.1).
+//!
+//! * [`geometry`]: bearing geometry and kinematics (BPFO, BPFI, FTF, ball spin and
+//!   ball-defect rate, eq. 2.8), SKF 6205 and 6203 built in.
+//! * [`params`]: the two parameter sets (Table 2.1 as printed, a consistent CWRU set) and the
+//!   optional effects (radial load, shaft harmonics, speed offset, ΔM/ΔC/ΔK, slip).
+//! * [`fault`]: spalls on the inner race, outer race and a ball, in any combination.
+//! * [`state_space`]: the model as `ẋ = f(t, x, u)`, `y = H x + y₀`, an RK4 step, the linear
+//!   parts `M, C, K`, a linearization: what an observer runs as its predictor.
+//! * [`simulate()`]: recordings at any sampling rate (housing acceleration in m/s², all states
+//!   on request).
+//! * [`scenario`]: one-liners for CWRU-like and SHSE-like recordings.
+//!
+//! # Dependencies and why
+//!
+//! * `nalgebra`: fixed-size `SVector<f64, 10>` states and 5×5 matrices live on the stack, so
+//!   the integrator's inner loop allocates nothing.
+//! * `rand`, `rand_chacha`, `rand_distr`: seeded, platform-independent streams (ChaCha8) for
+//!   slip, ΔM/ΔC/ΔK and noise; separate streams so switching one effect does not shift another.
+//! * `serde`: parameter structs can be written next to a recording.
+//! * `thiserror`: the one typed error enum [`ModelError`].
+//!
+//! # Example
+//!
+//! ```
+//! use bearing_model::{FaultClass, Scenario};
+//! let rec = Scenario::cwru(FaultClass::Outer, 0.007, 1797.0)?
+//!     .with_duration(0.1)
+//!     .simulate()?;
+//! assert_eq!(rec.accel.len(), 1200); // 12 kHz
+//! # Ok::<(), bearing_model::ModelError>(())
+//! ```
+
+pub mod error;
+pub mod fault;
+pub mod geometry;
+pub mod params;
+pub mod scenario;
+pub mod simulate;
+pub mod state_space;
+
+pub use error::{ModelError, Result};
+pub use fault::{FaultClass, FaultSet, Spall};
+pub use geometry::{Bearing, BearingGeometry, FaultOrders};
+pub use params::{
+    Contact, G, Gravity, Housing, ModelSpec, ParamSet, ShaftHarmonic, ShaftSpeed, Slip, Structure,
+    Uncertainty,
+};
+pub use scenario::Scenario;
+pub use simulate::{Noise, Recording, SimConfig, simulate};
+pub use state_space::{BearingModel, DofVector, Input, LinearParts, N_DOF, STATE_DIM, State};

@@ -1,1 +1,33 @@
-//! Close the loop with measured data: residual -> missing effect -> augmented model, error before and after
+//! Close the loop with measured data: run a declared model against a recording, find what the
+//! residual holds, trace it to an effect the model lacks, add that effect, and report the held-out
+//! error before and after, effect by effect (architecture brief, "Closing the loop").
+//!
+//! # Dependencies and why
+//! - `realfft` / `rustfft`: Welch PSDs (real FFT) and the analytic-signal envelope (complex FFT).
+//! - `serde`: the ledger is written as JSON by `cargo xtask close-loop`.
+//! - `thiserror`: the crate's one error enum.
+//! - `bearing-model`: the 5-DOF physics model, the declared model of [`physics::PhysicsModel`].
+//!
+//! The declared model comes in through the [`DeclaredModel`] trait, so this crate needs no
+//! simulator of its own; [`scenario::PhenomenologicalModel`] is a small impact-train model used by
+//! the tests, benches and as a fallback.
+
+mod config;
+mod declared;
+pub mod effect;
+mod engine;
+mod error;
+pub mod metric;
+mod optimize;
+pub mod physics;
+pub mod report;
+mod runner;
+pub mod scenario;
+pub mod spectrum;
+
+pub use config::{CheckedConfig, LoopConfig};
+pub use declared::{BearingRates, DeclaredFault, DeclaredModel, OperatingPoint};
+pub use effect::{Effect, EffectKind, Placement};
+pub use error::CloseLoopError;
+pub use report::{EffectEntry, Ledger, Outcome, Spectra};
+pub use runner::{MIN_NPERSEG, close_loop, min_samples};

@@ -1,0 +1,195 @@
+//! The crate's single error type: every way reading, checking or resampling a recording can fail.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in `bearing-data`. Data problems are errors, never panics.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DataError {
+    /// A file could not be read from disk.
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// The file or directory involved.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The record number is not in the embedded CWRU catalog.
+    #[error("record {number} is not in the CWRU catalog")]
+    UnknownRecord {
+        /// The record (file) number asked for.
+        number: u32,
+    },
+    /// The record is catalogued but the file is not on disk.
+    #[error("record {number} is not on disk (expected at {path}){}", if *.in_shared_copy { "" } else { "; it is not part of the shared copy" })]
+    RecordMissing {
+        /// The record number.
+        number: u32,
+        /// Where the file was looked for.
+        path: PathBuf,
+        /// Whether the shared data copy is supposed to hold this file.
+        in_shared_copy: bool,
+    },
+    /// The file's SHA-256 differs from the pinned value.
+    #[error("SHA-256 mismatch for record {number}: expected {expected}, found {found}")]
+    ChecksumMismatch {
+        /// The record number.
+        number: u32,
+        /// The pinned digest (lower-case hex).
+        expected: String,
+        /// The digest of the bytes read (lower-case hex).
+        found: String,
+    },
+    /// Verification was requested but no SHA-256 is pinned for the record.
+    #[error("no SHA-256 is pinned for record {number}; load it with `Verify::Skip`")]
+    NoPinnedChecksum {
+        /// The record number.
+        number: u32,
+    },
+    /// The bytes are not a MATLAB level-5 MAT-file, or its structure is damaged.
+    #[error("malformed MAT-file at byte {offset}: {reason}")]
+    MalformedMat {
+        /// Byte offset where the problem was detected.
+        offset: usize,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// The MAT-file uses a feature this reader does not support (e.g. compression).
+    #[error("unsupported MAT-file feature at byte {offset}: {feature}")]
+    UnsupportedMat {
+        /// Byte offset of the element.
+        offset: usize,
+        /// The feature.
+        feature: &'static str,
+    },
+    /// The `matfile` parser rejected the file (after our structural checks passed).
+    #[error("MAT-file parser failed: {message}")]
+    MatParse {
+        /// The parser's message.
+        message: String,
+    },
+    /// The file holds no drive-end channel for the requested variable number.
+    #[error(
+        "no drive-end channel X{variable:03}_DE_time in the file ({found} signal variables found)"
+    )]
+    NoDriveEnd {
+        /// The variable number looked for.
+        variable: u32,
+        /// How many `*_time` variables the file holds.
+        found: usize,
+    },
+    /// Several variable sets have a drive-end channel and no number was given to pick one.
+    #[error("{sets} variable sets with a drive-end channel; give the variable number to pick one")]
+    AmbiguousVariables {
+        /// How many `X###` sets with a DE channel were found.
+        sets: usize,
+    },
+    /// A channel is not a real N×1 / 1×N double vector.
+    #[error("variable {name} is not a real vector ({rows}×{cols})")]
+    NotAVector {
+        /// Variable name.
+        name: String,
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// Channels of one recording have different lengths.
+    #[error("channel {name} has {found} samples, the drive-end channel {expected}")]
+    ChannelLengthMismatch {
+        /// Variable name.
+        name: String,
+        /// Samples of the DE channel.
+        expected: usize,
+        /// Samples of this channel.
+        found: usize,
+    },
+    /// A sample is NaN or infinite.
+    #[error("non-finite sample in {what} at index {index}")]
+    NonFinite {
+        /// Which channel or column.
+        what: String,
+        /// Sample index (0-based; for CSV the data row).
+        index: usize,
+    },
+    /// A signal with no samples where samples are needed.
+    #[error("empty input: {what}")]
+    Empty {
+        /// What was empty.
+        what: &'static str,
+    },
+    /// A CSV field is not a number.
+    #[error("CSV line {line}, column {column}: {text:?} is not a number")]
+    CsvNotANumber {
+        /// 1-based line number in the file.
+        line: u64,
+        /// 0-based column index.
+        column: usize,
+        /// The offending text (truncated to 40 characters).
+        text: String,
+    },
+    /// The CSV has no column of the requested name.
+    #[error("CSV has no column named {name:?}")]
+    CsvNoSuchColumn {
+        /// The column asked for.
+        name: String,
+    },
+    /// The CSV row is shorter than the requested column index.
+    #[error("CSV line {line} has {fields} fields, column {column} was requested")]
+    CsvMissingField {
+        /// 1-based line number.
+        line: u64,
+        /// Fields on the line.
+        fields: usize,
+        /// 0-based column requested.
+        column: usize,
+    },
+    /// `Column::Single` was requested but the CSV has several columns.
+    #[error("CSV line {line} has {fields} columns; name the column to read")]
+    CsvSeveralColumns {
+        /// 1-based line number.
+        line: u64,
+        /// Fields on the line.
+        fields: usize,
+    },
+    /// The CSV could not be tokenised (bad UTF-8, I/O).
+    #[error("CSV error: {message}")]
+    Csv {
+        /// The csv crate's message.
+        message: String,
+    },
+    /// A parameter is out of its valid range.
+    #[error("invalid parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Value given.
+        value: f64,
+        /// Why it is invalid.
+        reason: &'static str,
+    },
+    /// The target sampling rate is not the source rate divided by an integer.
+    #[error("cannot resample {from_hz} Hz to {to_hz} Hz by an integer decimation factor")]
+    NotIntegerFactor {
+        /// Source rate.
+        from_hz: f64,
+        /// Requested rate.
+        to_hz: f64,
+    },
+    /// An explicitly given data directory does not exist.
+    #[error("data directory {path} does not exist or is not a directory")]
+    DataDirNotFound {
+        /// The directory given.
+        path: PathBuf,
+    },
+    /// No data directory was found and it is required (e.g. `CI=true`).
+    #[error("no data directory: looked for {searched}; set --data-dir or HYBRID_FDD_DATA")]
+    DataAbsent {
+        /// The default location that was searched.
+        searched: PathBuf,
+    },
+}
+
+/// Shorthand for `Result<T, DataError>`.
+pub type Result<T> = std::result::Result<T, DataError>;

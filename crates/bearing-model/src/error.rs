@@ -1,0 +1,115 @@
+//! The crate's single error type.
+
+/// Everything that can go wrong when building or running the bearing model.
+///
+/// Every variant carries the offending numbers so a caller can print a useful message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// A parameter is NaN, infinite, or outside its documented range.
+    #[error("parameter `{name}` = {value} is out of range (expected {expected})")]
+    OutOfRange {
+        /// Parameter name as written in the docs.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The valid range, in words.
+        expected: &'static str,
+    },
+    /// A spall is wider than the surface it sits on allows.
+    #[error(
+        "{location} spall width {width_m} m exceeds the largest width the model supports ({max_m} m)"
+    )]
+    SpallTooWide {
+        /// `"inner race"`, `"outer race"` or `"ball"`.
+        location: &'static str,
+        /// Requested width in metres.
+        width_m: f64,
+        /// Largest valid width in metres.
+        max_m: f64,
+    },
+    /// The output sampling rate cannot represent the model's housing resonance.
+    #[error(
+        "sampling rate {fs_hz} Hz is too low for the model: the housing resonance at \
+         {resonance_hz} Hz needs at least {required_hz} Hz"
+    )]
+    SamplingTooLow {
+        /// Requested sampling rate.
+        fs_hz: f64,
+        /// Housing (sprung-mass) resonance of the model.
+        resonance_hz: f64,
+        /// Smallest accepted sampling rate.
+        required_hz: f64,
+    },
+    /// The integrator step is too large for the stiffest linear mode of the model.
+    #[error(
+        "integration step {step_s} s is too large: the stiffest mode at {omega_rad_s} rad/s \
+         needs a step below {max_step_s} s"
+    )]
+    StepTooLarge {
+        /// Requested step.
+        step_s: f64,
+        /// Highest natural angular frequency found.
+        omega_rad_s: f64,
+        /// Largest accepted step.
+        max_step_s: f64,
+    },
+    /// The Newton iteration for the static equilibrium did not converge.
+    #[error("static equilibrium not found after {iterations} iterations (residual {residual_n} N)")]
+    EquilibriumNotFound {
+        /// Iterations performed.
+        iterations: usize,
+        /// Final force residual norm.
+        residual_n: f64,
+    },
+    /// The simulated response became NaN or infinite.
+    #[error("simulation diverged at t = {time_s} s")]
+    Diverged {
+        /// Simulation time at which a non-finite state appeared.
+        time_s: f64,
+    },
+    /// The requested recording would be empty or absurdly long.
+    #[error("recording of {samples} samples is not supported (1 ..= {max} samples)")]
+    BadLength {
+        /// Requested number of samples.
+        samples: f64,
+        /// Largest supported number.
+        max: f64,
+    },
+    /// A fault-class name could not be parsed.
+    #[error("unknown fault class `{0}` (none|inner|outer|ball|inner+outer|inner+ball|outer+ball|inner+outer+ball)")]
+    UnknownFaultClass(String),
+    /// A parameter-set name could not be parsed.
+    #[error("unknown parameter set `{0}` (table2.1|cwru)")]
+    UnknownParamSet(String),
+    /// A bearing name could not be parsed.
+    #[error("unknown bearing `{0}` (6205|6203)")]
+    UnknownBearing(String),
+}
+
+/// Result alias of this crate.
+pub type Result<T> = std::result::Result<T, ModelError>;
+
+/// Check that `value` is finite and within `[lo, hi]`.
+pub(crate) fn check_range(
+    name: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    expected: &'static str,
+) -> Result<()> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(ModelError::OutOfRange { name, value, expected })
+    }
+}
+
+/// Check that `value` is finite and strictly positive.
+pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(ModelError::OutOfRange { name, value, expected: "finite and > 0" })
+    }
+}

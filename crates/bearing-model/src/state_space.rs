@@ -1,0 +1,570 @@
+//! The 5-DOF model in state-space form, eqs. (2.4), (2.26), (3.8): the map from state and input
+//! to acceleration, its uncertainty/fault term, the measured output, one RK4 step, the linear
+//! parts `M, C, K` of eq. (2.3) and a numerical linearization.
+//!
+//! # State
+//!
+//! Generalized coordinates `q = [x_s, y_s, x_p, y_p, y_r]` (shaft/inner race x, y; pedestal/
+//! outer race x, y; sprung mass y), metres; the state is `x = [q; q̇]` ([`STATE_DIM`] = 10).
+//! `y` points up. The index constants in [`idx`] name the entries; the housing (pedestal and
+//! sprung mass) positions are [`HOUSING_DOFS`].
+//!
+//! # Equations (signs corrected, see `docs/equations/bearing-model.md`)
+//!
+//! ```text
+//! M_S ẍ_s = −K_S x_s − C_S ẋ_s − F_x + h_x + u_0
+//! M_S ÿ_s = −K_S y_s − C_S ẏ_s − F_y + h_y − W − M_S g + u_1
+//! M_P ẍ_p = −K_P x_p − C_P ẋ_p + F_x + u_2
+//! M_P ÿ_p = −K_P y_p − C_P ẏ_p − K_R (y_p − y_r) − C_R (ẏ_p − ẏ_r) + F_y − M_P g⋆ + u_3
+//! M_R ÿ_r = −K_R (y_r − y_p) − C_R (ẏ_r − ẏ_p) − M_R g⋆ + u_4
+//! F_x, F_y = Σ_j k_b δ_j^1.5 (cos θ_j, sin θ_j),  δ_j = max(e_x cos θ_j + e_y sin θ_j − c − β_j(t), 0)
+//! ```
+//!
+//! with `e = (x_s − x_p, y_s − y_p)`, `θ_j` from eq. (2.8), `β_j(t)` the spall drops
+//! (eqs. 2.16–2.24), `h` the shaft-harmonic forces, `W` the radial load, `g⋆ = g` only for
+//! [`crate::Gravity::AllMasses`]. The measured output is the sprung-mass acceleration `ÿ_r`
+//! (m/s²), a *linear* function of the state: `y = H x + y₀` ([`BearingModel::output_row`]).
+
+use crate::error::{ModelError, Result};
+use crate::fault::SpallProfile;
+use crate::params::{G, Gravity, ModelSpec, ShaftHarmonic, Slip};
+use nalgebra::{SMatrix, SVector};
+use rand::{Rng, SeedableRng};
+use std::f64::consts::{PI, TAU};
+
+/// Number of mechanical degrees of freedom.
+pub const N_DOF: usize = 5;
+/// State dimension `[q; q̇]`.
+pub const STATE_DIM: usize = 10;
+/// State vector `[x_s, y_s, x_p, y_p, y_r, ẋ_s, ẏ_s, ẋ_p, ẏ_p, ẏ_r]`.
+pub type State = SVector<f64, STATE_DIM>;
+/// Generalized forces added to the five equations (N), the input `u` of eq. (2.26).
+pub type Input = SVector<f64, N_DOF>;
+/// A vector over the five DOFs (accelerations, forces).
+pub type DofVector = SVector<f64, N_DOF>;
+/// A 5×5 matrix over the DOFs.
+pub type DofMatrix = SMatrix<f64, N_DOF, N_DOF>;
+/// The 10×10 state matrix of a linearization.
+pub type StateMatrix = SMatrix<f64, STATE_DIM, STATE_DIM>;
+
+/// Indices into [`State`] (positions; add [`N_DOF`] for the matching velocity).
+pub mod idx {
+    /// Shaft / inner race x.
+    pub const XS: usize = 0;
+    /// Shaft / inner race y.
+    pub const YS: usize = 1;
+    /// Pedestal / outer race x.
+    pub const XP: usize = 2;
+    /// Pedestal / outer race y.
+    pub const YP: usize = 3;
+    /// Sprung mass (housing resonance, the measured point) y.
+    pub const YR: usize = 4;
+    /// Offset from a position to its velocity.
+    pub const VEL: usize = super::N_DOF;
+}
+
+/// The housing DOFs (pedestal x, y and sprung mass y), as indices into the positions.
+pub const HOUSING_DOFS: [usize; 3] = [idx::XP, idx::YP, idx::YR];
+/// The state index of the measured DOF (sprung-mass position); the output is its acceleration.
+pub const MEASURED_DOF: usize = idx::YR;
+
+/// Linear parts of eq. (2.3): `M q̈ + C q̇ + K q + (contact, gravity, faults) = u`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearParts {
+    /// Mass matrix `M` (diagonal).
+    pub mass: DofMatrix,
+    /// Damping matrix `C`.
+    pub damping: DofMatrix,
+    /// Stiffness matrix `K` (without the ball contacts).
+    pub stiffness: DofMatrix,
+}
+
+const SLIP_REVS: usize = 1024;
+
+/// The 5-DOF bearing model with its (possibly perturbed) parameters, faults and slip.
+///
+/// Build once with [`BearingModel::new`]; every evaluation afterwards is allocation-free.
+#[derive(Debug, Clone)]
+pub struct BearingModel {
+    spec: ModelSpec,
+    ms: f64,
+    mp: f64,
+    mr: f64,
+    ks: f64,
+    kp: f64,
+    kr: f64,
+    cs: f64,
+    cp: f64,
+    cr: f64,
+    kb: f64,
+    clearance: f64,
+    inv_ms: f64,
+    inv_mp: f64,
+    inv_mr: f64,
+    g_shaft: f64,
+    g_housing: f64,
+    radial_load: f64,
+    omega_s: f64,
+    omega_c: f64,
+    omega_spin: f64,
+    theta0: f64,
+    n_balls: usize,
+    /// cos/sin of 2πj/n.
+    ball_offsets: Vec<(f64, f64)>,
+    /// Slip table: per ball, SLIP_REVS entries of (ε, cos(α_j+ε), sin(α_j+ε)).
+    slip: Option<Vec<(f64, f64, f64)>>,
+    slip_switch: f64,
+    inner: Option<SpallProfile>,
+    outer: Option<SpallProfile>,
+    ball: Option<(SpallProfile, SpallProfile)>,
+    harmonics: Vec<ShaftHarmonic>,
+}
+
+impl BearingModel {
+    /// Validate `spec` and precompute everything the inner loop needs (perturbed parameters
+    /// from the seeded ΔM/ΔC/ΔK draws, ball offsets, slip table, spall profiles).
+    pub fn new(spec: &ModelSpec) -> Result<Self> {
+        spec.validate()?;
+        let s = &spec.structure;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
+        rng.set_stream(1);
+        let u = spec.uncertainty;
+        let mut draw = |b: f64| if b > 0.0 { 1.0 + rng.random_range(-b..=b) } else { 1.0 };
+        let ms = s.shaft_mass_kg * draw(u.mass);
+        let mp = s.pedestal_mass_kg * draw(u.mass);
+        let mr = spec.housing.mass_kg * draw(u.mass);
+        let ks = s.shaft_stiffness_n_m * draw(u.stiffness);
+        let kp = s.pedestal_stiffness_n_m * draw(u.stiffness);
+        let kr = spec.housing.stiffness() * draw(u.stiffness);
+        let kb = spec.contact.hertz_constant * draw(u.stiffness);
+        let cs = s.shaft_damping_ns_m * draw(u.damping);
+        let cp = s.pedestal_damping_ns_m * draw(u.damping);
+        let cr = spec.housing.damping() * draw(u.damping);
+        let (g_shaft, g_housing) = match spec.gravity {
+            Gravity::Off => (0.0, 0.0),
+            Gravity::ShaftOnly => (G, 0.0),
+            Gravity::AllMasses => (G, G),
+        };
+        let geo = &spec.geometry;
+        let orders = geo.orders();
+        let omega_s = TAU * spec.speed.hz();
+        let n = geo.n_balls;
+        let ball_offsets: Vec<(f64, f64)> =
+            (0..n).map(|j| (TAU * j as f64 / n as f64).sin_cos()).map(|(s, c)| (c, s)).collect();
+        // Load on the pedestal from a rigid-contact estimate: negative = pushed down = load
+        // zone at 6 o'clock; slip offsets are redrawn on the opposite (unloaded) side.
+        let total_down = ms * g_shaft + spec.radial_load_n + (mp + mr) * g_housing;
+        let fy_ped = (mp + mr) * g_housing - kp / (ks + kp) * total_down;
+        let slip_switch = if fy_ped <= 0.0 { PI / 2.0 } else { -PI / 2.0 };
+        let slip = match spec.slip {
+            Slip::Off => None,
+            Slip::Random { fraction } => {
+                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
+                rng.set_stream(2);
+                let amp = fraction * TAU / n as f64;
+                let mut t = Vec::with_capacity(n * SLIP_REVS);
+                for j in 0..n {
+                    let a = TAU * j as f64 / n as f64;
+                    for _ in 0..SLIP_REVS {
+                        let e: f64 = rng.random_range(-amp..=amp);
+                        let (sn, cs) = (a + e).sin_cos();
+                        t.push((e, cs, sn));
+                    }
+                }
+                Some(t)
+            }
+        };
+        let r_ball = 0.5 * geo.ball_diameter_m;
+        let r_in = geo.inner_race_radius_m();
+        let r_out = geo.outer_race_radius_m();
+        let inner = spec.faults.inner.map(|sp| SpallProfile::new(&sp, r_in, r_ball, r_in, 1.0));
+        let outer = spec.faults.outer.map(|sp| SpallProfile::new(&sp, r_out, r_ball, r_out, -1.0));
+        let ball = spec.faults.ball.map(|sp| {
+            (
+                SpallProfile::new(&sp, r_ball, r_ball, r_out, -1.0),
+                SpallProfile::new(&sp, r_ball, r_ball, r_in, 1.0),
+            )
+        });
+        Ok(Self {
+            spec: spec.clone(),
+            ms,
+            mp,
+            mr,
+            ks,
+            kp,
+            kr,
+            cs,
+            cp,
+            cr,
+            kb,
+            clearance: spec.contact.clearance_m,
+            inv_ms: 1.0 / ms,
+            inv_mp: 1.0 / mp,
+            inv_mr: 1.0 / mr,
+            g_shaft,
+            g_housing,
+            radial_load: spec.radial_load_n,
+            omega_s,
+            omega_c: orders.ftf * omega_s,
+            omega_spin: orders.ball_spin * omega_s,
+            theta0: spec.cage_angle0_rad,
+            n_balls: n,
+            ball_offsets,
+            slip,
+            slip_switch,
+            inner,
+            outer,
+            ball,
+            harmonics: spec.harmonics.clone(),
+        })
+    }
+
+    /// The spec this model was built from.
+    pub fn spec(&self) -> &ModelSpec {
+        &self.spec
+    }
+
+    /// The same bearing without faults, slip or uncertainty: the nominal model an observer
+    /// uses as its predictor.
+    pub fn nominal(&self) -> Result<BearingModel> {
+        let mut s = self.spec.clone();
+        s.faults = crate::fault::FaultSet::healthy();
+        s.slip = Slip::Off;
+        s.uncertainty = crate::params::Uncertainty::default();
+        BearingModel::new(&s)
+    }
+
+    /// Number of balls.
+    pub fn n_balls(&self) -> usize {
+        self.n_balls
+    }
+
+    /// Shaft angular speed, rad/s.
+    pub fn shaft_omega(&self) -> f64 {
+        self.omega_s
+    }
+
+    /// Cage angle θ_c(t) of ball 0 without slip (eq. 2.8), rad.
+    pub fn cage_angle(&self, t: f64) -> f64 {
+        self.theta0 + self.omega_c * t
+    }
+
+    /// Visit every ball: `(j, cos θ_j, sin θ_j, θ_j)`.
+    #[inline(always)]
+    fn for_each_ball(&self, t: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
+        let th = self.cage_angle(t);
+        match &self.slip {
+            None => {
+                let (s0, c0) = th.sin_cos();
+                for (j, &(ca, sa)) in self.ball_offsets.iter().enumerate() {
+                    let c = c0 * ca - s0 * sa;
+                    let s = s0 * ca + c0 * sa;
+                    f(j, c, s, th + TAU * j as f64 / self.n_balls as f64);
+                }
+            }
+            Some(tab) => {
+                let (s0, c0) = th.sin_cos();
+                let n = self.n_balls as f64;
+                for j in 0..self.n_balls {
+                    let a = TAU * j as f64 / n;
+                    let rev = ((th + a - self.slip_switch) / TAU).floor() as i64;
+                    let k = rev.rem_euclid(SLIP_REVS as i64) as usize;
+                    let (e, ca, sa) = tab[j * SLIP_REVS + k];
+                    let c = c0 * ca - s0 * sa;
+                    let s = s0 * ca + c0 * sa;
+                    f(j, c, s, th + a + e);
+                }
+            }
+        }
+    }
+
+    /// Total spall drop β_j(t) for ball `j` at angle `theta` (eqs. 2.16–2.24).
+    #[inline(always)]
+    fn spall_drop(&self, t: f64, j: usize, theta: f64) -> f64 {
+        let mut drop = 0.0;
+        if let Some(p) = &self.outer {
+            if t >= p.onset {
+                drop += p.drop((theta - p.angle0).rem_euclid(TAU));
+            }
+        }
+        if let Some(p) = &self.inner {
+            if t >= p.onset {
+                drop += p.drop((theta - p.angle0 - self.omega_s * t).rem_euclid(TAU));
+            }
+        }
+        if j == 0 {
+            if let Some((po, pi)) = &self.ball {
+                if t >= po.onset {
+                    let phi = po.angle0 + self.omega_spin * t;
+                    drop += po.drop(phi.rem_euclid(TAU)) + pi.drop((phi - PI).rem_euclid(TAU));
+                }
+            }
+        }
+        drop
+    }
+
+    #[inline(always)]
+    fn has_faults(&self) -> bool {
+        self.inner.is_some() || self.outer.is_some() || self.ball.is_some()
+    }
+
+    /// Contact force on the pedestal `(F_x, F_y)` (eq. 2.9); the shaft gets the opposite.
+    #[inline(always)]
+    pub fn contact_force(&self, t: f64, x: &State) -> (f64, f64) {
+        let ex = x[idx::XS] - x[idx::XP];
+        let ey = x[idx::YS] - x[idx::YP];
+        let (mut fx, mut fy) = (0.0, 0.0);
+        let faults = self.has_faults();
+        self.for_each_ball(t, |j, c, s, th| {
+            let mut d = ex * c + ey * s - self.clearance;
+            if faults {
+                d -= self.spall_drop(t, j, th);
+            }
+            if d > 0.0 {
+                let q = self.kb * d * d.sqrt();
+                fx += q * c;
+                fy += q * s;
+            }
+        });
+        (fx, fy)
+    }
+
+    /// Per-ball contact loads `Q_j ≥ 0` (N) into `out` (length ≥ `n_balls`), eqs. (2.9)–(2.11).
+    pub fn ball_loads(&self, t: f64, x: &State, out: &mut [f64]) {
+        let ex = x[idx::XS] - x[idx::XP];
+        let ey = x[idx::YS] - x[idx::YP];
+        self.for_each_ball(t, |j, c, s, th| {
+            let d = ex * c + ey * s - self.clearance - self.spall_drop(t, j, th);
+            if let Some(o) = out.get_mut(j) {
+                *o = if d > 0.0 { self.kb * d * d.sqrt() } else { 0.0 };
+            }
+        });
+    }
+
+    /// Angles θ_j(t) of the balls (slip included), rad, into `out`.
+    pub fn ball_angles(&self, t: f64, out: &mut [f64]) {
+        self.for_each_ball(t, |j, _, _, th| {
+            if let Some(o) = out.get_mut(j) {
+                *o = th;
+            }
+        });
+    }
+
+    /// Generalized accelerations `q̈ = f(t, x, u)`, eq. (2.4)/(3.8), allocation-free.
+    #[inline]
+    pub fn accelerations(&self, t: f64, x: &State, u: &Input) -> DofVector {
+        let (fx, fy) = self.contact_force(t, x);
+        let (mut hx, mut hy) = (0.0, 0.0);
+        for h in &self.harmonics {
+            let (s, c) = (h.order as f64 * self.omega_s * t + h.phase_rad).sin_cos();
+            hx += h.amplitude_n * c;
+            hy += h.amplitude_n * s;
+        }
+        let (xs, ys, xp, yp, yr) = (x[0], x[1], x[2], x[3], x[4]);
+        let (vxs, vys, vxp, vyp, vyr) = (x[5], x[6], x[7], x[8], x[9]);
+        let spring_r = self.kr * (yp - yr) + self.cr * (vyp - vyr);
+        DofVector::new(
+            (-self.ks * xs - self.cs * vxs - fx + hx + u[0]) * self.inv_ms,
+            (-self.ks * ys - self.cs * vys - fy + hy - self.radial_load + u[1]) * self.inv_ms
+                - self.g_shaft,
+            (-self.kp * xp - self.cp * vxp + fx + u[2]) * self.inv_mp,
+            (-self.kp * yp - self.cp * vyp - spring_r + fy + u[3]) * self.inv_mp - self.g_housing,
+            (spring_r + u[4]) * self.inv_mr - self.g_housing,
+        )
+    }
+
+    /// State derivative `ẋ = [q̇; q̈]`, the right-hand side of eq. (3.8).
+    #[inline]
+    pub fn derivatives(&self, t: f64, x: &State, u: &Input) -> State {
+        let a = self.accelerations(t, x, u);
+        let mut d = State::zeros();
+        d.fixed_rows_mut::<N_DOF>(0).copy_from(&x.fixed_rows::<N_DOF>(N_DOF));
+        d.fixed_rows_mut::<N_DOF>(N_DOF).copy_from(&a);
+        d
+    }
+
+    /// Measured output (eq. 2.26 `Y`): the housing (sprung-mass) acceleration ÿ_r, m/s², with
+    /// no input on the sprung mass. Equals `output_row() · x + output_offset()`.
+    #[inline]
+    pub fn output(&self, _t: f64, x: &State) -> f64 {
+        (self.kr * (x[idx::YP] - x[idx::YR]) + self.cr * (x[idx::YP + idx::VEL] - x[idx::YR + idx::VEL]))
+            * self.inv_mr
+            - self.g_housing
+    }
+
+    /// The output is linear in the state: `Y = H x + y₀`; this is `H`.
+    pub fn output_row(&self) -> SMatrix<f64, 1, STATE_DIM> {
+        let mut h = SMatrix::<f64, 1, STATE_DIM>::zeros();
+        h[idx::YP] = self.kr * self.inv_mr;
+        h[idx::YR] = -self.kr * self.inv_mr;
+        h[idx::YP + idx::VEL] = self.cr * self.inv_mr;
+        h[idx::YR + idx::VEL] = -self.cr * self.inv_mr;
+        h
+    }
+
+    /// The constant `y₀` of the output (−g when gravity acts on the sprung mass, else 0).
+    pub fn output_offset(&self) -> f64 {
+        -self.g_housing
+    }
+
+    /// One classical fourth-order Runge–Kutta step of length `h` with the input held constant.
+    #[inline]
+    pub fn step(&self, t: f64, x: &mut State, h: f64, u: &Input) {
+        let k1 = self.derivatives(t, x, u);
+        let k2 = self.derivatives(t + 0.5 * h, &(*x + k1 * (0.5 * h)), u);
+        let k3 = self.derivatives(t + 0.5 * h, &(*x + k2 * (0.5 * h)), u);
+        let k4 = self.derivatives(t + h, &(*x + k3 * h), u);
+        *x += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
+    }
+
+    /// `n` RK4 steps of `h` from `t` (useful when an observer runs slower than the model's
+    /// converged step). Returns the final time.
+    pub fn step_n(&self, t: f64, x: &mut State, h: f64, n: usize, u: &Input) -> f64 {
+        for i in 0..n {
+            self.step(t + i as f64 * h, x, h, u);
+        }
+        t + n as f64 * h
+    }
+
+    /// The linear parts `M, C, K` of eq. (2.3) with this model's (perturbed) values; the ball
+    /// contacts, gravity and faults are the nonlinear remainder.
+    pub fn linear_parts(&self) -> LinearParts {
+        let mut m = DofMatrix::zeros();
+        m[(0, 0)] = self.ms;
+        m[(1, 1)] = self.ms;
+        m[(2, 2)] = self.mp;
+        m[(3, 3)] = self.mp;
+        m[(4, 4)] = self.mr;
+        let band = |a: f64, b: f64, r: f64| {
+            let mut k = DofMatrix::zeros();
+            k[(0, 0)] = a;
+            k[(1, 1)] = a;
+            k[(2, 2)] = b;
+            k[(3, 3)] = b + r;
+            k[(3, 4)] = -r;
+            k[(4, 3)] = -r;
+            k[(4, 4)] = r;
+            k
+        };
+        LinearParts {
+            mass: m,
+            damping: band(self.cs, self.cp, self.cr),
+            stiffness: band(self.ks, self.kp, self.kr),
+        }
+    }
+
+    /// Numerical Jacobian `∂ẋ/∂x` at `(t, x, u)` by central differences (a linearization for
+    /// observer gain design). Position steps 1e-10 m, velocity steps 1e-7 m/s.
+    pub fn jacobian(&self, t: f64, x: &State, u: &Input) -> StateMatrix {
+        let mut a = StateMatrix::zeros();
+        for i in 0..STATE_DIM {
+            let h = if i < N_DOF { 1e-10 } else { 1e-7 };
+            let mut xp = *x;
+            xp[i] += h;
+            let mut xm = *x;
+            xm[i] -= h;
+            let col = (self.derivatives(t, &xp, u) - self.derivatives(t, &xm, u)) / (2.0 * h);
+            a.set_column(i, &col);
+        }
+        a
+    }
+
+    /// Upper bound on the highest natural angular frequency (rad/s) at state `x`: Gershgorin
+    /// bound on `M⁻¹ K_t`, `K_t` the tangent stiffness including the ball contacts.
+    pub fn max_omega(&self, t: f64, x: &State) -> f64 {
+        let a = self.jacobian(t, x, &Input::zeros());
+        let mut worst: f64 = 0.0;
+        for i in N_DOF..STATE_DIM {
+            let row: f64 = (0..N_DOF).map(|j| a[(i, j)].abs()).sum();
+            worst = worst.max(row);
+        }
+        worst.sqrt()
+    }
+
+    /// The uncertainty/fault term λ of eq. (2.4) (Γ of eq. 3.5) at `(t, x, u)`: this model's
+    /// acceleration minus `nominal`'s. With `nominal = self.nominal()` it is exactly what the
+    /// faults, slip and ΔM/ΔC/ΔK add.
+    pub fn lumped_term(&self, nominal: &BearingModel, t: f64, x: &State, u: &Input) -> DofVector {
+        self.accelerations(t, x, u) - nominal.accelerations(t, x, u)
+    }
+
+    /// Static equilibrium at time `t` (ball positions frozen at `t`, harmonics off, input 0):
+    /// damped Newton iteration on the five force balances.
+    pub fn static_equilibrium(&self, t: f64) -> Result<State> {
+        let resid = |q: &DofVector| -> DofVector {
+            let mut x = State::zeros();
+            x.fixed_rows_mut::<N_DOF>(0).copy_from(q);
+            let (fx, fy) = self.contact_force(t, &x);
+            let spring_r = self.kr * (q[3] - q[4]);
+            DofVector::new(
+                -self.ks * q[0] - fx,
+                -self.ks * q[1] - fy - self.radial_load - self.ms * self.g_shaft,
+                -self.kp * q[2] + fx,
+                -self.kp * q[3] - spring_r + fy - self.mp * self.g_housing,
+                spring_r - self.mr * self.g_housing,
+            )
+        };
+        // Initial guess: shaft and pedestal moving together on ks + kp.
+        let total = self.ms * self.g_shaft + self.radial_load + (self.mp + self.mr) * self.g_housing;
+        let y0 = -total / (self.ks + self.kp);
+        let mut q = DofVector::new(0.0, y0, 0.0, y0, y0 - self.mr * self.g_housing / self.kr);
+        let scale = total.max(1.0);
+        let mut r = resid(&q);
+        let mut it = 0;
+        while it < 200 {
+            if r.norm() < 1e-10 * scale {
+                let mut x = State::zeros();
+                x.fixed_rows_mut::<N_DOF>(0).copy_from(&q);
+                return Ok(x);
+            }
+            let mut j = DofMatrix::zeros();
+            for i in 0..N_DOF {
+                let h = 1e-11_f64.max(1e-7 * q[i].abs());
+                let mut qp = q;
+                qp[i] += h;
+                let mut qm = q;
+                qm[i] -= h;
+                j.set_column(i, &((resid(&qp) - resid(&qm)) / (2.0 * h)));
+            }
+            let Some(dq) = j.lu().solve(&(-r)) else { break };
+            let mut lambda = 1.0;
+            loop {
+                let qn = q + dq * lambda;
+                let rn = resid(&qn);
+                if rn.norm() < r.norm() || lambda < 1e-6 {
+                    q = qn;
+                    r = rn;
+                    break;
+                }
+                lambda *= 0.5;
+            }
+            it += 1;
+        }
+        Err(ModelError::EquilibriumNotFound { iterations: it, residual_n: r.norm() })
+    }
+
+    /// Mechanical energy (J) at state `x` and time `t`: kinetic + spring + Hertz contact
+    /// (`k_b δ^2.5 / 2.5` per ball) + gravity and radial-load potential. Conserved up to the
+    /// dampers' dissipation only when the shaft is at rest (rpm = 0) and no harmonic acts.
+    pub fn mechanical_energy(&self, t: f64, x: &State) -> f64 {
+        let v = |i: usize| x[i + N_DOF];
+        let kin = 0.5 * self.ms * (v(0) * v(0) + v(1) * v(1))
+            + 0.5 * self.mp * (v(2) * v(2) + v(3) * v(3))
+            + 0.5 * self.mr * v(4) * v(4);
+        let spr = 0.5 * self.ks * (x[0] * x[0] + x[1] * x[1])
+            + 0.5 * self.kp * (x[2] * x[2] + x[3] * x[3])
+            + 0.5 * self.kr * (x[3] - x[4]).powi(2);
+        let ex = x[0] - x[2];
+        let ey = x[1] - x[3];
+        let mut hz = 0.0;
+        self.for_each_ball(t, |j, c, s, th| {
+            let d = ex * c + ey * s - self.clearance - self.spall_drop(t, j, th);
+            if d > 0.0 {
+                hz += self.kb * d * d * d.sqrt() / 2.5;
+            }
+        });
+        let grav = (self.ms * self.g_shaft + self.radial_load) * x[1]
+            + self.g_housing * (self.mp * x[3] + self.mr * x[4]);
+        kin + spr + hz + grav
+    }
+}

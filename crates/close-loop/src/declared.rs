@@ -1,0 +1,203 @@
+//! The declared model: operating point, bearing kinematics and the [`DeclaredModel`] trait the loop
+//! runs against the measurement.
+
+use crate::CloseLoopError;
+use serde::{Deserialize, Serialize};
+
+/// Characteristic defect frequencies of a rolling bearing as multiples of the shaft rate fr
+/// (eqs. for BPFO = n/2·(1 − r), BPFI = n/2·(1 + r), FTF = ½(1 − r), BSF = (D/d)(1 − r²),
+/// r = d/D·cos α; the BSF is the twice-per-spin ball-defect rate, as in the CWRU table).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BearingRates {
+    /// Designation, e.g. "6205".
+    pub name: &'static str,
+    /// Ball-pass frequency, outer race, × fr.
+    pub bpfo: f64,
+    /// Ball-pass frequency, inner race, × fr.
+    pub bpfi: f64,
+    /// Fundamental train (cage) frequency, × fr.
+    pub ftf: f64,
+    /// Ball-defect rate (2 × ball spin), × fr.
+    pub bsf: f64,
+}
+
+impl BearingRates {
+    /// From geometry: `n` balls, ball diameter `d`, pitch diameter `pitch`, contact angle (rad).
+    ///
+    /// # Errors
+    /// [`CloseLoopError::ParameterOutOfRange`] when the geometry is not physical.
+    pub fn from_geometry(
+        name: &'static str,
+        n: u32,
+        d: f64,
+        pitch: f64,
+        contact_angle: f64,
+    ) -> Result<Self, CloseLoopError> {
+        if !(d.is_finite() && pitch.is_finite() && d > 0.0 && pitch > d) {
+            return Err(CloseLoopError::ParameterOutOfRange {
+                name: "ball_diameter",
+                value: d,
+                min: 0.0,
+                max: pitch,
+            });
+        }
+        if !(1..=100).contains(&n) {
+            return Err(CloseLoopError::ParameterOutOfRange {
+                name: "n_balls",
+                value: f64::from(n),
+                min: 1.0,
+                max: 100.0,
+            });
+        }
+        let r = d / pitch * contact_angle.cos();
+        let nb = f64::from(n);
+        Ok(Self {
+            name,
+            bpfo: nb / 2.0 * (1.0 - r),
+            bpfi: nb / 2.0 * (1.0 + r),
+            ftf: 0.5 * (1.0 - r),
+            bsf: pitch / d * (1.0 - r * r),
+        })
+    }
+
+    /// SKF 6205-2RS JEM (CWRU drive end): 9 balls, d = 0.3126 in, D = 1.537 in.
+    pub fn skf6205() -> Self {
+        Self::from_geometry("6205", 9, 0.3126, 1.537, 0.0).unwrap_or(Self {
+            name: "6205",
+            bpfo: 3.5848,
+            bpfi: 5.4152,
+            ftf: 0.39828,
+            bsf: 4.7135,
+        })
+    }
+
+    /// SKF 6203-2RS JEM (CWRU fan end): 8 balls, d = 0.2656 in, D = 1.122 in.
+    pub fn skf6203() -> Self {
+        Self::from_geometry("6203", 8, 0.2656, 1.122, 0.0).unwrap_or(Self {
+            name: "6203",
+            bpfo: 3.0530,
+            bpfi: 4.9469,
+            ftf: 0.3817,
+            bsf: 3.9874,
+        })
+    }
+
+    /// Look a designation up in the built-in table ("6205", "6203"; an "skf" prefix is accepted).
+    ///
+    /// # Errors
+    /// [`CloseLoopError::UnknownBearing`] for any other name.
+    pub fn from_name(name: &str) -> Result<Self, CloseLoopError> {
+        let key = name.trim().to_ascii_lowercase();
+        let key = key.trim_start_matches("skf").trim_start_matches('-');
+        match key {
+            "6205" | "6205-2rs" => Ok(Self::skf6205()),
+            "6203" | "6203-2rs" => Ok(Self::skf6203()),
+            _ => Err(CloseLoopError::UnknownBearing {
+                name: name.to_string(),
+            }),
+        }
+    }
+}
+
+/// The fault the model is told about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DeclaredFault {
+    /// Healthy bearing.
+    None,
+    /// Outer-race defect (impacts at BPFO).
+    Outer,
+    /// Inner-race defect (impacts at BPFI, load-zone modulated at fr).
+    Inner,
+    /// Ball defect (impacts at BSF, modulated at the cage rate FTF).
+    Ball,
+}
+
+impl DeclaredFault {
+    /// Impact rate as a multiple of fr, `None` when healthy.
+    pub fn impact_order(self, rates: &BearingRates) -> Option<f64> {
+        match self {
+            Self::None => None,
+            Self::Outer => Some(rates.bpfo),
+            Self::Inner => Some(rates.bpfi),
+            Self::Ball => Some(rates.bsf),
+        }
+    }
+
+    /// Parse "none|normal|outer|inner|ball" (also "or", "ir", "b").
+    ///
+    /// # Errors
+    /// [`CloseLoopError::UnknownFault`] for any other name.
+    pub fn parse(s: &str) -> Result<Self, CloseLoopError> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "none" | "normal" | "healthy" => Ok(Self::None),
+            "outer" | "or" => Ok(Self::Outer),
+            "inner" | "ir" => Ok(Self::Inner),
+            "ball" | "b" => Ok(Self::Ball),
+            _ => Err(CloseLoopError::UnknownFault {
+                name: s.to_string(),
+            }),
+        }
+    }
+}
+
+/// What the model is told: speed, bearing and fault.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct OperatingPoint {
+    /// Shaft speed, rpm.
+    pub rpm: f64,
+    /// Bearing defect rates.
+    pub bearing: BearingRates,
+    /// Declared fault.
+    pub fault: DeclaredFault,
+}
+
+impl OperatingPoint {
+    /// A checked operating point.
+    ///
+    /// # Errors
+    /// [`CloseLoopError::InvalidRpm`] unless `rpm` is finite and positive.
+    pub fn new(
+        rpm: f64,
+        bearing: BearingRates,
+        fault: DeclaredFault,
+    ) -> Result<Self, CloseLoopError> {
+        if !(rpm.is_finite() && rpm > 0.0) {
+            return Err(CloseLoopError::InvalidRpm { rpm });
+        }
+        Ok(Self {
+            rpm,
+            bearing,
+            fault,
+        })
+    }
+
+    /// Shaft rate fr = rpm / 60, Hz.
+    pub fn shaft_hz(&self) -> f64 {
+        self.rpm / 60.0
+    }
+
+    /// The same operating point with the speed scaled by `ratio`.
+    pub fn with_speed_ratio(&self, ratio: f64) -> Self {
+        Self {
+            rpm: self.rpm * ratio,
+            ..*self
+        }
+    }
+}
+
+/// A model of the measured channel that the loop can run at an operating point.
+///
+/// The loop treats the output as a realisation of the model's measured-channel signal: its
+/// spectrum and envelope are compared with the measurement's (the phases of a free-running
+/// simulation are not aligned with a recording). The 5-DOF physics model, an ARX-Laguerre model
+/// driven by its own innovation, or [`crate::scenario::PhenomenologicalModel`] implement it.
+pub trait DeclaredModel {
+    /// Short name for reports ("physics", "arx-laguerre", …).
+    fn name(&self) -> &str;
+    /// Simulate `n` samples at `fs` Hz at the operating point `op`.
+    ///
+    /// # Errors
+    /// Whatever the model cannot do, as [`CloseLoopError::Model`].
+    fn simulate(&self, op: &OperatingPoint, n: usize, fs: f64) -> Result<Vec<f64>, CloseLoopError>;
+}

@@ -1,0 +1,292 @@
+//! The effect library: each candidate effect's parametric form and where it enters the model.
+
+use crate::spectrum::{bandpass_coefficients, biquad_filter, biquad_response};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+/// The kinds of effect the loop can trace a residual to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EffectKind {
+    /// A line not tied to the shaft (electrical pick-up, interference).
+    Tone,
+    /// A line at k × fr (unbalance at 1×, misalignment at 2×, looseness at higher orders).
+    ShaftHarmonic,
+    /// A structural mode the model lacks (gain > 0) or over-states / misplaces (gain < 0).
+    Resonance,
+    /// The true speed differs from the declared one: every kinematic line moves by one ratio.
+    SpeedOffset,
+    /// The impact train is amplitude-modulated at a rate such as fr or the cage rate.
+    Modulation,
+}
+
+impl EffectKind {
+    /// The JSON spelling ("tone", "shaft_harmonic", …).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Tone => "tone",
+            Self::ShaftHarmonic => "shaft_harmonic",
+            Self::Resonance => "resonance",
+            Self::SpeedOffset => "speed_offset",
+            Self::Modulation => "modulation",
+        }
+    }
+}
+
+/// Where an effect is put: into the physics or into the measurement channel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Placement {
+    /// A physical change of the model (a force, a mode, a speed).
+    Physics,
+    /// A term added by the sensor chain (pick-up).
+    Measurement,
+}
+
+/// A phase-coherent line a·cos(2πft) + b·sin(2πft), t = sample index / fs from the recording start.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Line {
+    /// Frequency, Hz.
+    pub frequency_hz: f64,
+    /// Cosine coefficient.
+    pub a: f64,
+    /// Sine coefficient.
+    pub b: f64,
+}
+
+impl Line {
+    /// Amplitude √(a² + b²).
+    pub fn amplitude(&self) -> f64 {
+        self.a.hypot(self.b)
+    }
+
+    /// Phase φ of amplitude·cos(2πft − φ), rad.
+    pub fn phase(&self) -> f64 {
+        self.b.atan2(self.a)
+    }
+
+    /// Add the line to `out`, whose first sample is sample `start` of the recording.
+    pub fn add_to(&self, out: &mut [f64], start: usize, fs: f64) {
+        let w = 2.0 * PI * self.frequency_hz / fs;
+        for (i, o) in out.iter_mut().enumerate() {
+            let ph = w * (start + i) as f64;
+            *o += self.a * ph.cos() + self.b * ph.sin();
+        }
+    }
+}
+
+/// A mode added in parallel to the channel: y = x + c·BP(x), BP a unit-peak band-pass at f0, ζ.
+/// Its power gain is G(f) = |1 + c·BP(e^{jω})|²; c > 0 adds a resonance, −1 < c < 0 cuts one.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Mode {
+    /// Centre frequency f0, Hz.
+    pub frequency_hz: f64,
+    /// Damping ratio ζ.
+    pub damping_ratio: f64,
+    /// Parallel gain c (peak power gain (1 + c)²).
+    pub gain: f64,
+}
+
+impl Mode {
+    /// Power gain G(f) at `f`.
+    pub fn power_gain(&self, f: f64, fs: f64) -> f64 {
+        let (b, a) = bandpass_coefficients(self.frequency_hz, self.damping_ratio, fs);
+        (biquad_response(&b, &a, f, fs) * self.gain + 1.0).norm_sqr()
+    }
+
+    /// Apply the mode to a time signal.
+    pub fn apply(&self, x: &[f64], fs: f64) -> Vec<f64> {
+        let (b, a) = bandpass_coefficients(self.frequency_hz, self.damping_ratio, fs);
+        let bp = biquad_filter(&b, &a, x);
+        x.iter().zip(bp).map(|(v, p)| v + self.gain * p).collect()
+    }
+}
+
+/// Amplitude modulation x·(1 + μ·cos(2π·fm·t)) of the modelled vibration.
+/// Its PSD is S(f) + μ²/4·(S(f − fm) + S(f + fm)) (autocorrelation R_x(τ)·(1 + μ²/2·cos 2πf_mτ)).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Modulation {
+    /// Modulation rate fm, Hz.
+    pub frequency_hz: f64,
+    /// Depth μ (0 ≤ μ ≤ 1).
+    pub depth: f64,
+}
+
+impl Modulation {
+    /// Apply the modulation to a time signal whose first sample is sample `start`.
+    pub fn apply(&self, x: &[f64], start: usize, fs: f64) -> Vec<f64> {
+        let w = 2.0 * PI * self.frequency_hz / fs;
+        x.iter()
+            .enumerate()
+            .map(|(i, v)| v * (1.0 + self.depth * (w * (start + i) as f64).cos()))
+            .collect()
+    }
+
+    /// The modulated PSD on a uniform grid of step `df` (one-sided; S(−f) = S(f)).
+    pub fn apply_psd(&self, s: &[f64], df: f64) -> Vec<f64> {
+        let mu2 = self.depth * self.depth;
+        let shift = self.frequency_hz / df;
+        let at = |x: f64| -> f64 {
+            let x = x.abs();
+            let i = x.floor() as usize;
+            if i + 1 >= s.len() {
+                return 0.0;
+            }
+            let t = x - i as f64;
+            s[i] * (1.0 - t) + s[i + 1] * t
+        };
+        (0..s.len())
+            .map(|k| {
+                let k = k as f64;
+                s[k as usize] + mu2 / 4.0 * (at(k - shift) + at(k + shift))
+            })
+            .collect()
+    }
+}
+
+/// One effect found by the loop, with its fitted parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Effect {
+    /// A measurement-channel line not tied to the shaft.
+    Tone {
+        /// The fitted line.
+        line: Line,
+    },
+    /// A line at k × fr, read as a shaft force (unbalance, misalignment) seen through the structure.
+    ShaftHarmonic {
+        /// Order k.
+        order: u32,
+        /// The fitted line at the sensor.
+        line: Line,
+        /// fr used to name the order, Hz.
+        shaft_hz: f64,
+    },
+    /// A structural mode.
+    Resonance {
+        /// The fitted mode.
+        mode: Mode,
+    },
+    /// A corrected speed.
+    SpeedOffset {
+        /// True speed / declared speed (cumulative).
+        ratio: f64,
+        /// Change relative to the model before this effect.
+        step: f64,
+    },
+    /// Amplitude modulation of the modelled vibration.
+    Modulation {
+        /// The fitted modulation.
+        modulation: Modulation,
+        /// fm / fr.
+        shaft_order: f64,
+        /// Named rate: "shaft", "2x_shaft", "cage" or "other".
+        rate: &'static str,
+    },
+}
+
+impl Effect {
+    /// Its kind.
+    pub fn kind(&self) -> EffectKind {
+        match self {
+            Self::Tone { .. } => EffectKind::Tone,
+            Self::ShaftHarmonic { .. } => EffectKind::ShaftHarmonic,
+            Self::Resonance { .. } => EffectKind::Resonance,
+            Self::SpeedOffset { .. } => EffectKind::SpeedOffset,
+            Self::Modulation { .. } => EffectKind::Modulation,
+        }
+    }
+
+    /// Where it goes in the model.
+    pub fn placement(&self) -> Placement {
+        match self {
+            Self::Tone { .. } => Placement::Measurement,
+            _ => Placement::Physics,
+        }
+    }
+
+    /// The characteristic frequency (tone, harmonic, resonance or modulation rate); `None` for a
+    /// speed offset.
+    pub fn frequency_hz(&self) -> Option<f64> {
+        match self {
+            Self::Tone { line } | Self::ShaftHarmonic { line, .. } => Some(line.frequency_hz),
+            Self::Resonance { mode } => Some(mode.frequency_hz),
+            Self::SpeedOffset { .. } => None,
+            Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
+        }
+    }
+
+    /// Its parameters by name, for the report.
+    pub fn parameters(&self) -> BTreeMap<String, f64> {
+        let mut m = BTreeMap::new();
+        match self {
+            Self::Tone { line } => {
+                m.insert("amplitude".into(), line.amplitude());
+                m.insert("phase_rad".into(), line.phase());
+            }
+            Self::ShaftHarmonic {
+                order,
+                line,
+                shaft_hz,
+            } => {
+                m.insert("order".into(), f64::from(*order));
+                m.insert("amplitude".into(), line.amplitude());
+                m.insert("phase_rad".into(), line.phase());
+                m.insert(
+                    "implied_speed_ratio".into(),
+                    line.frequency_hz / (f64::from(*order) * shaft_hz),
+                );
+            }
+            Self::Resonance { mode } => {
+                m.insert("damping_ratio".into(), mode.damping_ratio);
+                m.insert("gain".into(), mode.gain);
+                m.insert(
+                    "peak_gain_db".into(),
+                    20.0 * (1.0 + mode.gain).abs().max(1e-12).log10(),
+                );
+            }
+            Self::SpeedOffset { ratio, step } => {
+                m.insert("ratio".into(), *ratio);
+                m.insert("step".into(), *step);
+            }
+            Self::Modulation {
+                modulation,
+                shaft_order,
+                ..
+            } => {
+                m.insert("depth".into(), modulation.depth);
+                m.insert("shaft_order".into(), *shaft_order);
+            }
+        }
+        m
+    }
+
+    /// One-line human description.
+    pub fn describe(&self) -> String {
+        match self {
+            Self::Tone { line } => format!(
+                "tone at {:.3} Hz, amplitude {:.4e}",
+                line.frequency_hz,
+                line.amplitude()
+            ),
+            Self::ShaftHarmonic { order, line, .. } => format!(
+                "shaft harmonic {order}x at {:.3} Hz, amplitude {:.4e}",
+                line.frequency_hz,
+                line.amplitude()
+            ),
+            Self::Resonance { mode } => format!(
+                "mode at {:.1} Hz, zeta {:.4}, parallel gain {:+.3}",
+                mode.frequency_hz, mode.damping_ratio, mode.gain
+            ),
+            Self::SpeedOffset { ratio, .. } => format!("speed ratio {ratio:.5} (true / declared)"),
+            Self::Modulation {
+                modulation,
+                rate,
+                shaft_order,
+            } => format!(
+                "modulation at {:.3} Hz ({rate}, {shaft_order:.4} x fr), depth {:.3}",
+                modulation.frequency_hz, modulation.depth
+            ),
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! The crate's single error type.
+
+/// Everything that can go wrong when closing the loop. Data problems are errors, never panics.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CloseLoopError {
+    /// The recording is shorter than the fitting plus held-out segments need.
+    #[error(
+        "recording has {found} samples; the fitting and held-out segments need at least {needed}"
+    )]
+    TooShort {
+        /// Samples needed.
+        needed: usize,
+        /// Samples present.
+        found: usize,
+    },
+    /// The sampling frequency is not finite and positive.
+    #[error("sampling frequency must be finite and > 0 Hz, got {fs}")]
+    InvalidSamplingRate {
+        /// The value given.
+        fs: f64,
+    },
+    /// The declared shaft speed is not finite and positive.
+    #[error("declared speed must be finite and > 0 rpm, got {rpm}")]
+    InvalidRpm {
+        /// The value given.
+        rpm: f64,
+    },
+    /// A sample of the recording (or of the model output) is NaN or infinite.
+    #[error("sample {index} is not finite")]
+    NonFinite {
+        /// Index of the first bad sample.
+        index: usize,
+    },
+    /// The recording has zero variance.
+    #[error("the recording is constant (zero variance)")]
+    ZeroSignal,
+    /// A configuration or effect parameter is outside its documented range.
+    #[error("parameter `{name}` = {value} is outside [{min}, {max}]")]
+    ParameterOutOfRange {
+        /// Parameter name.
+        name: &'static str,
+        /// Value given.
+        value: f64,
+        /// Smallest allowed value.
+        min: f64,
+        /// Largest allowed value.
+        max: f64,
+    },
+    /// The bearing designation is not in the built-in table.
+    #[error("unknown bearing `{name}` (known: 6205, 6203)")]
+    UnknownBearing {
+        /// The designation given.
+        name: String,
+    },
+    /// The fault name is not one of none|outer|inner|ball.
+    #[error("unknown fault `{name}` (none|outer|inner|ball)")]
+    UnknownFault {
+        /// The name given.
+        name: String,
+    },
+    /// The declared model failed to produce an output.
+    #[error("the declared model failed: {reason}")]
+    Model {
+        /// What the model reported.
+        reason: String,
+    },
+    /// The declared model returned the wrong number of samples.
+    #[error("the declared model returned {found} samples, {expected} were requested")]
+    ModelLength {
+        /// Samples requested.
+        expected: usize,
+        /// Samples returned.
+        found: usize,
+    },
+}

@@ -1,0 +1,644 @@
+//! The loop: residual → candidate effects (detectors) → fit on the fitting segment → keep the best
+//! one that lowers the held-out error by the margin → repeat; stop when none does.
+
+use crate::effect::{Effect, Line, Mode, Modulation};
+use crate::engine::{Base, Ctx, State};
+use crate::optimize::golden_min;
+use crate::report::{
+    Declared, EffectEntry, Ledger, Outcome, PRIMARY_METRIC, Protocol, RejectedCandidate,
+    SECONDARY_METRIC, Spectra,
+};
+use crate::spectrum::{Welch, envelope, hann_windowed, refine_peak, running_median};
+use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
+use realfft::RealFftPlanner;
+use std::sync::Arc;
+
+/// Smallest Welch segment the loop accepts.
+pub const MIN_NPERSEG: usize = 256;
+
+/// Samples a recording needs for `cfg`: both parts must hold `min_segments` Welch segments of
+/// [`MIN_NPERSEG`] samples.
+pub fn min_samples(cfg: &CheckedConfig) -> usize {
+    let c = cfg.get();
+    let part = MIN_NPERSEG * (c.min_segments + 1) / 2;
+    let frac = c.fit_fraction.min(1.0 - c.fit_fraction);
+    (part as f64 / frac).ceil() as usize + 1
+}
+
+/// Run the loop on a recording `y` sampled at `fs` Hz, with the model told `op`.
+///
+/// # Errors
+/// Bad input ([`CloseLoopError::TooShort`], [`CloseLoopError::NonFinite`],
+/// [`CloseLoopError::InvalidSamplingRate`], [`CloseLoopError::InvalidRpm`],
+/// [`CloseLoopError::ZeroSignal`]) or a failing model.
+pub fn close_loop(
+    model: &dyn DeclaredModel,
+    y: &[f64],
+    fs: f64,
+    op: &OperatingPoint,
+    cfg: &CheckedConfig,
+) -> Result<Outcome, CloseLoopError> {
+    let c = cfg.get();
+    if !(fs.is_finite() && fs > 0.0) {
+        return Err(CloseLoopError::InvalidSamplingRate { fs });
+    }
+    if !(op.rpm.is_finite() && op.rpm > 0.0) {
+        return Err(CloseLoopError::InvalidRpm { rpm: op.rpm });
+    }
+    let needed = min_samples(cfg);
+    if y.len() < needed {
+        return Err(CloseLoopError::TooShort {
+            needed,
+            found: y.len(),
+        });
+    }
+    if let Some(index) = y.iter().position(|v| !v.is_finite()) {
+        return Err(CloseLoopError::NonFinite { index });
+    }
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    if y.iter().all(|v| (v - mean).abs() <= 1e-300) {
+        return Err(CloseLoopError::ZeroSignal);
+    }
+    let n_fit = (y.len() as f64 * c.fit_fraction).round() as usize;
+    let shortest = n_fit.min(y.len() - n_fit);
+    let mut nperseg = (fs / c.resolution_hz).log2().round().exp2() as usize;
+    nperseg = nperseg.clamp(MIN_NPERSEG, 1 << 20);
+    while nperseg > MIN_NPERSEG && (2 * shortest / nperseg).saturating_sub(1) < c.min_segments {
+        nperseg /= 2;
+    }
+    let mut nperseg_hi = 4 * nperseg;
+    while nperseg_hi > nperseg && 2 * nperseg_hi > n_fit {
+        nperseg_hi /= 2;
+    }
+    let welch = Welch::new(fs, nperseg)?;
+    let welch_hi = Welch::new(fs, nperseg_hi)?;
+    let band_hi = c.band_high_fraction * fs;
+    let k_lo = ((c.band_low_hz / welch.df()).ceil() as usize).max(1);
+    let k_hi = ((band_hi / welch.df()).floor() as usize).min(welch.n_bins() - 1);
+    let kh_lo = ((c.band_low_hz / welch_hi.df()).ceil() as usize).max(1);
+    let kh_hi = ((band_hi / welch_hi.df()).floor() as usize).min(welch_hi.n_bins() - 1);
+    if k_hi <= k_lo + 8 {
+        return Err(CloseLoopError::ParameterOutOfRange {
+            name: "band_low_hz",
+            value: c.band_low_hz,
+            min: 0.0,
+            max: band_hi,
+        });
+    }
+    let ctx = Ctx {
+        y,
+        fs,
+        n_fit,
+        s_fit: welch.psd(&y[..n_fit]),
+        s_held: welch.psd(&y[n_fit..]),
+        s_fit_hi: welch_hi.psd(&y[..n_fit]),
+        welch,
+        welch_hi,
+        bins: k_lo..k_hi + 1,
+        bins_hi: kh_lo..kh_hi + 1,
+        op: *op,
+        model,
+        cfg,
+    };
+    run(&ctx)
+}
+
+/// A candidate evaluated on the fitting segment.
+struct Evaluated {
+    effect: Effect,
+    state: State,
+    fit_lsd: f64,
+}
+
+fn run(ctx: &Ctx<'_>) -> Result<Outcome, CloseLoopError> {
+    let c = ctx.cfg.get();
+    let base = ctx.make_base(1.0)?;
+    let st0 = State {
+        base,
+        modes: Vec::new(),
+        mods: Vec::new(),
+        lines: Vec::new(),
+        log_gain: 0.0,
+        log_floor: 0.0,
+    };
+    let (mut st, mut fit_lsd) = ctx.calibrate(st0, true);
+    let first = st.clone();
+    let mut held = ctx.held_scores(&st);
+    let before = held;
+    let mut effects = Vec::new();
+    let mut rejected = Vec::new();
+    let mut stop_reason = format!("reached the maximum of {} effects", c.max_effects);
+    for _round in 0..c.max_effects {
+        let mut cands = candidates(ctx, &st)?;
+        cands.retain(|e| e.fit_lsd.is_finite() && e.fit_lsd < fit_lsd);
+        cands.sort_by(|a, b| a.fit_lsd.total_cmp(&b.fit_lsd));
+        rejected.clear();
+        let mut accepted = None;
+        for cand in cands {
+            let h = ctx.held_scores(&cand.state);
+            if h.lsd <= held.lsd * (1.0 - c.margin) {
+                accepted = Some((cand, h));
+                break;
+            }
+            rejected.push(RejectedCandidate {
+                kind: cand.effect.kind(),
+                frequency_hz: cand.effect.frequency_hz(),
+                fit_error: cand.fit_lsd,
+                held_out_error: Some(h.lsd),
+            });
+        }
+        let Some((cand, h)) = accepted else {
+            stop_reason = if rejected.is_empty() {
+                "no candidate effect lowered the fitting-segment error".to_string()
+            } else {
+                format!(
+                    "no candidate lowered the held-out error by at least {:.1} %",
+                    100.0 * c.margin
+                )
+            };
+            break;
+        };
+        effects.push(EffectEntry {
+            kind: cand.effect.kind(),
+            frequency_hz: cand.effect.frequency_hz(),
+            parameters: cand.effect.parameters(),
+            placement: cand.effect.placement(),
+            description: cand.effect.describe(),
+            error_before: held.lsd,
+            error_after: h.lsd,
+            secondary_before: held.rms,
+            secondary_after: h.rms,
+            fit_error_before: fit_lsd,
+            fit_error_after: cand.fit_lsd,
+        });
+        st = cand.state;
+        fit_lsd = cand.fit_lsd;
+        held = h;
+    }
+    let spectra = spectra(ctx, &first, &st);
+    let ledger = Ledger {
+        error_metric: PRIMARY_METRIC.to_string(),
+        error_before: before.lsd,
+        error_after: held.lsd,
+        secondary_metric: SECONDARY_METRIC.to_string(),
+        secondary_before: before.rms,
+        secondary_after: held.rms,
+        effects,
+        rejected,
+        stop_reason,
+        declared: Declared {
+            model: ctx.model.name().to_string(),
+            rpm: ctx.op.rpm,
+            bearing: ctx.op.bearing.name.to_string(),
+            fault: ctx.op.fault,
+            fs: ctx.fs,
+        },
+        protocol: Protocol {
+            fit_samples: [0, ctx.n_fit],
+            held_out_samples: [ctx.n_fit, ctx.y.len()],
+            nperseg: ctx.welch.nperseg(),
+            df_hz: ctx.welch.df(),
+            band_hz: [
+                ctx.welch.frequency(ctx.bins.start),
+                ctx.welch.frequency(ctx.bins.end - 1),
+            ],
+            margin: c.margin,
+        },
+    };
+    Ok(Outcome { ledger, spectra })
+}
+
+fn spectra(ctx: &Ctx<'_>, first: &State, last: &State) -> Spectra {
+    let held = ctx.held();
+    let model = |st: &State| {
+        let sh = ctx.shaped(st);
+        let lp = ctx.lines_psd(&st.lines, held.clone());
+        ctx.model_psd(st, &sh, &lp)
+    };
+    Spectra {
+        frequency_hz: (0..ctx.welch.n_bins())
+            .map(|k| ctx.welch.frequency(k))
+            .collect(),
+        measured: ctx.s_held.clone(),
+        model_before: model(first),
+        model_after: model(last),
+    }
+}
+
+/// The log ratio 10·log10(S_y/S_m) on the fitting segment over the scored band.
+fn log_ratio(ctx: &Ctx<'_>, st: &State) -> Vec<f64> {
+    let sh = ctx.shaped(st);
+    let lp = ctx.lines_psd(&st.lines, 0..ctx.n_fit);
+    let m = ctx.model_psd(st, &sh, &lp);
+    ctx.bins
+        .clone()
+        .map(|k| 10.0 * (ctx.s_fit[k].max(1e-300) / m[k].max(1e-300)).log10())
+        .collect()
+}
+
+fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopError> {
+    let lr = log_ratio(ctx, st);
+    let mut out = Vec::new();
+    out.extend(line_candidates(ctx, st, &lr));
+    out.extend(resonance_candidates(ctx, st, &lr));
+    if let Some(e) = speed_candidate(ctx, st)? {
+        out.push(e);
+    }
+    out.extend(modulation_candidates(ctx, st));
+    Ok(out)
+}
+
+/// Least-squares a·cos + b·sin at `f` on `x` (sample 0 of `x` is sample 0 of the recording).
+fn fit_line(x: &[f64], fs: f64, f: f64) -> Line {
+    let w = 2.0 * std::f64::consts::PI * f / fs;
+    let (mut cc, mut cs, mut ss, mut xc, mut xs) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (i, v) in x.iter().enumerate() {
+        let (s, c) = (w * i as f64).sin_cos();
+        cc += c * c;
+        cs += c * s;
+        ss += s * s;
+        xc += v * c;
+        xs += v * s;
+    }
+    let det = cc * ss - cs * cs;
+    if det.abs() < 1e-12 {
+        return Line {
+            frequency_hz: f,
+            a: 0.0,
+            b: 0.0,
+        };
+    }
+    Line {
+        frequency_hz: f,
+        a: (ss * xc - cs * xs) / det,
+        b: (cc * xs - cs * xc) / det,
+    }
+}
+
+fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Evaluated> {
+    let c = ctx.cfg.get();
+    if c.max_line_candidates == 0 {
+        return Vec::new();
+    }
+    let base = running_median(lr, 12);
+    let ex: Vec<f64> = lr.iter().zip(&base).map(|(a, b)| a - b).collect();
+    let mut peaks: Vec<(usize, f64)> = (1..ex.len().saturating_sub(1))
+        .filter(|&i| ex[i] > c.line_threshold_db && ex[i] >= ex[i - 1] && ex[i] >= ex[i + 1])
+        .map(|i| (i, ex[i]))
+        .collect();
+    peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let mut chosen: Vec<usize> = Vec::new();
+    for (i, _) in peaks {
+        if chosen.iter().all(|&j| j.abs_diff(i) > 3) {
+            chosen.push(i);
+        }
+        if chosen.len() >= c.max_line_candidates {
+            break;
+        }
+    }
+    if chosen.is_empty() {
+        return Vec::new();
+    }
+    let resid = ctx.fit_residual(&st.lines);
+    let xw = hann_windowed(&resid);
+    let df = ctx.welch.df();
+    let fr = ctx.op.shaft_hz() * st.base.ratio;
+    let mut out = Vec::new();
+    for i in chosen {
+        let f0 = ctx.welch.frequency(ctx.bins.start + i);
+        let f = refine_peak(&xw, ctx.fs, (f0 - 1.5 * df).max(0.5 * df), f0 + 1.5 * df);
+        let line = fit_line(&resid, ctx.fs, f);
+        let effect = classify_line(line, fr, c);
+        let mut s2 = st.clone();
+        s2.lines.push(line);
+        let (s2, lsd) = ctx.calibrate(s2, false);
+        out.push(Evaluated {
+            effect,
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    out
+}
+
+fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effect {
+    let f = line.frequency_hz;
+    let k = (f / fr).round();
+    let rel_h = if k >= 1.0 {
+        (f / (k * fr) - 1.0).abs()
+    } else {
+        f64::INFINITY
+    };
+    let rel_l = c.line_frequency_hz.map_or(f64::INFINITY, |lf| {
+        let m = (f / lf).round();
+        if m >= 1.0 {
+            (f / (m * lf) - 1.0).abs()
+        } else {
+            f64::INFINITY
+        }
+    });
+    if k >= 1.0
+        && k <= f64::from(c.max_harmonic_order)
+        && rel_h <= c.harmonic_tolerance
+        && rel_h <= rel_l
+    {
+        Effect::ShaftHarmonic {
+            order: k as u32,
+            line,
+            shaft_hz: fr,
+        }
+    } else {
+        Effect::Tone { line }
+    }
+}
+
+fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
+    let c = ctx.cfg.get();
+    let df = ctx.welch.df();
+    // Band-power ratio: 10·log10(Σ S_y / Σ S_m) over ±half bins. Power sums see a comb of fault
+    // lines ringing a misplaced mode as well as a broadband bump (a running median would not).
+    let half = ((120.0 / df).round() as usize).max(4);
+    let sh = ctx.shaped(st);
+    let lp = ctx.lines_psd(&st.lines, 0..ctx.n_fit);
+    let m = ctx.model_psd(st, &sh, &lp);
+    let (k0, k1) = (ctx.bins.start, ctx.bins.end);
+    let mut cy = vec![0.0; k1 - k0 + 1];
+    let mut cm = vec![0.0; k1 - k0 + 1];
+    for k in k0..k1 {
+        cy[k - k0 + 1] = cy[k - k0] + ctx.s_fit[k];
+        cm[k - k0 + 1] = cm[k - k0] + m[k];
+    }
+    let nb = k1 - k0;
+    let sm: Vec<f64> = (0..nb)
+        .map(|i| {
+            let lo = i.saturating_sub(half);
+            let hi = (i + half + 1).min(nb);
+            10.0 * ((cy[hi] - cy[lo]).max(1e-300) / (cm[hi] - cm[lo]).max(1e-300)).log10()
+        })
+        .collect();
+    let mut out = Vec::new();
+    let (imax, vmax) =
+        sm.iter().enumerate().fold(
+            (0, f64::NEG_INFINITY),
+            |a, (i, &v)| if v > a.1 { (i, v) } else { a },
+        );
+    let (imin, vmin) =
+        sm.iter().enumerate().fold(
+            (0, f64::INFINITY),
+            |a, (i, &v)| if v < a.1 { (i, v) } else { a },
+        );
+    for (i, v) in [(imax, vmax), (imin, vmin)] {
+        if v.abs() < c.broadband_threshold_db {
+            continue;
+        }
+        let f0 = ctx.welch.frequency(ctx.bins.start + i);
+        // half-width where the smoothed ratio falls to half its extreme (in dB)
+        let level = v / 2.0;
+        let inside = |j: usize| {
+            if v > 0.0 {
+                sm[j] > level
+            } else {
+                sm[j] < level
+            }
+        };
+        let mut lo = i;
+        while lo > 0 && inside(lo - 1) {
+            lo -= 1;
+        }
+        let mut hi = i;
+        while hi + 1 < sm.len() && inside(hi + 1) {
+            hi += 1;
+        }
+        let bw = ((hi - lo + 1) as f64 * df).max(2.0 * df);
+        let zeta0 = (bw / (2.0 * f0)).clamp(0.003, 0.3);
+        let (g_lo, g_hi) = if v > 0.0 { (0.0, 200.0) } else { (-0.97, 0.0) };
+        let g0 = (10f64.powf(v / 20.0) - 1.0).clamp(g_lo, g_hi);
+        let nyq = 0.499 * ctx.fs;
+        let mut mode = Mode {
+            frequency_hz: f0.min(nyq * 0.99),
+            damping_ratio: zeta0,
+            gain: g0,
+        };
+        let eval = |m: &Mode| -> (State, f64) {
+            let mut s2 = st.clone();
+            s2.modes.push(*m);
+            ctx.calibrate(s2, false)
+        };
+        for _round in 0..3 {
+            let (lf, _) = golden_min(
+                |lf| {
+                    eval(&Mode {
+                        frequency_hz: lf.exp(),
+                        ..mode
+                    })
+                    .1
+                },
+                (mode.frequency_hz * 0.92).ln(),
+                (mode.frequency_hz * 1.08).min(nyq).ln(),
+                18,
+            );
+            mode.frequency_hz = lf.exp();
+            let (lz, _) = golden_min(
+                |lz| {
+                    eval(&Mode {
+                        damping_ratio: lz.exp(),
+                        ..mode
+                    })
+                    .1
+                },
+                (mode.damping_ratio / 4.0).max(0.001).ln(),
+                (mode.damping_ratio * 4.0).min(0.5).ln(),
+                16,
+            );
+            mode.damping_ratio = lz.exp();
+            let (g, _) = if v > 0.0 {
+                let (lg, val) = golden_min(
+                    |lg| {
+                        eval(&Mode {
+                            gain: lg.exp(),
+                            ..mode
+                        })
+                        .1
+                    },
+                    (0.01f64).ln(),
+                    g_hi.ln(),
+                    20,
+                );
+                (lg.exp(), val)
+            } else {
+                golden_min(|g| eval(&Mode { gain: g, ..mode }).1, g_lo, -0.01, 20)
+            };
+            mode.gain = g;
+        }
+        let (s2, lsd) = eval(&mode);
+        out.push(Evaluated {
+            effect: Effect::Resonance { mode },
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    out
+}
+
+/// Line-emphasised log spectrum: ln S minus its running median, clipped at 0.
+fn line_excess(s: &[f64], bins: std::ops::Range<usize>) -> Vec<f64> {
+    let l: Vec<f64> = bins.map(|k| s[k].max(1e-300).ln()).collect();
+    let m = running_median(&l, 24);
+    l.iter().zip(&m).map(|(a, b)| (a - b).max(0.0)).collect()
+}
+
+fn speed_candidate(ctx: &Ctx<'_>, st: &State) -> Result<Option<Evaluated>, CloseLoopError> {
+    let c = ctx.cfg.get();
+    let ey = line_excess(&ctx.s_fit_hi, ctx.bins_hi.clone());
+    let em_full = line_excess(&st.base.psd_hi, 0..st.base.psd_hi.len());
+    let k0 = ctx.bins_hi.start as f64;
+    let corr = |s: f64| -> f64 {
+        // model stretched by s: S'(f) = S(f / s)
+        ey.iter()
+            .enumerate()
+            .map(|(i, &e)| {
+                if e == 0.0 {
+                    return 0.0;
+                }
+                let x = (k0 + i as f64) / s;
+                let j = x.floor() as usize;
+                if j + 1 >= em_full.len() {
+                    return 0.0;
+                }
+                let t = x - j as f64;
+                e * (em_full[j] * (1.0 - t) + em_full[j + 1] * t)
+            })
+            .sum()
+    };
+    let step = 1e-4;
+    let n = (c.max_speed_offset / step).round() as i64;
+    let mut best = (1.0, f64::NEG_INFINITY);
+    let mut vals = Vec::with_capacity((2 * n + 1) as usize);
+    for i in -n..=n {
+        let s = 1.0 + i as f64 * step;
+        let v = corr(s);
+        vals.push(v);
+        if v > best.1 {
+            best = (s, v);
+        }
+    }
+    let c1 = corr(1.0);
+    if best.1.is_nan() || best.1 <= 0.0 || best.1 <= c1 * 1.02 {
+        return Ok(None);
+    }
+    let (s, _) = crate::optimize::golden_max(corr, best.0 - step, best.0 + step, 20);
+    if (s - 1.0).abs() < c.min_speed_step {
+        return Ok(None);
+    }
+    let ratio = st.base.ratio * s;
+    let base: Arc<Base> = ctx.make_base(ratio)?;
+    let mut s2 = st.clone();
+    s2.base = base;
+    let (s2, lsd) = ctx.calibrate(s2, true);
+    Ok(Some(Evaluated {
+        effect: Effect::SpeedOffset { ratio, step: s },
+        state: s2,
+        fit_lsd: lsd,
+    }))
+}
+
+/// Normalised envelope periodogram (Hann, zero-padded to a power of two ≥ 2n) and its bin width.
+fn envelope_spectrum(x: &[f64], fs: f64) -> (Vec<f64>, f64) {
+    let env = envelope(x);
+    let m = env.iter().sum::<f64>() / env.len().max(1) as f64;
+    let xw = hann_windowed(&env);
+    let nfft = (2 * xw.len()).next_power_of_two();
+    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(nfft);
+    let mut input = fft.make_input_vec();
+    input[..xw.len()].copy_from_slice(&xw);
+    let mut out = fft.make_output_vec();
+    let _ = fft.process(&mut input, &mut out);
+    let norm = (m * m * xw.len() as f64).max(1e-300);
+    (
+        out.iter().map(|c| c.norm_sqr() / norm).collect(),
+        fs / nfft as f64,
+    )
+}
+
+fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
+    let c = ctx.cfg.get();
+    let fr = ctx.op.shaft_hz() * st.base.ratio;
+    let resid = ctx.fit_residual(&st.lines);
+    let (ey, de) = envelope_spectrum(&resid, ctx.fs);
+    let mut msig = st.base.signal.clone();
+    for m in &st.mods {
+        msig = m.apply(&msig, 0, ctx.fs);
+    }
+    let (em, _) = envelope_spectrum(&msig, ctx.fs);
+    let lo = ((0.5 * ctx.op.bearing.ftf * fr / de).floor() as usize).max(2);
+    let hi = ((2.5 * fr / de).ceil() as usize).min(ey.len() - 2);
+    if hi <= lo + 4 {
+        return Vec::new();
+    }
+    let half = ((0.25 * ctx.op.bearing.ftf * fr / de).round() as usize).max(8);
+    let ly: Vec<f64> = ey.iter().map(|v| 10.0 * v.max(1e-300).log10()).collect();
+    let lm: Vec<f64> = em.iter().map(|v| 10.0 * v.max(1e-300).log10()).collect();
+    let wlo = lo.saturating_sub(half);
+    let whi = (hi + half).min(ey.len());
+    let my = running_median(&ly[wlo..whi], half);
+    let mm = running_median(&lm[wlo..whi], half);
+    let mut peaks: Vec<(usize, f64)> = Vec::new();
+    for k in lo..=hi {
+        let xy = ly[k] - my[k - wlo];
+        let xm = lm[k] - mm[k - wlo];
+        if xy > c.envelope_threshold_db && ly[k] >= ly[k - 1] && ly[k] >= ly[k + 1] && xy > xm + 6.0
+        {
+            peaks.push((k, xy));
+        }
+    }
+    peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let env = envelope(&resid);
+    let envw = hann_windowed(&env);
+    let mut out = Vec::new();
+    let mut used: Vec<usize> = Vec::new();
+    for (k, _) in peaks {
+        if used.iter().any(|&j| j.abs_diff(k) <= 3) {
+            continue;
+        }
+        used.push(k);
+        if used.len() > 2 {
+            break;
+        }
+        let f0 = k as f64 * de;
+        let fm = refine_peak(&envw, ctx.fs, f0 - 1.5 * de, f0 + 1.5 * de);
+        let eval = |mu: f64| -> (State, f64) {
+            let mut s2 = st.clone();
+            s2.mods.push(Modulation {
+                frequency_hz: fm,
+                depth: mu,
+            });
+            ctx.calibrate(s2, false)
+        };
+        let (mu, _) = golden_min(|mu| eval(mu).1, 0.02, 1.0, 22);
+        let (s2, lsd) = eval(mu);
+        let order = fm / fr;
+        let ftf = ctx.op.bearing.ftf;
+        let rate = if (order - 1.0).abs() < 0.02 {
+            "shaft"
+        } else if (order - 2.0).abs() < 0.04 {
+            "2x_shaft"
+        } else if (order / ftf - 1.0).abs() < 0.02 {
+            "cage"
+        } else {
+            "other"
+        };
+        out.push(Evaluated {
+            effect: Effect::Modulation {
+                modulation: Modulation {
+                    frequency_hz: fm,
+                    depth: mu,
+                },
+                shaft_order: order,
+                rate,
+            },
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    out
+}

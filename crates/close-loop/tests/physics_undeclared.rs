@@ -1,0 +1,139 @@
+//! End-to-end with the 5-DOF physics model of `bearing-model` as both the declared model and the
+//! simulator of the "measured" recording, which carries an effect nobody declared.
+
+use bearing_model::{Housing, ShaftHarmonic};
+use close_loop::physics::PhysicsModel;
+use close_loop::scenario::{add_mode, add_noise, add_tone, modulate};
+use close_loop::{
+    BearingRates, DeclaredFault, DeclaredModel, EffectKind, LoopConfig, OperatingPoint, Outcome,
+    close_loop,
+};
+
+const FS: f64 = 12_000.0;
+const RPM: f64 = 1797.0;
+const N: usize = 24_000;
+
+fn op_fault(rpm: f64, fault: DeclaredFault) -> OperatingPoint {
+    OperatingPoint::new(rpm, BearingRates::skf6205(), fault).unwrap()
+}
+
+fn recording(truth: &PhysicsModel, rpm: f64, effect: impl Fn(Vec<f64>) -> Vec<f64>) -> Vec<f64> {
+    recording_fault(truth, rpm, DeclaredFault::Outer, effect)
+}
+
+fn recording_fault(
+    truth: &PhysicsModel,
+    rpm: f64,
+    fault: DeclaredFault,
+    effect: impl Fn(Vec<f64>) -> Vec<f64>,
+) -> Vec<f64> {
+    let x = truth.simulate(&op_fault(rpm, fault), N, FS).unwrap();
+    let sigma = 0.1 * close_loop::metric::rms(&x);
+    let mut y = effect(x);
+    add_noise(&mut y, sigma, 99);
+    y
+}
+
+fn run(y: &[f64]) -> Outcome {
+    run_fault(y, DeclaredFault::Outer)
+}
+
+fn run_fault(y: &[f64], fault: DeclaredFault) -> Outcome {
+    let cfg = LoopConfig::default().check().unwrap();
+    let out = close_loop(&PhysicsModel::default(), y, FS, &op_fault(RPM, fault), &cfg).unwrap();
+    eprintln!("{}", out.ledger.to_markdown("physics"));
+    out
+}
+
+fn first(o: &Outcome, kind: EffectKind) -> &close_loop::EffectEntry {
+    o.ledger.effects.iter().find(|e| e.kind == kind).unwrap_or_else(|| panic!("no {kind:?}"))
+}
+
+#[test]
+fn physics_clean_reports_nothing() {
+    let y = recording(&PhysicsModel::default(), RPM, |x| x);
+    let o = run(&y);
+    assert!(o.ledger.effects.is_empty());
+}
+
+#[test]
+fn physics_tone() {
+    let y = recording(&PhysicsModel::default(), RPM, |mut x| {
+        let a = close_loop::metric::rms(&x);
+        add_tone(&mut x, FS, 1234.5, 0.5 * a, 0.4);
+        x
+    });
+    let o = run(&y);
+    let e = first(&o, EffectKind::Tone);
+    assert!((e.frequency_hz.unwrap() / 1234.5 - 1.0).abs() < 0.01);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+/// On a healthy bearing the unbalance force shows as its 1× line. (With a spall, the same force
+/// also modulates the impacts at fr, and the loop then names `modulation` at fr first: see the
+/// equations notes.)
+#[test]
+fn physics_unbalance() {
+    let truth = PhysicsModel {
+        harmonics: vec![ShaftHarmonic { order: 1, amplitude_n: 200.0, phase_rad: 0.3 }],
+        ..PhysicsModel::default()
+    };
+    let y = recording_fault(&truth, RPM, DeclaredFault::None, |x| x);
+    let o = run_fault(&y, DeclaredFault::None);
+    let e = &o.ledger.effects[0];
+    assert_eq!(e.kind, EffectKind::ShaftHarmonic);
+    assert_eq!(e.parameters["order"], 1.0);
+    assert!((e.frequency_hz.unwrap() / (RPM / 60.0) - 1.0).abs() < 0.01);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+/// A mode the model lacks, added to the simulated housing acceleration.
+#[test]
+fn physics_missing_mode() {
+    let y = recording(&PhysicsModel::default(), RPM, |x| add_mode(&x, FS, 1800.0, 0.03, 3.0));
+    let o = run(&y);
+    let e = &o.ledger.effects[0];
+    assert_eq!(e.kind, EffectKind::Resonance);
+    assert!((e.frequency_hz.unwrap() / 1800.0 - 1.0).abs() < 0.01, "{:?}", e.frequency_hz);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+/// The housing resonance placed wrongly (2.6 kHz true, 3.3 kHz declared). The parallel-mode form
+/// is not the sprung-mass shape, so the loop needs a cut and an added mode and the added one lands
+/// within 3 % (measured: 2643.7 Hz, +1.7 %), not 1 %.
+#[test]
+fn physics_misplaced_housing_resonance() {
+    let truth = PhysicsModel {
+        housing: Some(Housing { mass_kg: 1.0, resonance_hz: 2600.0, damping_ratio: 0.05 }),
+        ..PhysicsModel::default()
+    };
+    let y = recording(&truth, RPM, |x| x);
+    let o = run(&y);
+    assert!(o.ledger.effects.iter().all(|e| e.kind == EffectKind::Resonance));
+    assert!(
+        o.ledger
+            .effects
+            .iter()
+            .any(|e| e.parameters["gain"] > 0.0 && (e.frequency_hz.unwrap() / 2600.0 - 1.0).abs() < 0.03)
+    );
+    assert!(o.ledger.error_after < 0.6 * o.ledger.error_before);
+}
+
+#[test]
+fn physics_speed_offset() {
+    let y = recording(&PhysicsModel::default(), RPM * 1.0033, |x| x);
+    let o = run(&y);
+    let e = first(&o, EffectKind::SpeedOffset);
+    assert!((e.parameters["ratio"] / 1.0033 - 1.0).abs() < 0.002);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+#[test]
+fn physics_modulation() {
+    let fr = RPM / 60.0;
+    let y = recording(&PhysicsModel::default(), RPM, |x| modulate(&x, FS, fr, 0.6));
+    let o = run(&y);
+    let e = first(&o, EffectKind::Modulation);
+    assert!((e.frequency_hz.unwrap() / fr - 1.0).abs() < 0.01);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}

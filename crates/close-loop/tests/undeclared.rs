@@ -1,0 +1,151 @@
+//! End-to-end: simulate a recording with the declared model, add an effect the loop is not told
+//! about, and check the loop names it, with its parameters, and that the held-out error falls.
+
+use close_loop::scenario::{PhenomenologicalModel, add_mode, add_noise, add_tone, modulate};
+use close_loop::{
+    BearingRates, DeclaredFault, EffectKind, LoopConfig, OperatingPoint, Outcome, close_loop,
+};
+
+const FS: f64 = 12_000.0;
+const RPM: f64 = 1797.0;
+const SECONDS: f64 = 2.0;
+
+fn op(fault: DeclaredFault) -> OperatingPoint {
+    OperatingPoint::new(RPM, BearingRates::skf6205(), fault).unwrap()
+}
+
+fn model() -> PhenomenologicalModel {
+    PhenomenologicalModel::default()
+}
+
+/// A recording: the model at `rpm_true` with another seed, passed through `effect`, plus sensor noise.
+fn recording(
+    fault: DeclaredFault,
+    rpm_true: f64,
+    effect: impl Fn(Vec<f64>) -> Vec<f64>,
+) -> Vec<f64> {
+    let n = (SECONDS * FS) as usize;
+    let truth = model().with_seed(77);
+    let o = OperatingPoint::new(rpm_true, BearingRates::skf6205(), fault).unwrap();
+    let x = close_loop::DeclaredModel::simulate(&truth, &o, n, FS).unwrap();
+    let mut y = effect(x);
+    add_noise(&mut y, 0.01, 4242);
+    y
+}
+
+fn run(y: &[f64], fault: DeclaredFault) -> Outcome {
+    let cfg = LoopConfig::default().check().unwrap();
+    let out = close_loop(&model(), y, FS, &op(fault), &cfg).unwrap();
+    eprintln!("{}", out.ledger.to_markdown("test"));
+    out
+}
+
+fn kinds(o: &Outcome) -> Vec<EffectKind> {
+    o.ledger.effects.iter().map(|e| e.kind).collect()
+}
+
+#[test]
+fn clean_recording_reports_no_effect() {
+    let y = recording(DeclaredFault::Outer, RPM, |x| x);
+    let o = run(&y, DeclaredFault::Outer);
+    assert!(o.ledger.effects.is_empty(), "{:?}", kinds(&o));
+}
+
+#[test]
+fn tone_is_found() {
+    let y = recording(DeclaredFault::Outer, RPM, |mut x| {
+        add_tone(&mut x, FS, 1234.5, 0.05, 0.4);
+        x
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let e = &o.ledger.effects[0];
+    assert_eq!(e.kind, EffectKind::Tone);
+    assert!((e.frequency_hz.unwrap() / 1234.5 - 1.0).abs() < 0.01);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+#[test]
+fn shaft_harmonic_is_found() {
+    let fr = RPM / 60.0;
+    let y = recording(DeclaredFault::Outer, RPM, |mut x| {
+        add_tone(&mut x, FS, 2.0 * fr, 0.08, 1.0);
+        x
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let e = &o.ledger.effects[0];
+    assert_eq!(e.kind, EffectKind::ShaftHarmonic);
+    assert_eq!(e.parameters["order"], 2.0);
+    assert!((e.frequency_hz.unwrap() / (2.0 * fr) - 1.0).abs() < 0.01);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+#[test]
+fn resonance_is_found() {
+    let y = recording(DeclaredFault::Outer, RPM, |x| {
+        add_mode(&x, FS, 4100.0, 0.03, 3.0)
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let e = &o.ledger.effects[0];
+    assert_eq!(e.kind, EffectKind::Resonance);
+    assert!(
+        (e.frequency_hz.unwrap() / 4100.0 - 1.0).abs() < 0.01,
+        "{:?}",
+        e.frequency_hz
+    );
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+#[test]
+fn speed_offset_is_found() {
+    let y = recording(DeclaredFault::Outer, RPM * 1.006, |x| x);
+    let o = run(&y, DeclaredFault::Outer);
+    let e = o
+        .ledger
+        .effects
+        .iter()
+        .find(|e| e.kind == EffectKind::SpeedOffset)
+        .expect("speed offset");
+    assert!(
+        (e.parameters["ratio"] / 1.006 - 1.0).abs() < 0.002,
+        "{}",
+        e.parameters["ratio"]
+    );
+    assert_eq!(o.ledger.effects[0].kind, EffectKind::SpeedOffset);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+#[test]
+fn modulation_is_found() {
+    let fr = RPM / 60.0;
+    let y = recording(DeclaredFault::Outer, RPM, |x| modulate(&x, FS, fr, 0.6));
+    let o = run(&y, DeclaredFault::Outer);
+    let e = &o.ledger.effects[0];
+    assert_eq!(e.kind, EffectKind::Modulation);
+    assert!((e.frequency_hz.unwrap() / fr - 1.0).abs() < 0.01);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+#[test]
+fn two_effects_at_once() {
+    let y = recording(DeclaredFault::Outer, RPM * 0.995, |mut x| {
+        add_tone(&mut x, FS, 777.7, 0.05, 0.0);
+        x
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let k = kinds(&o);
+    assert!(k.contains(&EffectKind::Tone), "{k:?}");
+    let s = o
+        .ledger
+        .effects
+        .iter()
+        .find(|e| e.kind == EffectKind::SpeedOffset)
+        .expect("speed");
+    assert!((s.parameters["ratio"] / 0.995 - 1.0).abs() < 0.002);
+    let t = o
+        .ledger
+        .effects
+        .iter()
+        .find(|e| e.kind == EffectKind::Tone)
+        .unwrap();
+    assert!((t.frequency_hz.unwrap() / 777.7 - 1.0).abs() < 0.01);
+}

@@ -1,0 +1,111 @@
+//! Observers on the other two plants with known truth: an identified ARX-Laguerre model
+//! (`laguerre-id`) and the nonlinear 5-DOF bearing model (`bearing-model`).
+
+mod common;
+use common::*;
+use observers::named::{arx_observer, physics_observer};
+use observers::scenarios::reference_arx_model;
+use observers::*;
+
+fn rms(x: &[f64]) -> f64 {
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+#[test]
+fn identified_arx_laguerre_model_tracks_step_fault() {
+    // Identify on healthy data of the reference plant (fixed poles 0.6 / 0.5, orders 4 / 4),
+    // then observe a faulty run: δ = 0.4 step at k = 1500.
+    let (y, u) = arx_record(&[0.0; 8], 6000, |_| 0.0);
+    let cfg = laguerre_id::ArxLaguerreConfig::new(
+        4,
+        4,
+        laguerre_id::PoleChoice::Fixed {
+            zeta_a: 0.6,
+            zeta_b: 0.5,
+        },
+    )
+    .unwrap();
+    let id = laguerre_id::ArxLaguerreModel::identify(&y, Some(&u), &cfg).unwrap();
+    let model = ArxLaguerreModel::from_state_space(&id.state_space()).unwrap();
+    let truth = reference_arx_model();
+    for (a, b) in model.k.iter().zip(&truth.k) {
+        assert!((a - b).abs() < 1e-6, "identified K {a} vs {b}");
+    }
+    let delta = |k: usize| if k >= 1500 { 0.4 } else { 0.0 };
+    let (y, u) = arx_record(&[0.0; 8], 6000, delta);
+    for (kind, bound) in [
+        (ObserverKind::Alpio, 1e-3),
+        (ObserverKind::Smalpio, 1e-3),
+        (ObserverKind::Asmo, 1e-6),
+        (ObserverKind::Afsmo, 1e-6),
+    ] {
+        let mut o = arx_observer(kind, &model, &FaultDirection::Input, &ObserverSettings::new(bound)).unwrap();
+        let out = o.run(&y, Some(&u)).unwrap();
+        let worst = (3000..6000).map(|k| (out.fault[k] - 0.4).abs()).fold(0.0, f64::max);
+        assert!(worst < 0.02, "{kind}: {worst}");
+        assert!(max_abs(&out.residual[3000..]) < 0.02 * max_abs(&y), "{kind}");
+    }
+}
+
+#[test]
+fn five_dof_model_housing_mode_observers_converge() {
+    use bearing_model::{FaultClass, Scenario};
+    // CWRU-like outer-race fault, 12 kHz, 0.25 s, noise-free; the measured housing acceleration
+    // (m/s²) is observed on the model's housing mode (3.3 kHz, ζ = 0.05).
+    let sc = Scenario::cwru(FaultClass::Outer, 0.007, 1797.0).unwrap().with_duration(0.25);
+    let rec = sc.simulate().unwrap();
+    let y = &rec.accel;
+    let mode = ModalParams::from_bearing_model(&sc.spec, rec.fs_hz).unwrap();
+    let settle = y.len() / 2;
+    let y_rms = rms(&y[settle..]);
+    // Γ = 1e-3 · RMS(y) (per sample) and the recording weights; the kinds with a linear part
+    // predict a third of the signal (measured 0.66–0.85 of its RMS), the pure sliding-mode ones
+    // (HOSTSMO, VSO, no linear part, ωT = 1.73) stay bounded (measured 1.29, 1.00).
+    for kind in ObserverKind::ALL {
+        let mut s = ObserverSettings::new(1e-3 * y_rms);
+        s.linear = LinearDesign::for_recordings();
+        let mut o = physics_observer(kind, mode, &s).unwrap();
+        let out = o.run(y, None).unwrap();
+        let ratio = rms(&out.residual[settle..]) / y_rms;
+        println!("{kind:8} residual/signal RMS = {ratio:.3}");
+        let limit = if kind.has_linear_part() { 0.9 } else { 1.5 };
+        assert!(ratio.is_finite() && ratio < limit, "{kind}: {ratio}");
+    }
+}
+
+#[test]
+fn fuzzy_arx_laguerre_observers_track_step_fault() {
+    // FAL model (fuzzy-ts) identified on healthy reference-plant data with a small seeded
+    // disturbance (the fuzzy stage needs a non-zero stage-1 residual); then a δ = 0.4 step.
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let w: Vec<f64> = (0..6000).map(|_| rng.random_range(-0.01..0.01)).collect();
+    let (y, u) = arx_record(&[0.0; 8], 6000, |k| w[k]);
+    let base = laguerre_id::ArxLaguerreConfig::new(
+        4,
+        4,
+        laguerre_id::PoleChoice::Fixed {
+            zeta_a: 0.6,
+            zeta_b: 0.5,
+        },
+    )
+    .unwrap();
+    let fal = fuzzy_ts::FuzzyArxLaguerre::identify(&y, Some(&u), &fuzzy_ts::FalConfig::with_base(base)).unwrap();
+    let (y, u) = arx_record(&[0.0; 8], 6000, |k| w[k] + if k >= 1500 { 0.4 } else { 0.0 });
+    let cfg = ModelConfig::FuzzyArxLaguerre {
+        model: Box::new(fal),
+        fault: FaultDirection::Input,
+    };
+    for (kind, bound) in [
+        (ObserverKind::Smo, 1e-3),
+        (ObserverKind::Asmo, 1e-5),
+        (ObserverKind::Afsmo, 1e-5),
+    ] {
+        let mut o = build_observer(kind, &cfg, &ObserverSettings::new(bound)).unwrap();
+        let out = RunObserver::run(&mut o, &y, Some(&u)).unwrap();
+        let mean_fault = out.fault[3000..].iter().sum::<f64>() / 3000.0;
+        println!("{kind}: mean fault estimate {mean_fault:.4}, residual rms {:.4}", rms(&out.residual[3000..]));
+        assert!((mean_fault - 0.4).abs() < 0.02, "{kind}: {mean_fault}");
+        assert!(rms(&out.residual[3000..]) < 0.05, "{kind}");
+    }
+}

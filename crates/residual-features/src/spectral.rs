@@ -1,0 +1,467 @@
+//! Spectral tools shared with other crates: one-sided amplitude spectrum, Welch PSD (Hann),
+//! Hilbert envelope, envelope spectrum, band-pass by FFT masking and band energy.
+//!
+//! These are the tools a vibration analyst uses to read a residual (see the closed-loop part of
+//! the architecture brief); the `close-loop` crate reuses them. FFTs come from `realfft`/`rustfft`.
+//! Each free function plans its own transform; for many windows of the same length hold a
+//! [`SpectralEngine`], which caches FFT plans.
+//!
+//! Conventions (documented in `docs/equations/residual-features.md`):
+//! - amplitude spectrum: `A_k = c_k |X_k| / Σ w_n`, `c_k = 2` except at DC and Nyquist (`c_k = 1`),
+//!   so a bin-centred sine of amplitude `a` reads `a` with any taper (coherent-gain corrected);
+//! - Welch PSD: periodic Hann segments, constant detrend, density scaling `|X_k|² / (fs Σ w²)`,
+//!   doubled off DC/Nyquist (the `scipy.signal.welch` defaults); segments that do not fit are left out;
+//! - Hilbert envelope: `|x + j H{x}|` from the one-sided analytic spectrum;
+//! - band energy: one-sided Parseval, so the bands covering `[0, fs/2]` sum to `Σ x²`.
+
+use std::sync::Arc;
+
+use realfft::num_complex::Complex;
+use realfft::{RealFftPlanner, RealToComplex};
+use rustfft::FftPlanner;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{FeatureError, Result, check_finite, check_positive};
+
+/// A frequency band `[low_hz, high_hz]`, inclusive, validated on construction.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Band {
+    low_hz: f64,
+    high_hz: f64,
+}
+
+impl Band {
+    /// A band with `0 <= low_hz < high_hz`, both finite.
+    ///
+    /// # Errors
+    /// [`FeatureError::InvalidParameter`] otherwise.
+    pub fn new(low_hz: f64, high_hz: f64) -> Result<Self> {
+        if !(low_hz.is_finite() && low_hz >= 0.0) {
+            return Err(FeatureError::InvalidParameter {
+                name: "low_hz",
+                value: low_hz,
+                reason: "must be finite and >= 0",
+            });
+        }
+        if !(high_hz.is_finite() && high_hz > low_hz) {
+            return Err(FeatureError::InvalidParameter {
+                name: "high_hz",
+                value: high_hz,
+                reason: "must be finite and > low_hz",
+            });
+        }
+        Ok(Self { low_hz, high_hz })
+    }
+
+    /// Lower edge in Hz.
+    pub fn low_hz(&self) -> f64 {
+        self.low_hz
+    }
+
+    /// Upper edge in Hz.
+    pub fn high_hz(&self) -> f64 {
+        self.high_hz
+    }
+
+    /// Bin indices `k` with `k·df` inside the band (edges inclusive, with a relative slack of
+    /// 1e-9 bins so that e.g. the Nyquist bin is not lost to rounding), clipped to `nbins`.
+    fn bins(&self, df: f64, nbins: usize) -> std::ops::Range<usize> {
+        let lo = (self.low_hz / df - 1e-9).ceil().max(0.0) as usize;
+        let hi = ((self.high_hz / df + 1e-9).floor() as usize).saturating_add(1);
+        lo.min(nbins)..hi.min(nbins)
+    }
+}
+
+/// Taper applied to a block before its FFT.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Taper {
+    /// No taper (boxcar).
+    Rectangular,
+    /// Periodic Hann `0.5 − 0.5 cos(2πn/N)`.
+    Hann,
+}
+
+impl Taper {
+    fn weights(self, n: usize) -> Vec<f64> {
+        match self {
+            Taper::Rectangular => vec![1.0; n],
+            Taper::Hann => (0..n)
+                .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos())
+                .collect(),
+        }
+    }
+}
+
+/// A one-sided spectrum on the grid `f_k = k · resolution_hz`, `k = 0..values.len()`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Spectrum {
+    /// Bin spacing `fs / N` in Hz.
+    pub resolution_hz: f64,
+    /// One value per bin (amplitude, or power density, depending on the producing function).
+    pub values: Vec<f64>,
+}
+
+/// The largest value of a spectrum inside a band.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpectralPeak {
+    /// Frequency of the peak bin in Hz.
+    pub frequency_hz: f64,
+    /// Value at the peak bin.
+    pub value: f64,
+}
+
+impl Spectrum {
+    /// Frequency of bin `k` in Hz.
+    pub fn frequency(&self, k: usize) -> f64 {
+        k as f64 * self.resolution_hz
+    }
+
+    /// All bin frequencies in Hz.
+    pub fn frequencies(&self) -> Vec<f64> {
+        (0..self.values.len()).map(|k| self.frequency(k)).collect()
+    }
+
+    /// The largest bin whose frequency lies in `band`; if the band falls between two bins, the
+    /// bin nearest to the band centre. `None` only if the band lies above the last bin.
+    pub fn peak_in_band(&self, band: Band) -> Option<SpectralPeak> {
+        let best = band
+            .bins(self.resolution_hz, self.values.len())
+            .max_by(|&a, &b| self.values[a].total_cmp(&self.values[b]).then(b.cmp(&a)));
+        let k = match best {
+            Some(k) => k,
+            None => {
+                let centre = 0.5 * (band.low_hz + band.high_hz);
+                let k = (centre / self.resolution_hz).round() as usize;
+                if k >= self.values.len() {
+                    return None;
+                }
+                k
+            }
+        };
+        Some(SpectralPeak {
+            frequency_hz: self.frequency(k),
+            value: self.values[k],
+        })
+    }
+}
+
+/// Welch PSD settings: segment length and overlap in samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WelchConfig {
+    /// Samples per segment (≥ 2).
+    pub segment_len: usize,
+    /// Samples shared by consecutive segments (< `segment_len`; half is usual).
+    pub overlap: usize,
+}
+
+impl WelchConfig {
+    /// Half-overlapping segments of `segment_len` samples (scipy's default overlap).
+    pub fn half_overlap(segment_len: usize) -> Self {
+        Self {
+            segment_len,
+            overlap: segment_len / 2,
+        }
+    }
+}
+
+/// FFT plan cache for the spectral functions; reuse one per thread when processing many windows.
+pub struct SpectralEngine {
+    real: RealFftPlanner<f64>,
+    complex: FftPlanner<f64>,
+}
+
+impl Default for SpectralEngine {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl std::fmt::Debug for SpectralEngine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SpectralEngine")
+    }
+}
+
+/// One-sided scale factor for bin `k` of an `n`-point transform.
+fn one_sided(k: usize, n: usize) -> f64 {
+    if k == 0 || (n % 2 == 0 && k == n / 2) {
+        1.0
+    } else {
+        2.0
+    }
+}
+
+impl SpectralEngine {
+    /// An empty plan cache.
+    pub fn new() -> Self {
+        Self {
+            real: RealFftPlanner::new(),
+            complex: FftPlanner::new(),
+        }
+    }
+
+    fn forward(&mut self, n: usize) -> Arc<dyn RealToComplex<f64>> {
+        self.real.plan_fft_forward(n)
+    }
+
+    fn rfft(&mut self, mut buf: Vec<f64>) -> Result<Vec<Complex<f64>>> {
+        let n = buf.len();
+        let plan = self.forward(n);
+        let mut out = plan.make_output_vec();
+        plan.process(&mut buf, &mut out)
+            .map_err(|_| FeatureError::Fft { len: n })?;
+        Ok(out)
+    }
+
+    /// One-sided amplitude spectrum of `x` sampled at `fs_hz`, with the given taper
+    /// (coherent-gain corrected: a bin-centred sine of amplitude `a` reads `a`).
+    ///
+    /// # Errors
+    /// Input errors, [`FeatureError::TooShort`] below 2 samples, invalid `fs_hz`.
+    pub fn amplitude_spectrum(&mut self, x: &[f64], fs_hz: f64, taper: Taper) -> Result<Spectrum> {
+        check_finite(x)?;
+        check_positive("fs_hz", fs_hz)?;
+        let n = x.len();
+        if n < 2 {
+            return Err(FeatureError::TooShort {
+                needed: 2,
+                found: n,
+            });
+        }
+        let w = taper.weights(n);
+        let gain: f64 = w.iter().sum();
+        let buf: Vec<f64> = x.iter().zip(&w).map(|(a, b)| a * b).collect();
+        let spec = self.rfft(buf)?;
+        let values = spec
+            .iter()
+            .enumerate()
+            .map(|(k, c)| one_sided(k, n) * c.norm() / gain)
+            .collect();
+        Ok(Spectrum {
+            resolution_hz: fs_hz / n as f64,
+            values,
+        })
+    }
+
+    /// Welch power spectral density (units²/Hz), periodic Hann segments, constant detrend.
+    ///
+    /// # Errors
+    /// Input errors; [`FeatureError::InvalidParameter`] if `segment_len < 2` or
+    /// `overlap >= segment_len`; [`FeatureError::TooShort`] if `x` is shorter than one segment.
+    pub fn welch_psd(&mut self, x: &[f64], fs_hz: f64, config: WelchConfig) -> Result<Spectrum> {
+        check_finite(x)?;
+        check_positive("fs_hz", fs_hz)?;
+        let WelchConfig {
+            segment_len: m,
+            overlap,
+        } = config;
+        if m < 2 {
+            return Err(FeatureError::InvalidParameter {
+                name: "segment_len",
+                value: m as f64,
+                reason: "must be >= 2",
+            });
+        }
+        if overlap >= m {
+            return Err(FeatureError::InvalidParameter {
+                name: "overlap",
+                value: overlap as f64,
+                reason: "must be < segment_len",
+            });
+        }
+        if x.len() < m {
+            return Err(FeatureError::TooShort {
+                needed: m,
+                found: x.len(),
+            });
+        }
+        let step = m - overlap;
+        let w = Taper::Hann.weights(m);
+        let s2: f64 = w.iter().map(|v| v * v).sum();
+        let plan = self.forward(m);
+        let mut acc = vec![0.0; m / 2 + 1];
+        let mut out = plan.make_output_vec();
+        let mut segments = 0usize;
+        let mut start = 0;
+        while start + m <= x.len() {
+            let seg = &x[start..start + m];
+            let mean = seg.iter().sum::<f64>() / m as f64;
+            let mut buf: Vec<f64> = seg.iter().zip(&w).map(|(v, wi)| (v - mean) * wi).collect();
+            plan.process(&mut buf, &mut out)
+                .map_err(|_| FeatureError::Fft { len: m })?;
+            for (k, (a, c)) in acc.iter_mut().zip(&out).enumerate() {
+                *a += one_sided(k, m) * c.norm_sqr() / (fs_hz * s2);
+            }
+            segments += 1;
+            start += step;
+        }
+        for a in &mut acc {
+            *a /= segments as f64;
+        }
+        Ok(Spectrum {
+            resolution_hz: fs_hz / m as f64,
+            values: acc,
+        })
+    }
+
+    /// Hilbert envelope `|x + j·H{x}|` via the one-sided analytic spectrum.
+    ///
+    /// # Errors
+    /// Input errors, [`FeatureError::TooShort`] below 2 samples.
+    pub fn hilbert_envelope(&mut self, x: &[f64]) -> Result<Vec<f64>> {
+        check_finite(x)?;
+        let n = x.len();
+        if n < 2 {
+            return Err(FeatureError::TooShort {
+                needed: 2,
+                found: n,
+            });
+        }
+        let spec = self.rfft(x.to_vec())?;
+        let mut z = vec![Complex::new(0.0, 0.0); n];
+        for (k, c) in spec.iter().enumerate() {
+            z[k] = c * one_sided(k, n);
+        }
+        let inv = self.complex.plan_fft_inverse(n);
+        inv.process(&mut z);
+        let scale = 1.0 / n as f64;
+        Ok(z.iter().map(|c| c.norm() * scale).collect())
+    }
+
+    /// Envelope spectrum: the amplitude spectrum of the mean-removed Hilbert envelope of `x`,
+    /// optionally band-passed first (the demodulation band).
+    ///
+    /// # Errors
+    /// As [`SpectralEngine::amplitude_spectrum`] and [`SpectralEngine::bandpass_fft`].
+    pub fn envelope_spectrum(
+        &mut self,
+        x: &[f64],
+        fs_hz: f64,
+        demodulation_band: Option<Band>,
+        taper: Taper,
+    ) -> Result<Spectrum> {
+        let filtered;
+        let src = match demodulation_band {
+            Some(b) => {
+                filtered = self.bandpass_fft(x, fs_hz, b)?;
+                &filtered[..]
+            }
+            None => x,
+        };
+        let mut env = self.hilbert_envelope(src)?;
+        let mean = env.iter().sum::<f64>() / env.len() as f64;
+        for e in &mut env {
+            *e -= mean;
+        }
+        self.amplitude_spectrum(&env, fs_hz, taper)
+    }
+
+    /// Band-pass by FFT masking: zero every bin outside `band` and transform back (zero phase,
+    /// brick-wall; edges ring, which is acceptable for envelope demodulation).
+    ///
+    /// # Errors
+    /// Input errors, invalid `fs_hz`, [`FeatureError::TooShort`] below 2 samples.
+    pub fn bandpass_fft(&mut self, x: &[f64], fs_hz: f64, band: Band) -> Result<Vec<f64>> {
+        check_finite(x)?;
+        check_positive("fs_hz", fs_hz)?;
+        let n = x.len();
+        if n < 2 {
+            return Err(FeatureError::TooShort {
+                needed: 2,
+                found: n,
+            });
+        }
+        let df = fs_hz / n as f64;
+        let mut spec = self.rfft(x.to_vec())?;
+        let keep = band.bins(df, spec.len());
+        for (k, c) in spec.iter_mut().enumerate() {
+            if !keep.contains(&k) {
+                *c = Complex::new(0.0, 0.0);
+            }
+        }
+        // realfft requires real DC and Nyquist bins.
+        spec[0].im = 0.0;
+        if n % 2 == 0 {
+            spec[n / 2].im = 0.0;
+        }
+        let inv = self.real.plan_fft_inverse(n);
+        let mut out = inv.make_output_vec();
+        inv.process(&mut spec, &mut out)
+            .map_err(|_| FeatureError::Fft { len: n })?;
+        let scale = 1.0 / n as f64;
+        Ok(out.into_iter().map(|v| v * scale).collect())
+    }
+
+    /// Energy of `x` inside `band` by one-sided Parseval: `(1/N) Σ_{k∈band} c_k |X_k|²`, so bands
+    /// tiling `[0, fs/2]` add up to `Σ x²` (eq. 2.46 restricted to a band).
+    ///
+    /// # Errors
+    /// Input errors, invalid `fs_hz`.
+    pub fn band_energy(&mut self, x: &[f64], fs_hz: f64, band: Band) -> Result<f64> {
+        check_finite(x)?;
+        check_positive("fs_hz", fs_hz)?;
+        let n = x.len();
+        let df = fs_hz / n as f64;
+        let spec = self.rfft(x.to_vec())?;
+        let keep = band.bins(df, spec.len());
+        Ok(spec[keep.clone()]
+            .iter()
+            .zip(keep)
+            .map(|(c, k)| one_sided(k, n) * c.norm_sqr())
+            .sum::<f64>()
+            / n as f64)
+    }
+}
+
+/// One-sided amplitude spectrum (see [`SpectralEngine::amplitude_spectrum`]).
+///
+/// # Errors
+/// As the engine method.
+pub fn amplitude_spectrum(x: &[f64], fs_hz: f64, taper: Taper) -> Result<Spectrum> {
+    SpectralEngine::new().amplitude_spectrum(x, fs_hz, taper)
+}
+
+/// Welch PSD with Hann segments (see [`SpectralEngine::welch_psd`]).
+///
+/// # Errors
+/// As the engine method.
+pub fn welch_psd(x: &[f64], fs_hz: f64, config: WelchConfig) -> Result<Spectrum> {
+    SpectralEngine::new().welch_psd(x, fs_hz, config)
+}
+
+/// Hilbert envelope (see [`SpectralEngine::hilbert_envelope`]).
+///
+/// # Errors
+/// As the engine method.
+pub fn hilbert_envelope(x: &[f64]) -> Result<Vec<f64>> {
+    SpectralEngine::new().hilbert_envelope(x)
+}
+
+/// Envelope spectrum (see [`SpectralEngine::envelope_spectrum`]).
+///
+/// # Errors
+/// As the engine method.
+pub fn envelope_spectrum(
+    x: &[f64],
+    fs_hz: f64,
+    demodulation_band: Option<Band>,
+    taper: Taper,
+) -> Result<Spectrum> {
+    SpectralEngine::new().envelope_spectrum(x, fs_hz, demodulation_band, taper)
+}
+
+/// Band-pass by FFT masking (see [`SpectralEngine::bandpass_fft`]).
+///
+/// # Errors
+/// As the engine method.
+pub fn bandpass_fft(x: &[f64], fs_hz: f64, band: Band) -> Result<Vec<f64>> {
+    SpectralEngine::new().bandpass_fft(x, fs_hz, band)
+}
+
+/// Band energy by Parseval (see [`SpectralEngine::band_energy`]).
+///
+/// # Errors
+/// As the engine method.
+pub fn band_energy(x: &[f64], fs_hz: f64, band: Band) -> Result<f64> {
+    SpectralEngine::new().band_energy(x, fs_hz, band)
+}

@@ -1,0 +1,385 @@
+//! PNG figures with plotters: residual traces per class (Figs 2.5, 3.3, 4.9, 4.10, 5.4–5.6),
+//! window energies per class (Fig. 5.7), confusion matrices, the decision tree (Fig. 5.8).
+//!
+//! Text uses DejaVu Sans read at run time from `/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf`
+//! (registered once with `plotters::style::register_font`); without that file, figures are drawn
+//! without text rather than failing. Pixels depend only on the data, so PNG bytes are
+//! deterministic (the bitmap is encoded by plotters' `image` backend via a temporary file).
+
+use super::engine::{Method, TreeDraw};
+use super::inputs::{Cache, RecKey};
+use super::report::{Cell, OurTable, Protocol, class_label};
+use super::tables::{Condition, DissTable};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::collections::BTreeMap;
+use std::sync::OnceLock;
+
+const FONT_PATH: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+const FONT: &str = "sans-serif";
+
+/// Register the font once; `true` when text can be drawn.
+fn has_font() -> bool {
+    static OK: OnceLock<bool> = OnceLock::new();
+    *OK.get_or_init(|| match std::fs::read(FONT_PATH) {
+        Ok(bytes) => {
+            let leaked: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            plotters::style::register_font(FONT, FontStyle::Normal, leaked).is_ok()
+        }
+        Err(_) => false,
+    })
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+
+/// Render into a PNG (through a temporary file: plotters' encoder writes to paths).
+fn render(
+    w: u32,
+    h: u32,
+    draw: impl FnOnce(&Area<'_>) -> anyhow::Result<()>,
+) -> anyhow::Result<Vec<u8>> {
+    static COUNTER: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let path = std::env::temp_dir().join(format!("hybrid-fdd-fig-{}-{n}.png", std::process::id()));
+    {
+        let root = BitMapBackend::new(&path, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        draw(&root)?;
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    let bytes = std::fs::read(&path)?;
+    let _ = std::fs::remove_file(&path);
+    Ok(bytes)
+}
+
+fn e<E: std::fmt::Display>(err: E) -> anyhow::Error {
+    anyhow::anyhow!("plotting: {err}")
+}
+
+const COLORS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+];
+
+/// Stacked residual traces, one panel per (label, samples).
+fn traces(title: &str, rows: &[(String, Vec<f64>)], fs: f64) -> anyhow::Result<Vec<u8>> {
+    let text = has_font();
+    let h = 140 * rows.len() as u32 + 60;
+    render(900, h, |root| {
+        let body = if text {
+            root.titled(title, (FONT, 20)).map_err(e)?
+        } else {
+            root.clone()
+        };
+        let panels = body.split_evenly((rows.len(), 1));
+        for (i, ((label, y), area)) in rows.iter().zip(panels.iter()).enumerate() {
+            let amp = y.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
+            let t_end = y.len() as f64 / fs;
+            let mut b = ChartBuilder::on(area);
+            b.margin(6).x_label_area_size(if text { 28 } else { 0 }).y_label_area_size(if text { 60 } else { 0 });
+            if text {
+                b.caption(label, (FONT, 15));
+            }
+            let mut chart = b.build_cartesian_2d(0.0..t_end, -amp * 1.05..amp * 1.05).map_err(e)?;
+            let mut mesh = chart.configure_mesh();
+            mesh.disable_mesh();
+            if text {
+                mesh.x_desc("time (s)").label_style((FONT, 11)).x_labels(6).y_labels(4);
+            } else {
+                mesh.x_labels(0).y_labels(0);
+            }
+            mesh.draw().map_err(e)?;
+            chart
+                .draw_series(LineSeries::new(
+                    y.iter().enumerate().map(|(k, v)| (k as f64 / fs, *v)),
+                    COLORS[i % COLORS.len()].stroke_width(1),
+                ))
+                .map_err(e)?;
+        }
+        Ok(())
+    })
+}
+
+/// Window energies per class against window index, log scale (Fig. 5.7).
+fn energies(title: &str, series: &[(String, Vec<f64>)]) -> anyhow::Result<Vec<u8>> {
+    let text = has_font();
+    let n = series.iter().map(|(_, v)| v.len()).max().unwrap_or(1).max(1);
+    let lo = series.iter().flat_map(|(_, v)| v.iter()).fold(f64::INFINITY, |a, &v| a.min(v)).max(1e-12);
+    let hi = series.iter().flat_map(|(_, v)| v.iter()).fold(0.0f64, |a, &v| a.max(v)).max(lo * 10.0);
+    render(900, 520, |root| {
+        let mut b = ChartBuilder::on(root);
+        b.margin(10).x_label_area_size(if text { 35 } else { 0 }).y_label_area_size(if text { 70 } else { 0 });
+        if text {
+            b.caption(title, (FONT, 18));
+        }
+        let mut chart = b
+            .build_cartesian_2d(0..n, (lo * 0.8..hi * 1.25).log_scale())
+            .map_err(e)?;
+        let mut mesh = chart.configure_mesh();
+        if text {
+            mesh.x_desc("window").y_desc("energy Σr²").label_style((FONT, 12));
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.draw().map_err(e)?;
+        for (i, (label, v)) in series.iter().enumerate() {
+            let c = COLORS[i % COLORS.len()];
+            let s = chart
+                .draw_series(v.iter().enumerate().map(|(k, &y)| Circle::new((k, y.max(lo)), 2, c.filled())))
+                .map_err(e)?;
+            if text {
+                s.label(label.clone()).legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
+            }
+        }
+        if text {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font((FONT, 13))
+                .draw()
+                .map_err(e)?;
+        }
+        Ok(())
+    })
+}
+
+/// Confusion matrices side by side (rows: true class, columns: predicted).
+fn confusions(title: &str, mats: &[(String, Vec<Vec<u64>>)], labels: &[String]) -> anyhow::Result<Vec<u8>> {
+    let text = has_font();
+    let k = labels.len().max(1);
+    let cell = if k > 4 { 44 } else { 64 };
+    let pw = (cell * k + 130) as u32;
+    let w = pw * mats.len() as u32 + 20;
+    let h = (cell * k + 170) as u32;
+    render(w, h, |root| {
+        let body = if text { root.titled(title, (FONT, 18)).map_err(e)? } else { root.clone() };
+        let panels = body.split_evenly((1, mats.len().max(1)));
+        for ((sub, m), area) in mats.iter().zip(panels.iter()) {
+            let x0 = 110i32;
+            let y0 = 40i32;
+            if text {
+                area.draw(&Text::new(sub.clone(), (x0, 8), (FONT, 14))).map_err(e)?;
+            }
+            for (i, row) in m.iter().enumerate() {
+                let tot: u64 = row.iter().sum::<u64>().max(1);
+                for (j, &v) in row.iter().enumerate() {
+                    let f = v as f64 / tot as f64;
+                    let shade = (255.0 * (1.0 - f)) as u8;
+                    let color = if i == j { RGBColor(shade, 255, shade) } else { RGBColor(255, shade, shade) };
+                    let (x, y) = (x0 + (j * cell) as i32, y0 + (i * cell) as i32);
+                    area.draw(&Rectangle::new([(x, y), (x + cell as i32, y + cell as i32)], color.filled())).map_err(e)?;
+                    area.draw(&Rectangle::new([(x, y), (x + cell as i32, y + cell as i32)], BLACK)).map_err(e)?;
+                    if text {
+                        area.draw(&Text::new(format!("{v}"), (x + 6, y + cell as i32 / 2 - 6), (FONT, 12))).map_err(e)?;
+                    }
+                }
+                if text {
+                    area.draw(&Text::new(labels.get(i).cloned().unwrap_or_default(), (4, y0 + (i * cell) as i32 + cell as i32 / 2 - 6), (FONT, 12))).map_err(e)?;
+                }
+            }
+            if text {
+                for (j, l) in labels.iter().enumerate() {
+                    let style = TextStyle::from((FONT, 11).into_font()).transform(FontTransform::Rotate90);
+                    area.draw(&Text::new(l.clone(), (x0 + (j * cell) as i32 + cell as i32 / 2 + 4, y0 + (k * cell) as i32 + 6), style)).map_err(e)?;
+                }
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The decision tree as boxes and arrows (Fig. 5.8).
+pub fn decision_tree(tree: &TreeDraw, labels: &[String]) -> anyhow::Result<Vec<u8>> {
+    fn depth(t: &TreeDraw) -> usize {
+        match t {
+            TreeDraw::Leaf { .. } => 1,
+            TreeDraw::Split { left, right, .. } => 1 + depth(left).max(depth(right)),
+        }
+    }
+    fn leaves(t: &TreeDraw) -> usize {
+        match t {
+            TreeDraw::Leaf { .. } => 1,
+            TreeDraw::Split { left, right, .. } => leaves(left) + leaves(right),
+        }
+    }
+    let text = has_font();
+    let d = depth(tree);
+    let nl = leaves(tree).max(1);
+    let w = (nl as u32 * 170).max(500);
+    let h = d as u32 * 110 + 40;
+    render(w, h, |root| {
+        // Assign x by in-order leaf index.
+        fn draw(
+            area: &Area<'_>,
+            t: &TreeDraw,
+            level: usize,
+            next_leaf: &mut usize,
+            labels: &[String],
+            text: bool,
+            leaf_w: f64,
+        ) -> anyhow::Result<(i32, i32)> {
+            let y = 20 + level as i32 * 110;
+            match t {
+                TreeDraw::Leaf { class } => {
+                    let x = ((*next_leaf as f64 + 0.5) * leaf_w) as i32;
+                    *next_leaf += 1;
+                    let c = COLORS[*class % COLORS.len()];
+                    area.draw(&Rectangle::new([(x - 70, y), (x + 70, y + 40)], c.mix(0.35).filled())).map_err(e)?;
+                    area.draw(&Rectangle::new([(x - 70, y), (x + 70, y + 40)], BLACK)).map_err(e)?;
+                    if text {
+                        area.draw(&Text::new(labels.get(*class).cloned().unwrap_or_default(), (x - 60, y + 12), (FONT, 15))).map_err(e)?;
+                    }
+                    Ok((x, y))
+                }
+                TreeDraw::Split { threshold, left, right } => {
+                    let (xl, yl) = draw(area, left, level + 1, next_leaf, labels, text, leaf_w)?;
+                    let (xr, yr) = draw(area, right, level + 1, next_leaf, labels, text, leaf_w)?;
+                    let x = (xl + xr) / 2;
+                    area.draw(&PathElement::new(vec![(x, y + 40), (xl, yl)], BLACK)).map_err(e)?;
+                    area.draw(&PathElement::new(vec![(x, y + 40), (xr, yr)], BLACK)).map_err(e)?;
+                    area.draw(&Rectangle::new([(x - 80, y), (x + 80, y + 40)], WHITE.filled())).map_err(e)?;
+                    area.draw(&Rectangle::new([(x - 80, y), (x + 80, y + 40)], BLACK)).map_err(e)?;
+                    if text {
+                        area.draw(&Text::new(format!("E ≤ {}", sig(*threshold)), (x - 72, y + 12), (FONT, 14))).map_err(e)?;
+                        area.draw(&Text::new("yes", ((x + xl) / 2 - 30, y + 60), (FONT, 12))).map_err(e)?;
+                        area.draw(&Text::new("no", ((x + xr) / 2 + 8, y + 60), (FONT, 12))).map_err(e)?;
+                    }
+                    Ok((x, y))
+                }
+            }
+        }
+        let mut next = 0;
+        draw(root, tree, 0, &mut next, labels, text, w as f64 / nl as f64)?;
+        Ok(())
+    })
+}
+
+/// Four significant digits.
+pub fn sig(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if (-3..5).contains(&mag) {
+        let dec = (3 - mag).max(0) as usize;
+        format!("{v:.dec$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// All figures of a chapter.
+#[allow(clippy::too_many_arguments)]
+pub fn chapter_figures(
+    ch: u8,
+    cache: &Cache,
+    diss: &[&DissTable],
+    tabs: &[OurTable],
+    feats: &BTreeMap<(String, RecKey), Vec<f64>>,
+    traces_map: &BTreeMap<(String, RecKey), Vec<f64>>,
+    methods: &[Method],
+) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
+    let fig_residual = match ch {
+        2 => "fig2_5",
+        3 => "fig3_3",
+        4 => "fig4_9",
+        _ => "fig5_4_to_5_6",
+    };
+    // Residual traces and energies on the first CWRU fixed-load table, largest crack.
+    if let Some(d) = diss.iter().find(|d| matches!(d.condition, Condition::FixedLoad { .. })) {
+        let load = match d.condition {
+            Condition::FixedLoad { load_hp } => load_hp,
+            _ => 0,
+        };
+        let ci = d.cracks.len() - 1;
+        let shown: Vec<Method> = if ch == 5 { methods.to_vec() } else { vec![methods[0]] };
+        let mut rows = Vec::new();
+        for m in &shown {
+            for c in &d.classes {
+                let k = super::inputs::cwru_key(c, load, ci);
+                if let Some(tr) = traces_map.get(&(m.name().to_string(), k)) {
+                    let n = tr.len().min(1200);
+                    rows.push((format!("{} residual, {} ({})", m.name(), class_label(c), cache.get(&k)?.id), tr[..n].to_vec()));
+                }
+            }
+        }
+        out.push((
+            format!("figures/{fig_residual}_residuals_cwru.png"),
+            traces(&format!("Residuals, CWRU {load} hp, {} in (first 0.1 s)", d.cracks[ci]), &rows, super::inputs::CWRU_FS)?,
+        ));
+        let series: Vec<(String, Vec<f64>)> = d
+            .classes
+            .iter()
+            .filter_map(|c| {
+                let k = super::inputs::cwru_key(c, load, ci);
+                feats.get(&(methods[0].name().to_string(), k)).map(|v| (class_label(c), v.clone()))
+            })
+            .collect();
+        let name = if ch == 5 { "fig5_7_energies_cwru.png".to_string() } else { format!("energies_ch{ch}_cwru.png") };
+        out.push((
+            format!("figures/{name}"),
+            energies(&format!("{} residual window energies, CWRU {load} hp, {} in", methods[0].name(), d.cracks[ci]), &series)?,
+        ));
+    }
+    // Multi-fault substitute: residual traces (Fig. 4.10) and energies.
+    if let Some(d) = diss.iter().find(|d| matches!(d.condition, Condition::FixedSpeed { .. })) {
+        let rpm = match d.condition {
+            Condition::FixedSpeed { rpm } => rpm,
+            _ => 0,
+        };
+        let ci = d.cracks.len() - 1;
+        let mut rows = Vec::new();
+        for c in &d.classes {
+            let k = super::inputs::multi_key(c, rpm, ci);
+            if let Some(tr) = traces_map.get(&(methods[0].name().to_string(), k)) {
+                let n = tr.len().min(1200);
+                rows.push((format!("{} residual, {} (simulated)", methods[0].name(), class_label(c)), tr[..n].to_vec()));
+            }
+        }
+        let fname = if ch == 4 { "fig4_10_residuals_multi_simulated.png" } else { "residuals_multi_simulated.png" };
+        out.push((
+            format!("figures/{fname}"),
+            traces(&format!("Residuals, SIMULATED multi-fault substitute, {rpm} rpm, {} mm", d.cracks[ci]), &rows, super::inputs::MULTI_FS)?,
+        ));
+        let series: Vec<(String, Vec<f64>)> = d
+            .classes
+            .iter()
+            .filter_map(|c| {
+                let k = super::inputs::multi_key(c, rpm, ci);
+                feats.get(&(methods[0].name().to_string(), k)).map(|v| (class_label(c), v.clone()))
+            })
+            .collect();
+        out.push((
+            "figures/energies_multi_simulated.png".to_string(),
+            energies(&format!("{} window energies, SIMULATED substitute {rpm} rpm, {} mm", methods[0].name(), d.cracks[ci]), &series)?,
+        ));
+    }
+    // Confusion matrices: proposed method, dissertation protocol, every table.
+    for d in diss {
+        let Some(t) = tabs.iter().find(|t| t.table == d.id && t.protocol == Protocol::RandomWindows) else { continue };
+        let Some(s) = t.sources.first() else { continue };
+        let mats: Vec<(String, Vec<Vec<u64>>)> = s
+            .cells
+            .iter()
+            .enumerate()
+            .filter_map(|(ci, c)| match c {
+                Cell::Measured(o) => Some((format!("{} {}", d.cracks[ci], d.crack_unit), o.confusion.clone())),
+                Cell::NotApplicable(_) => None,
+            })
+            .collect();
+        let labels: Vec<String> = d.classes.iter().map(|c| class_label(c)).collect();
+        out.push((
+            format!("figures/confusion_table_{}.png", d.id.replace('.', "_")),
+            confusions(&format!("Table {}: {} confusion (random split, summed over seeds)", d.id, s.source), &mats, &labels)?,
+        ));
+    }
+    Ok(out)
+}

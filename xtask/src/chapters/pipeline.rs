@@ -1,0 +1,783 @@
+//! What each chapter runs: the methods, the datasets behind each dissertation table, and the
+//! evaluation protocols; the per-cell classification loop.
+//!
+//! Every cell of a dissertation table is one classification problem (the table's classes at one
+//! load or speed and one crack size). Features are window energies of the residual (eqs 2.46,
+//! 3.26, 4.31, 5.33), one window length for every class. The classifier is the one-vs-one linear
+//! SVM (chapters 2–4) or the Gini decision tree (chapter 5), both from the `classify` crate.
+
+use super::engine::{self, ClassifierKind, Method};
+use super::inputs::{self, Cache, RecKey};
+use super::report::{
+    Cell, CellOutcome, ChapterReport, DataNote, OurTable, Protocol, SourceColumns, class_label, pct,
+};
+use super::tables::{self, Condition, DissTable};
+use crate::common::Context;
+use anyhow::Context as _;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+
+/// Run configuration (full or quick).
+#[derive(Debug, Clone)]
+pub struct Config {
+    /// Reduced configuration for the `--check` test.
+    pub quick: bool,
+    /// Draw figures.
+    pub figures: bool,
+    /// Show progress bars.
+    pub progress: bool,
+    /// Samples per window (every class, every recording).
+    pub window_len: usize,
+    /// Windows per recording at most (the dissertation's 400 per class).
+    pub windows_per_rec: usize,
+    /// Seeds of the random-split protocol.
+    pub seeds: u64,
+    /// CWRU loads run.
+    pub loads: Vec<u8>,
+    /// Substitute speeds run.
+    pub rpms: Vec<u32>,
+}
+
+impl Config {
+    /// The full or the quick configuration.
+    pub fn new(quick: bool, figures: bool, progress: bool) -> Self {
+        if quick {
+            Self {
+                quick,
+                figures,
+                progress,
+                window_len: 300,
+                windows_per_rec: 60,
+                seeds: 2,
+                loads: vec![0],
+                rpms: vec![300],
+            }
+        } else {
+            Self {
+                quick,
+                figures,
+                progress,
+                window_len: 300,
+                windows_per_rec: 400,
+                seeds: 5,
+                loads: vec![0, 1, 2, 3],
+                rpms: vec![300, 400, 450, 500],
+            }
+        }
+    }
+}
+
+/// A chapter's output: its report, its figures and a headline for the terminal.
+pub struct ChapterOutput {
+    /// Tables and notes.
+    pub report: ChapterReport,
+    /// `figures/<name>.png` → bytes.
+    pub figures: Vec<(String, Vec<u8>)>,
+    /// Terminal summary.
+    pub headline: String,
+}
+
+/// Methods and classifier of a chapter, in the dissertation's column order.
+fn chapter_spec(ch: u8) -> anyhow::Result<(Vec<Method>, ClassifierKind, &'static str)> {
+    Ok(match ch {
+        2 => (
+            vec![Method::Hostsmo, Method::Smo, Method::Apio],
+            ClassifierKind::Svm,
+            "Chapter 2 — HOSTSMO, SMO, APIO with energy features and a one-vs-one SVM",
+        ),
+        3 => (
+            vec![Method::Pflo, Method::Flo, Method::Apio],
+            ClassifierKind::Svm,
+            "Chapter 3 — PFLO, FLO, APIO with energy features and a one-vs-one SVM",
+        ),
+        4 => (
+            vec![Method::Smalpio, Method::Apio],
+            ClassifierKind::Svm,
+            "Chapter 4 — SMALPIO, APIO on ARX-Laguerre with energy features and a one-vs-one SVM",
+        ),
+        5 => (
+            vec![Method::Afsmo, Method::Asmo, Method::SmoFuzzy],
+            ClassifierKind::Tree,
+            "Chapter 5 — AFSMO, ASMO, SMO on fuzzy ARX-Laguerre with energy features and a Gini decision tree",
+        ),
+        other => anyhow::bail!("no chapter {other} (chapters 2–5 have tables)"),
+    })
+}
+
+/// One window of a cell's dataset.
+#[derive(Debug, Clone, Copy)]
+struct Win {
+    class: usize,
+    /// Index of the recording (or normal pseudo-segment) within the cell.
+    group: usize,
+    /// Window index within its recording, and the recording's window count.
+    pos: usize,
+    count: usize,
+    /// Condition index (load or speed) and crack index (None for normal).
+    cond: usize,
+    crack: Option<usize>,
+    energy: f64,
+}
+
+/// Features of one (source, recording): window energies.
+type FeatMap = BTreeMap<(String, RecKey), Vec<f64>>;
+
+/// Run one chapter.
+pub fn run_chapter(
+    ctx: &Context,
+    cfg: &Config,
+    ch: u8,
+    cache: &mut Cache,
+) -> anyhow::Result<ChapterOutput> {
+    let (methods, clf, title) = chapter_spec(ch)?;
+    let diss_all = tables::chapter_tables(ch);
+    let diss: Vec<&DissTable> = diss_all
+        .into_iter()
+        .filter(|d| table_selected(cfg, d))
+        .collect();
+    let cwru_sim = !inputs::cwru_available(ctx);
+    if cwru_sim && ctx.ci {
+        anyhow::bail!("CI=true but the CWRU data directory was not found (set HYBRID_FDD_DATA)");
+    }
+    let mut notes = base_notes(cfg, ch, clf, cwru_sim);
+
+    // 1. Recordings every table needs.
+    let mut keys: Vec<RecKey> = Vec::new();
+    for d in &diss {
+        for k in table_keys(cfg, d) {
+            if !keys.contains(&k) {
+                keys.push(k);
+            }
+        }
+    }
+    let pb = progress(cfg, keys.len() as u64, format!("chapter {ch}: recordings"));
+    cache.load_all(ctx, cfg, &keys, &pb)?;
+    pb.finish_and_clear();
+
+    // 2. Models identified on each healthy fit segment (once per healthy recording).
+    let mut healthy: Vec<RecKey> = keys.iter().map(inputs::healthy_key).collect();
+    healthy.sort();
+    healthy.dedup();
+    let prepared: BTreeMap<RecKey, engine::Prepared> = healthy
+        .par_iter()
+        .map(|h| {
+            let rec = cache.get(h)?;
+            let p = engine::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm)
+                .with_context(|| format!("model identification on {}", rec.id))?;
+            Ok((*h, p))
+        })
+        .collect::<anyhow::Result<_>>()?;
+
+    // 3. Residual features for every (source, recording), in parallel, collected in order.
+    let mut sources: Vec<Option<Method>> = methods.iter().copied().map(Some).collect();
+    sources.push(None);
+    let jobs: Vec<(Option<Method>, RecKey)> = sources
+        .iter()
+        .flat_map(|s| keys.iter().map(move |k| (*s, *k)))
+        .collect();
+    let pb = progress(cfg, jobs.len() as u64, format!("chapter {ch}: observers"));
+    let results: Vec<anyhow::Result<(Vec<f64>, Vec<f64>)>> = jobs
+        .par_iter()
+        .map(|(src, key)| {
+            let rec = cache.get(key)?;
+            let prep = prepared
+                .get(&inputs::healthy_key(key))
+                .ok_or_else(|| anyhow::anyhow!("no model for {}", rec.id))?;
+            let full = match src {
+                Some(m) => engine::residual(*m, prep, rec)
+                    .with_context(|| format!("{} on recording {}", m.name(), rec.id))?,
+                None => rec.signal.clone(),
+            };
+            let residual = full.get(rec.window_start..).unwrap_or(&[]);
+            let e = engine::window_energies(residual, rec.window_len, rec.n_windows)
+                .with_context(|| {
+                    format!("energy windows of {} on {}", source_name(*src), rec.id)
+                })?;
+            pb.inc(1);
+            // Keep a short trace for the figures.
+            let trace_len = residual.len().min(rec.fs as usize / 10);
+            Ok((e, residual[..trace_len].to_vec()))
+        })
+        .collect();
+    pb.finish_and_clear();
+    let mut feats = FeatMap::new();
+    let mut traces: BTreeMap<(String, RecKey), Vec<f64>> = BTreeMap::new();
+    for ((src, key), r) in jobs.iter().zip(results) {
+        let (e, tr) = r?;
+        feats.insert((source_name(*src), *key), e);
+        traces.insert((source_name(*src), *key), tr);
+    }
+
+    // 3. Tables.
+    let mut report_tables = Vec::new();
+    let mut data_notes = Vec::new();
+    let mut figures = Vec::new();
+    let mut extras = Vec::new();
+    let n_cells: usize = diss.len();
+    let pb = progress(cfg, n_cells as u64, format!("chapter {ch}: classifiers"));
+    for d in &diss {
+        data_notes.push(data_note(cfg, cache, d, &feats, &methods)?);
+        for protocol in protocols_for(d) {
+            let mut cols = Vec::new();
+            for src in &sources {
+                let name = source_name(*src);
+                let cells: Vec<Cell> = (0..d.cracks.len())
+                    .map(|ci| {
+                        run_cell(cfg, cache, d, &feats, &name, ci, protocol, clf)
+                            .with_context(|| format!("table {} {} crack {}", d.id, name, d.cracks[ci]))
+                    })
+                    .collect::<anyhow::Result<_>>()?;
+                cols.push(SourceColumns {
+                    source: name,
+                    in_dissertation: src.is_some(),
+                    cells,
+                });
+            }
+            report_tables.push(OurTable {
+                table: d.id.clone(),
+                protocol,
+                protocol_note: protocol_note(cfg, d, protocol),
+                sources: cols,
+            });
+        }
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+
+    // 4. Chapter 5: the learned rules (eqs 5.35–5.36, Fig. 5.8) for 0.021 in at 3 hp (or the
+    // quick configuration's load).
+    if clf == ClassifierKind::Tree {
+        if let Some(d) = diss.iter().find(|d| {
+            d.dataset == "cwru"
+                && matches!(d.condition, Condition::FixedLoad { load_hp } if load_hp == *cfg.loads.last().unwrap_or(&3))
+        }) {
+            let ci = d.cracks.len() - 1;
+            let wins = cell_windows(cfg, cache, d, &feats, &methods[0].name().to_string(), ci)?;
+            let x: Vec<f64> = wins.iter().map(|w| w.energy).collect();
+            let y: Vec<usize> = wins.iter().map(|w| w.class).collect();
+            let labels: Vec<String> = d.classes.iter().map(|c| class_label(c)).collect();
+            let (rules, tree) = engine::tree_rules(&x, &y, &labels)?;
+            let load = match d.condition {
+                Condition::FixedLoad { load_hp } => load_hp,
+                _ => 0,
+            };
+            extras.push((
+                format!(
+                    "Learned decision rules (eqs 5.35–5.36, Fig. 5.8): {} residual energy, {} in, {} hp, all windows",
+                    methods[0].name(),
+                    d.cracks[ci],
+                    load
+                ),
+                rules,
+            ));
+            if cfg.figures {
+                figures.push((
+                    "figures/fig5_8_decision_tree.png".to_string(),
+                    super::figures::decision_tree(&tree, &labels)?,
+                ));
+            }
+        }
+    }
+
+    // 5. Figures.
+    if cfg.figures {
+        figures.extend(super::figures::chapter_figures(
+            ch,
+            cache,
+            &diss,
+            &report_tables,
+            &feats,
+            &traces,
+            &methods,
+        )?);
+    }
+    let figure_names: Vec<String> = figures.iter().map(|(n, _)| n.clone()).collect();
+
+    // 6. Headline.
+    let headline = headline(ch, &diss, &report_tables, &methods);
+    notes.push(format!("Headline (average of the per-cell average accuracies, proposed method {}):\n{}", methods[0].name(), indent(&headline)));
+
+    Ok(ChapterOutput {
+        report: ChapterReport {
+            generated_by: format!("cargo xtask chapter{ch}"),
+            chapter: ch,
+            title: title.to_string(),
+            cwru_simulated: cwru_sim,
+            notes,
+            data: data_notes,
+            tables: report_tables,
+            extras,
+            figures: figure_names,
+        },
+        figures,
+        headline: format!("chapter {ch} ({}):\n{headline}", methods[0].name()),
+    })
+}
+
+fn indent(s: &str) -> String {
+    s.lines().map(|l| format!("    {l}")).collect::<Vec<_>>().join("\n")
+}
+
+fn source_name(s: Option<Method>) -> String {
+    match s {
+        Some(m) => m.name().to_string(),
+        None => "raw signal".to_string(),
+    }
+}
+
+fn progress(cfg: &Config, n: u64, msg: String) -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(
+        Some(n),
+        if cfg.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() },
+    );
+    if let Ok(style) = ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed}") {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb.set_message(msg);
+    pb
+}
+
+/// In the quick configuration only the first load / first speed tables run.
+fn table_selected(cfg: &Config, d: &DissTable) -> bool {
+    match d.condition {
+        Condition::FixedLoad { load_hp } => cfg.loads.contains(&load_hp),
+        Condition::FixedSpeed { rpm } => cfg.rpms.contains(&rpm),
+        Condition::LoadVariant => cfg.loads.len() > 1,
+        Condition::SpeedVariant => cfg.rpms.len() > 1,
+    }
+}
+
+/// Conditions (load hp or rpm) a table pools.
+fn conditions(cfg: &Config, d: &DissTable) -> Vec<u32> {
+    match d.condition {
+        Condition::FixedLoad { load_hp } => vec![u32::from(load_hp)],
+        Condition::FixedSpeed { rpm } => vec![rpm],
+        Condition::LoadVariant => cfg.loads.iter().map(|&l| u32::from(l)).collect(),
+        Condition::SpeedVariant => cfg.rpms.clone(),
+    }
+}
+
+fn is_cwru(d: &DissTable) -> bool {
+    d.dataset == "cwru"
+}
+
+/// The recording behind (table, class, condition, crack).
+fn key_for(d: &DissTable, class: &str, cond: u32, crack: usize) -> RecKey {
+    if is_cwru(d) {
+        inputs::cwru_key(class, cond as u8, crack)
+    } else {
+        inputs::multi_key(class, cond, crack)
+    }
+}
+
+fn table_keys(cfg: &Config, d: &DissTable) -> Vec<RecKey> {
+    let mut v = Vec::new();
+    for cond in conditions(cfg, d) {
+        for ci in 0..d.cracks.len() {
+            for c in &d.classes {
+                let k = key_for(d, c, cond, ci);
+                if !v.contains(&k) {
+                    v.push(k);
+                }
+            }
+        }
+    }
+    v
+}
+
+/// Build the windows of one cell (all conditions the table pools, one crack size), or, with
+/// `crack = None`, of all crack sizes.
+fn windows_for(
+    cfg: &Config,
+    cache: &Cache,
+    d: &DissTable,
+    feats: &FeatMap,
+    source: &str,
+    cracks: &[usize],
+) -> anyhow::Result<Vec<Win>> {
+    let conds = conditions(cfg, d);
+    let mut wins = Vec::new();
+    let mut group = 0usize;
+    for (class_idx, class) in d.classes.iter().enumerate() {
+        if class == "normal" {
+            // One normal recording (or one per speed for the substitute) serves every crack
+            // size; when several conditions are pooled and they share one recording (CWRU 97),
+            // it is cut into one contiguous pseudo-segment per condition, never duplicated.
+            let k0 = key_for(d, class, conds[0], 0);
+            let shared = conds.iter().all(|&c| key_for(d, class, c, 0) == k0);
+            if shared {
+                let e = feats
+                    .get(&(source.to_string(), k0))
+                    .ok_or_else(|| anyhow::anyhow!("no features for {}", cache.get(&k0).map(|r| r.id.clone()).unwrap_or_default()))?;
+                let nseg = conds.len();
+                let per = e.len() / nseg;
+                for (si, _) in conds.iter().enumerate() {
+                    let seg = &e[si * per..(si + 1) * per];
+                    for (p, &en) in seg.iter().enumerate() {
+                        wins.push(Win { class: class_idx, group, pos: p, count: seg.len(), cond: si, crack: None, energy: en });
+                    }
+                    group += 1;
+                }
+            } else {
+                for (si, &c) in conds.iter().enumerate() {
+                    let k = key_for(d, class, c, 0);
+                    let e = feats.get(&(source.to_string(), k)).ok_or_else(|| anyhow::anyhow!("missing features"))?;
+                    for (p, &en) in e.iter().enumerate() {
+                        wins.push(Win { class: class_idx, group, pos: p, count: e.len(), cond: si, crack: None, energy: en });
+                    }
+                    group += 1;
+                }
+            }
+        } else {
+            for &ci in cracks {
+                for (si, &c) in conds.iter().enumerate() {
+                    let k = key_for(d, class, c, ci);
+                    let e = feats.get(&(source.to_string(), k)).ok_or_else(|| anyhow::anyhow!("missing features"))?;
+                    for (p, &en) in e.iter().enumerate() {
+                        wins.push(Win { class: class_idx, group, pos: p, count: e.len(), cond: si, crack: Some(ci), energy: en });
+                    }
+                    group += 1;
+                }
+            }
+        }
+    }
+    Ok(wins)
+}
+
+fn cell_windows(
+    cfg: &Config,
+    cache: &Cache,
+    d: &DissTable,
+    feats: &FeatMap,
+    source: &str,
+    ci: usize,
+) -> anyhow::Result<Vec<Win>> {
+    windows_for(cfg, cache, d, feats, source, &[ci])
+}
+
+/// The protocols reported for a table (the dissertation's first).
+fn protocols_for(d: &DissTable) -> Vec<Protocol> {
+    match d.condition {
+        Condition::FixedLoad { .. } | Condition::FixedSpeed { .. } => vec![
+            Protocol::RandomWindows,
+            Protocol::TimeBlocked,
+            Protocol::LeaveOneSizeOut,
+            Protocol::LeaveOneConditionOut,
+        ],
+        Condition::LoadVariant | Condition::SpeedVariant => vec![
+            Protocol::RandomWindows,
+            Protocol::TimeBlocked,
+            Protocol::LeaveOneConditionOut,
+            Protocol::LeaveOneSizeOut,
+        ],
+    }
+}
+
+fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
+    let cond = if is_cwru(d) { "load" } else { "speed" };
+    let pooled = matches!(d.condition, Condition::LoadVariant | Condition::SpeedVariant);
+    match p {
+        Protocol::RandomWindows => format!(
+            "Windows of all recordings of the cell pooled, stratified random split 75 % train / 25 % test per class, repeated over {} seeds; per-class accuracy from the confusion matrix summed over seeds. Neighbouring windows of one recording land on both sides, so this protocol measures recognition of recordings seen in training.",
+            cfg.seeds
+        ),
+        Protocol::TimeBlocked => "Each recording's first 75 % of windows train, its last 25 % test (one fold). Still one recording per class on both sides, but no test window is interleaved with training windows.".to_string(),
+        Protocol::LeaveOneSizeOut => {
+            let n = if is_cwru(d) { "97 (the single normal recording)" } else { "the simulated normal recording" };
+            format!(
+                "Column = the crack size held out: faults of the other {} train, faults of this size test{}. The normal class has no size: {n} is split in time (first 75 % of its windows train, last 25 % test) — the only way it can appear on both sides.",
+                if d.cracks.len() == 2 { "size" } else { "two sizes" },
+                if pooled { format!(", every {cond} pooled") } else { String::new() }
+            )
+        }
+        Protocol::LeaveOneConditionOut => {
+            if pooled {
+                let normal = if is_cwru(d) {
+                    "The normal class is one recording (97, 0 hp, 48 kHz decimated to 12 kHz) reused at every load: it is cut into one contiguous segment per load, and the held-out load's segment tests."
+                } else {
+                    "The normal class has its own simulated recording at each speed."
+                };
+                format!(
+                    "Grouped by recording: one fold per {cond}; train on the other {cond}s, test on the held-out one; confusions summed over folds, spread over folds. With one recording per class and {cond}, grouping by recording is leaving one {cond} out. {normal}"
+                )
+            } else {
+                format!(
+                    "Not applicable within one {cond}: each class has one recording, so holding a recording out removes its class from training. See the {cond}-variant table (2.7, 3.5, 4.6, 5.6; 4.11, 5.11) for the grouped protocol."
+                )
+            }
+        }
+    }
+}
+
+/// Evaluate one cell under one protocol.
+#[allow(clippy::too_many_arguments)]
+fn run_cell(
+    cfg: &Config,
+    cache: &Cache,
+    d: &DissTable,
+    feats: &FeatMap,
+    source: &str,
+    ci: usize,
+    protocol: Protocol,
+    clf: ClassifierKind,
+) -> anyhow::Result<Cell> {
+    let pooled = matches!(d.condition, Condition::LoadVariant | Condition::SpeedVariant);
+    let nclass = d.classes.len();
+    let mut folds: Vec<(Vec<Win>, Vec<Win>)> = Vec::new();
+    match protocol {
+        Protocol::RandomWindows => {
+            let wins = cell_windows(cfg, cache, d, feats, source, ci)?;
+            for seed in 0..cfg.seeds {
+                folds.push(random_split(&wins, nclass, seed));
+            }
+        }
+        Protocol::TimeBlocked => {
+            let wins = cell_windows(cfg, cache, d, feats, source, ci)?;
+            folds.push(time_split(&wins));
+        }
+        Protocol::LeaveOneSizeOut => {
+            let all: Vec<usize> = (0..d.cracks.len()).collect();
+            let wins = windows_for(cfg, cache, d, feats, source, &all)?;
+            let (mut train, mut test) = (Vec::new(), Vec::new());
+            for w in wins {
+                match w.crack {
+                    None => {
+                        if w.pos * 4 < w.count * 3 { train.push(w) } else { test.push(w) }
+                    }
+                    Some(c) if c == ci => test.push(w),
+                    Some(_) => train.push(w),
+                }
+            }
+            folds.push((train, test));
+        }
+        Protocol::LeaveOneConditionOut => {
+            if !pooled {
+                let cond = if is_cwru(d) { "load" } else { "speed" };
+                return Ok(Cell::NotApplicable(format!(
+                    "one recording per class at a fixed {cond}: grouping by recording would leave its class out of training"
+                )));
+            }
+            let wins = cell_windows(cfg, cache, d, feats, source, ci)?;
+            let nconds = conditions(cfg, d).len();
+            for held in 0..nconds {
+                let (train, test): (Vec<Win>, Vec<Win>) = wins.iter().partition(|w| w.cond != held);
+                folds.push((train, test));
+            }
+        }
+    }
+    evaluate(&folds, nclass, clf).map(Cell::Measured)
+}
+
+/// Deterministic SplitMix64 (for the random split only; no dependency needed).
+struct SplitMix(u64);
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+}
+
+/// Stratified random 75/25 split (per class, Fisher–Yates with a seeded SplitMix64).
+fn random_split(wins: &[Win], nclass: usize, seed: u64) -> (Vec<Win>, Vec<Win>) {
+    let mut rng = SplitMix(0x5EED_0000 + seed);
+    let (mut train, mut test) = (Vec::new(), Vec::new());
+    for c in 0..nclass {
+        let mut idx: Vec<usize> = (0..wins.len()).filter(|&i| wins[i].class == c).collect();
+        for i in (1..idx.len()).rev() {
+            let j = (rng.next() % (i as u64 + 1)) as usize;
+            idx.swap(i, j);
+        }
+        let ntrain = (idx.len() * 3).div_ceil(4);
+        for (k, &i) in idx.iter().enumerate() {
+            if k < ntrain { train.push(wins[i]) } else { test.push(wins[i]) }
+        }
+    }
+    (train, test)
+}
+
+/// First 75 % of each recording's windows train, the rest test.
+fn time_split(wins: &[Win]) -> (Vec<Win>, Vec<Win>) {
+    wins.iter().partition(|w| w.pos * 4 < w.count * 3)
+}
+
+/// Train and test each fold; sum the confusions.
+fn evaluate(folds: &[(Vec<Win>, Vec<Win>)], nclass: usize, clf: ClassifierKind) -> anyhow::Result<CellOutcome> {
+    let mut conf = vec![vec![0u64; nclass]; nclass];
+    let mut accs = Vec::new();
+    let (mut n_train, mut n_test) = (0, 0);
+    for (train, test) in folds {
+        let xtr: Vec<f64> = train.iter().map(|w| w.energy).collect();
+        let ytr: Vec<usize> = train.iter().map(|w| w.class).collect();
+        let xte: Vec<f64> = test.iter().map(|w| w.energy).collect();
+        let pred = engine::fit_predict(clf, &xtr, &ytr, &xte, nclass)?;
+        let mut correct = 0usize;
+        for (w, &p) in test.iter().zip(&pred) {
+            conf[w.class][p.min(nclass - 1)] += 1;
+            if w.class == p {
+                correct += 1;
+            }
+        }
+        accs.push(100.0 * correct as f64 / test.len().max(1) as f64);
+        n_train = train.len();
+        n_test = test.len();
+    }
+    let per_class = conf
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            let n: u64 = row.iter().sum();
+            (n > 0).then(|| 100.0 * row[i] as f64 / n as f64)
+        })
+        .collect();
+    let total: u64 = conf.iter().flatten().sum();
+    let diag: u64 = (0..nclass).map(|i| conf[i][i]).sum();
+    let average = 100.0 * diag as f64 / total.max(1) as f64;
+    let spread = (accs.len() > 1).then(|| {
+        let m = accs.iter().sum::<f64>() / accs.len() as f64;
+        (accs.iter().map(|a| (a - m).powi(2)).sum::<f64>() / (accs.len() - 1) as f64).sqrt()
+    });
+    Ok(CellOutcome { per_class, average, spread, confusion: conf, n_train, n_test })
+}
+
+fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<String> {
+    let mut n = Vec::new();
+    if cfg.quick {
+        n.push(format!(
+            "QUICK configuration (for the `--check` test, not for reading): load {:?} hp and {:?} rpm only, at most {} windows per recording, {} seeds, no figures.",
+            cfg.loads, cfg.rpms, cfg.windows_per_rec, cfg.seeds
+        ));
+    }
+    n.push(format!(
+        "Feature: the energy Σr² of non-overlapping windows of {} samples (eqs 2.46 / 3.26 / 4.31 / 5.33), the same length for every class; at most {} windows per recording (the dissertation's 400 per class), taken from the start of the scored segment.",
+        cfg.window_len, cfg.windows_per_rec
+    ));
+    n.push(match clf {
+        ClassifierKind::Svm => "Classifier: one-vs-one linear SVM (`classify` crate, linfa-svm), features standardised on the training split.".to_string(),
+        ClassifierKind::Tree => "Classifier: Gini decision tree (`classify` crate, linfa-trees), eq. 5.34.".to_string(),
+    });
+    n.push(format!(
+        "CWRU data: 12 kHz drive-end recordings (DE channel) at loads 0–3 hp; fault recordings OR at 6 o'clock. {}",
+        if cwru_sim {
+            "NOT FOUND: every CWRU table ran on simulated CWRU-like recordings from `bearing-model`."
+        } else {
+            "The only normal recording is 97.mat (0 hp, 48 kHz): it is decimated by 4 to 12 kHz and reused as the normal class at 1, 2 and 3 hp."
+        }
+    ));
+    n.push(format!(
+        "Model fitting: observers that need an identified model (ARX-Laguerre, fuzzy ARX-Laguerre) fit it on the first {} s of the healthy recording; normal windows are cut only after that segment, so no scored window was seen by the identification.",
+        inputs::FIT_SECONDS
+    ));
+    if ch >= 4 {
+        n.push("Multi-fault tables (4.7–4.11, 5.7–5.11): the SHSE Lab data is not public. These tables run on a SIMULATED substitute from `bearing-model` (eight classes: normal, IR, OR, ball, IR-OR, IR-ball, OR-ball, IR-OR-ball; 300/400/450/500 rpm; 3 and 6 mm faults; with slip and noise). They are labelled as simulated everywhere and are not measurements.".to_string());
+    }
+    n.push("Dissertation protocol inconsistency: the text says 1600 windows = 1200 train + 400 test, yet \"75 instances per class\" train and \"100\" (ch. 2–3) or \"25\" (ch. 4) test per class; we use the 75 % / 25 % split of 400 windows per class that the totals imply.".to_string());
+    n
+}
+
+fn data_note(
+    cfg: &Config,
+    cache: &Cache,
+    d: &DissTable,
+    feats: &FeatMap,
+    methods: &[Method],
+) -> anyhow::Result<DataNote> {
+    let mut recs = Vec::new();
+    let conds = conditions(cfg, d);
+    for c in &d.classes {
+        let cracks: Vec<usize> = if c == "normal" { vec![0] } else { (0..d.cracks.len()).collect() };
+        for ci in cracks {
+            let ids: Vec<String> = conds
+                .iter()
+                .map(|&cd| cache.get(&key_for(d, c, cd, ci)).map(|r| r.id.clone()))
+                .collect::<anyhow::Result<_>>()?;
+            let mut ids2 = Vec::new();
+            for i in ids {
+                if !ids2.contains(&i) {
+                    ids2.push(i);
+                }
+            }
+            let crack = if c == "normal" { "all".to_string() } else { d.cracks[ci].clone() };
+            recs.push((c.clone(), crack, ids2));
+        }
+    }
+    let w = cell_windows(cfg, cache, d, feats, methods[0].name(), 0)?;
+    let mut per = vec![0usize; d.classes.len()];
+    for x in &w {
+        per[x.class] += 1;
+    }
+    let text = if is_cwru(d) {
+        let sim = cache.cwru_simulated();
+        format!(
+            "{}CWRU 12 kHz drive-end, {}. Windows per class (first crack size): {}. Normal = 97.mat (0 hp, 48 kHz → 12 kHz by 4){}.",
+            if sim { "SIMULATED CWRU-like recordings (data absent), " } else { "" },
+            match d.condition {
+                Condition::FixedLoad { load_hp } => format!("{load_hp} hp"),
+                _ => format!("loads {:?} hp pooled", cfg.loads),
+            },
+            d.classes.iter().zip(&per).map(|(c, n)| format!("{} {n}", class_label(c))).collect::<Vec<_>>().join(", "),
+            match d.condition {
+                Condition::FixedLoad { load_hp } if load_hp > 0 => ", reused at this load (no normal recording at 1–3 hp in the shared data)",
+                Condition::LoadVariant => ", reused for every load as one contiguous segment per load",
+                _ => "",
+            }
+        )
+    } else {
+        format!(
+            "SIMULATED substitute for the private SHSE data ({}), `bearing-model` 5-DOF model with slip and noise, {} Hz. Windows per class: {}. Crack sizes 3 and 6 mm.",
+            match d.condition {
+                Condition::FixedSpeed { rpm } => format!("{rpm} rpm"),
+                _ => format!("speeds {:?} rpm pooled", cfg.rpms),
+            },
+            inputs::MULTI_FS,
+            d.classes.iter().zip(&per).map(|(c, n)| format!("{} {n}", class_label(c))).collect::<Vec<_>>().join(", "),
+        )
+    };
+    Ok(DataNote { table: d.id.clone(), text, recordings: recs, windows_per_class: per, window_len: cfg.window_len })
+}
+
+/// Mean over tables' cells of the proposed method's average accuracy, per protocol, beside the
+/// dissertation's mean.
+fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) -> String {
+    let mut s = String::new();
+    for dataset in ["cwru", "shse_multi"] {
+        let ds: Vec<&&DissTable> = diss.iter().filter(|d| d.dataset == dataset).collect();
+        if ds.is_empty() {
+            continue;
+        }
+        let label = if dataset == "cwru" { "CWRU" } else { "simulated multi-fault substitute" };
+        for m in methods.iter().map(|m| m.name().to_string()).chain(["raw signal".to_string()]) {
+            let mut parts = Vec::new();
+            let diss_vals: Vec<f64> = ds
+                .iter()
+                .flat_map(|d| (0..d.cracks.len()).filter_map(|ci| d.avg(&m, ci)).collect::<Vec<_>>())
+                .collect();
+            if !diss_vals.is_empty() {
+                parts.push(format!(
+                    "dissertation {}",
+                    pct(diss_vals.iter().sum::<f64>() / diss_vals.len() as f64)
+                ));
+            }
+            for p in [Protocol::RandomWindows, Protocol::TimeBlocked, Protocol::LeaveOneSizeOut, Protocol::LeaveOneConditionOut] {
+                let vals: Vec<f64> = tabs
+                    .iter()
+                    .filter(|t| t.protocol == p && ds.iter().any(|d| d.id == t.table))
+                    .flat_map(|t| t.sources.iter().filter(|c| c.source == m))
+                    .flat_map(|c| c.cells.iter())
+                    .filter_map(|c| match c {
+                        Cell::Measured(o) => Some(o.average),
+                        Cell::NotApplicable(_) => None,
+                    })
+                    .collect();
+                if !vals.is_empty() {
+                    parts.push(format!("{} {}", p.key(), pct(vals.iter().sum::<f64>() / vals.len() as f64)));
+                }
+            }
+            s.push_str(&format!("  ch{ch} {label}, {m}: {}\n", parts.join(", ")));
+        }
+    }
+    s
+}
