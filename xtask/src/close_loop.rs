@@ -103,14 +103,22 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
                 .iter()
                 .map(|e| match e.frequency_hz {
                     Some(f) => format!("{} {:.1} Hz", e.kind.as_str(), f),
-                    None => format!("{} ×{:.4}", e.kind.as_str(), e.parameters.get("ratio").copied().unwrap_or(f64::NAN)),
+                    None => format!(
+                        "{} ×{:.4}",
+                        e.kind.as_str(),
+                        e.parameters.get("ratio").copied().unwrap_or(f64::NAN)
+                    ),
                 })
                 .collect();
             summary.push_str(&format!(
                 "| {number} | {fault} | {rpm:.0} | {fs:.0} | {:.3} | {:.3} | {} | {:.1} |\n",
                 l.error_before,
                 l.error_after,
-                if eff.is_empty() { "–".to_string() } else { eff.join("; ") },
+                if eff.is_empty() {
+                    "–".to_string()
+                } else {
+                    eff.join("; ")
+                },
                 t.elapsed().as_secs_f64()
             ));
         }
@@ -122,7 +130,11 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     let (o, _, _) = run_one(&args)?;
     println!(
         "{}: {} {:.3} dB -> {:.3} dB, {} effect(s), {:.2} s",
-        args.input.as_deref().map(Path::display).map(|d| d.to_string()).unwrap_or_default(),
+        args.input
+            .as_deref()
+            .map(Path::display)
+            .map(|d| d.to_string())
+            .unwrap_or_default(),
         o.ledger.error_metric,
         o.ledger.error_before,
         o.ledger.error_after,
@@ -133,8 +145,16 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
 }
 
 /// Load the signal: (samples, fs, stored rpm if any).
-fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<(Vec<f64>, f64, Option<f64>)> {
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+fn load(
+    path: &Path,
+    channel: &str,
+    fs: Option<f64>,
+) -> anyhow::Result<(Vec<f64>, f64, Option<f64>)> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
     let end = match channel.to_ascii_uppercase().as_str() {
         "DE" => bearing_data::SensorEnd::DriveEnd,
         "FE" => bearing_data::SensorEnd::FanEnd,
@@ -143,8 +163,12 @@ fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<(Vec<f64>
     };
     match ext.as_str() {
         "mat" => {
-            let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-            let number = path.file_stem().and_then(|s| s.to_str()).and_then(|s| s.parse::<u32>().ok());
+            let bytes =
+                std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+            let number = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .and_then(|s| s.parse::<u32>().ok());
             if let Some(number) = number
                 && let Ok(rec) = bearing_data::parse_record(&bytes, number)
             {
@@ -164,7 +188,10 @@ fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<(Vec<f64>
         }
         "csv" | "txt" => {
             let fs = fs.context("--fs is required for a CSV recording")?;
-            let sig = bearing_data::read_csv_file(path, &bearing_data::CsvOptions::new(fs, bearing_data::Column::Single))?;
+            let sig = bearing_data::read_csv_file(
+                path,
+                &bearing_data::CsvOptions::new(fs, bearing_data::Column::Single),
+            )?;
             Ok((sig.into_samples(), fs, None))
         }
         other => bail!("unsupported input extension `{other}` (.mat or .csv)"),
@@ -178,7 +205,10 @@ fn run_one(args: &Args) -> anyhow::Result<(Outcome, f64, f64)> {
     if let Some(s) = args.seconds {
         y.truncate((s * fs).round() as usize);
     }
-    let rpm = args.rpm.or(stored_rpm).context("--rpm is required (the file stores no speed)")?;
+    let rpm = args
+        .rpm
+        .or(stored_rpm)
+        .context("--rpm is required (the file stores no speed)")?;
     let bearing = BearingRates::from_name(&args.bearing)?;
     let fault = DeclaredFault::parse(&args.fault)?;
     let op = OperatingPoint::new(rpm, bearing, fault)?;
@@ -188,13 +218,18 @@ fn run_one(args: &Args) -> anyhow::Result<(Outcome, f64, f64)> {
                 "6203" => bearing_model::Bearing::Skf6203,
                 _ => bearing_model::Bearing::Skf6205,
             };
-            Box::new(PhysicsModel { bearing: b, ..PhysicsModel::default() })
+            Box::new(PhysicsModel {
+                bearing: b,
+                ..PhysicsModel::default()
+            })
         }
         "phenomenological" => Box::new(PhenomenologicalModel {
             resonance_hz: 3300.0f64.min(0.4 * fs),
             ..PhenomenologicalModel::default()
         }),
-        "arx-laguerre" => bail!("--model arx-laguerre is not wired into close-loop yet (see crates/close-loop/README.md)"),
+        "arx-laguerre" => bail!(
+            "--model arx-laguerre is not wired into close-loop yet (see crates/close-loop/README.md)"
+        ),
         other => bail!("unknown model `{other}` (physics, phenomenological)"),
     };
     let cfg = LoopConfig {
@@ -210,7 +245,11 @@ fn run_one(args: &Args) -> anyhow::Result<(Outcome, f64, f64)> {
         std::fs::create_dir_all(parent)?;
     }
     std::fs::write(report, serde_json::to_string_pretty(&out.ledger)? + "\n")?;
-    let title = input.file_name().and_then(|s| s.to_str()).unwrap_or("recording").to_string();
+    let title = input
+        .file_name()
+        .and_then(|s| s.to_str())
+        .unwrap_or("recording")
+        .to_string();
     std::fs::write(report.with_extension("md"), out.ledger.to_markdown(&title))?;
     figure(&out, &report.with_extension("png"), &title)?;
     Ok((out, rpm, fs))
@@ -224,7 +263,12 @@ fn font_available() -> bool {
         match std::fs::read(path) {
             Ok(bytes) => {
                 let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, bytes).is_ok()
+                plotters::style::register_font(
+                    "sans-serif",
+                    plotters::style::FontStyle::Normal,
+                    bytes,
+                )
+                .is_ok()
             }
             Err(_) => false,
         }
@@ -239,15 +283,20 @@ fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
     let s = &out.spectra;
     let l = &out.ledger;
     let (f_lo, f_hi) = (l.protocol.band_hz[0], l.protocol.band_hz[1]);
-    let idx: Vec<usize> =
-        (0..s.frequency_hz.len()).filter(|&k| s.frequency_hz[k] >= f_lo && s.frequency_hz[k] <= f_hi).collect();
+    let idx: Vec<usize> = (0..s.frequency_hz.len())
+        .filter(|&k| s.frequency_hz[k] >= f_lo && s.frequency_hz[k] <= f_hi)
+        .collect();
     let db = |v: f64| 10.0 * v.max(1e-300).log10();
-    let series = |v: &[f64]| -> Vec<(f64, f64)> { idx.iter().map(|&k| (s.frequency_hz[k], db(v[k]))).collect() };
+    let series = |v: &[f64]| -> Vec<(f64, f64)> {
+        idx.iter().map(|&k| (s.frequency_hz[k], db(v[k]))).collect()
+    };
     let meas = series(&s.measured);
     let before = series(&s.model_before);
     let after = series(&s.model_after);
     let ratio = |m: &[f64]| -> Vec<(f64, f64)> {
-        idx.iter().map(|&k| (s.frequency_hz[k], db(s.measured[k]) - db(m[k]))).collect()
+        idx.iter()
+            .map(|&k| (s.frequency_hz[k], db(s.measured[k]) - db(m[k])))
+            .collect()
     };
     let rb = ratio(&s.model_before);
     let ra = ratio(&s.model_after);
@@ -257,50 +306,63 @@ fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
         ymax = ymax.max(v);
     }
     let ymin = ymin.max(ymax - 120.0);
-    let rmax = rb.iter().chain(&ra).map(|p| p.1.abs()).fold(3.0f64, f64::max).min(60.0);
+    let rmax = rb
+        .iter()
+        .chain(&ra)
+        .map(|p| p.1.abs())
+        .fold(3.0f64, f64::max)
+        .min(60.0);
 
     let root = BitMapBackend::new(path, (1400, 900)).into_drawing_area();
     root.fill(&WHITE)?;
     let (top, bottom) = root.split_vertically(450);
-    let mk = |area: &DrawingArea<BitMapBackend, plotters::coord::Shift>, cap: &str, y0: f64, y1: f64, ylab: &str| {
-        let mut b = ChartBuilder::on(area);
-        b.margin(12);
-        if text {
-            b.caption(cap, ("sans-serif", 20)).x_label_area_size(40).y_label_area_size(60);
-        }
-        b.build_cartesian_2d(f_lo..f_hi, y0..y1).map(|mut c| {
-            let mut m = c.configure_mesh();
-            if text {
-                m.x_desc("frequency (Hz)").y_desc(ylab);
-            } else {
-                m.disable_x_mesh().disable_y_mesh().x_labels(0).y_labels(0);
-            }
-            let _ = m.draw();
-            c
-        })
-    };
-    let mut c1 = mk(
+    let mut c1 = chart(
         &top,
-        &format!("{title}: held-out PSD, measured vs model (LSD {:.2} -> {:.2} dB)", l.error_before, l.error_after),
+        text,
+        (f_lo, f_hi),
+        &format!(
+            "{title}: held-out PSD, measured vs model (LSD {:.2} -> {:.2} dB)",
+            l.error_before, l.error_after
+        ),
         ymin,
         ymax + 3.0,
         "PSD (dB)",
     )?;
     let gray = RGBColor(120, 120, 120);
-    c1.draw_series(LineSeries::new(meas, &gray))?.label("measured").legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], gray));
-    c1.draw_series(LineSeries::new(before, &BLUE))?.label("declared model").legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
-    c1.draw_series(LineSeries::new(after, &RED))?.label("augmented model").legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED));
+    c1.draw_series(LineSeries::new(meas, &gray))?
+        .label("measured")
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], gray));
+    c1.draw_series(LineSeries::new(before, &BLUE))?
+        .label("declared model")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+    c1.draw_series(LineSeries::new(after, &RED))?
+        .label("augmented model")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED));
     if text {
-        c1.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        c1.configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
     }
-    let mut c2 = mk(&bottom, "residual spectrum 10·log10(S_measured / S_model): before (blue), after (red)", -rmax, rmax, "dB")?;
+    let mut c2 = chart(
+        &bottom,
+        text,
+        (f_lo, f_hi),
+        "residual spectrum 10·log10(S_measured / S_model): before (blue), after (red)",
+        -rmax,
+        rmax,
+        "dB",
+    )?;
     c2.draw_series(LineSeries::new(rb, &BLUE.mix(0.6)))?;
     c2.draw_series(LineSeries::new(ra, &RED))?;
     c2.draw_series(LineSeries::new(vec![(f_lo, 0.0), (f_hi, 0.0)], &BLACK))?;
     for (i, e) in l.effects.iter().enumerate() {
         if let Some(f) = e.frequency_hz {
             let col = Palette99::pick(i + 2).to_rgba();
-            c2.draw_series(LineSeries::new(vec![(f, -rmax), (f, rmax)], col.stroke_width(2)))?;
+            c2.draw_series(LineSeries::new(
+                vec![(f, -rmax), (f, rmax)],
+                col.stroke_width(2),
+            ))?;
             if text {
                 c2.draw_series(std::iter::once(Text::new(
                     format!("{} {}", i + 1, e.kind.as_str()),
@@ -312,4 +374,45 @@ fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
     }
     root.present()?;
     Ok(())
+}
+
+type Chart<'a, 'b> = plotters::prelude::ChartContext<
+    'a,
+    plotters::prelude::BitMapBackend<'b>,
+    plotters::prelude::Cartesian2d<
+        plotters::coord::types::RangedCoordf64,
+        plotters::coord::types::RangedCoordf64,
+    >,
+>;
+
+/// One panel with a mesh; without a font, no caption, labels or axis text.
+fn chart<'a, 'b>(
+    area: &'a plotters::prelude::DrawingArea<
+        plotters::prelude::BitMapBackend<'b>,
+        plotters::coord::Shift,
+    >,
+    text: bool,
+    x: (f64, f64),
+    cap: &str,
+    y0: f64,
+    y1: f64,
+    ylab: &str,
+) -> anyhow::Result<Chart<'a, 'b>> {
+    use plotters::prelude::*;
+    let mut b = ChartBuilder::on(area);
+    b.margin(12);
+    if text {
+        b.caption(cap, ("sans-serif", 20))
+            .x_label_area_size(40)
+            .y_label_area_size(60);
+    }
+    let mut c = b.build_cartesian_2d(x.0..x.1, y0..y1)?;
+    let mut m = c.configure_mesh();
+    if text {
+        m.x_desc("frequency (Hz)").y_desc(ylab);
+    } else {
+        m.x_labels(0).y_labels(0);
+    }
+    m.draw()?;
+    Ok(c)
 }

@@ -160,7 +160,12 @@ fn score_record(dir: &Path, number: u32, args: &Args) -> anyhow::Result<Vec<Row>
             },
             InputKind::ShaftPhase => Some(&shaft),
         };
-        let nb = if u.is_some() { args.n_b } else { 0 };
+        // A sinusoid and its lags span only two dimensions: more input lags are rank deficient.
+        let nb = match input {
+            InputKind::None => 0,
+            InputKind::FanEnd => args.n_b,
+            InputKind::ShaftPhase => args.n_b.min(2),
+        };
         let fit_y = &y[..args.fit_len];
         let fit_u = u.map(|u| &u[..args.fit_len]);
         let score = |pred: Vec<f64>| FitMetrics::compute(&y[test.clone()], &pred[test.clone()]);
@@ -173,6 +178,24 @@ fn score_record(dir: &Path, number: u32, args: &Args) -> anyhow::Result<Vec<Row>
             model: "ARX",
             params: format!("n_a={} n_b={}", args.n_a, nb),
             m: score(arx.predict(&y, u)?)?,
+        });
+        // Reference: a long ARX model with 8× the lags (is the Laguerre gain only memory length?).
+        let (hi_a, hi_b) = (
+            8 * args.n_a,
+            if input == InputKind::FanEnd {
+                8 * nb
+            } else {
+                nb
+            },
+        );
+        let arx_hi = ArxModel::identify(fit_y, fit_u, ArxOrders::new(hi_a, hi_b)?)?;
+        rows.push(Row {
+            record: number,
+            class: class.clone(),
+            input,
+            model: "ARX (8× lags)",
+            params: format!("n_a={hi_a} n_b={hi_b}"),
+            m: score(arx_hi.predict(&y, u)?)?,
         });
         let cfg = ArxLaguerreConfig::new(args.n_a, nb, PoleChoice::DEFAULT_SEARCH)?;
         let fal = FuzzyArxLaguerre::identify(fit_y, fit_u, &FalConfig::with_base(cfg))?;
@@ -216,15 +239,19 @@ fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)>
     writeln!(
         md,
         "Drive-end channel at 12 kHz (97.mat decimated by 4). Fit on the first {} samples, score on the \
-         last {} samples of each record. Orders N_a = {}, N_b = {} (N_b = 0 without input); poles by \
+         last {} samples of each record. Orders N_a = {}, N_b = {} (N_b = 0 without input, N_b ≤ 2 for the shaft-phase sinusoid, whose lags span two \
+         dimensions); poles by \
          prediction-error search (25-point grid + golden section); fuzzy term: Table 5.1 (NL row \
          corrected), ±3σ universes, N_f = 2. NRMSE = ‖y − ŷ‖ / ‖y − ȳ‖ on the scored segment.\n",
         args.fit_len, args.test_len, args.n_a, args.n_b
     )?;
     // Summary: mean NRMSE per input and model.
     writeln!(md, "## Mean held-out NRMSE by exogenous input\n")?;
-    writeln!(md, "| input u | ARX | ARX-Laguerre | fuzzy ARX-Laguerre |")?;
-    writeln!(md, "|---|---|---|---|")?;
+    writeln!(
+        md,
+        "| input u | ARX | ARX-Laguerre | fuzzy ARX-Laguerre | ARX (8× lags, reference) |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|")?;
     let mut best: Option<(f64, InputKind)> = None;
     for input in InputKind::ALL {
         let mean = |model: &str| {
@@ -244,10 +271,15 @@ fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)>
             mean("ARX-Laguerre"),
             mean("fuzzy ARX-Laguerre"),
         );
+        let d = mean("ARX (8× lags)");
         if b.is_nan() {
             continue;
         }
-        writeln!(md, "| {} | {a:.4} | {b:.4} | {c:.4} |", input.name())?;
+        writeln!(
+            md,
+            "| {} | {a:.4} | {b:.4} | {c:.4} | {d:.4} |",
+            input.name()
+        )?;
         if best.is_none_or(|(v, _)| b < v) {
             best = Some((b, input));
         }
@@ -259,6 +291,15 @@ fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)>
             input.name()
         )?;
     }
+    writeln!(
+        md,
+        "Decision on u (see docs/equations/laguerre-id.md): the fan-end channel gives the lowest \
+         held-out error, but only ≈ 4 % (ARX-Laguerre) to 10 % (long ARX) below the AR form; it is absent from records \
+         3001–3008 and carries the same fault impacts as the drive end, so as a predictor input it \
+         lets the model explain part of the fault signature the residual should keep. The observers \
+         therefore use the AR form (N_b = 0, u = none) by default; the shaft-phase sinusoid adds \
+         nothing measurable.\n"
+    )?;
     writeln!(md, "## Per record\n")?;
     writeln!(
         md,

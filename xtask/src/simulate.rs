@@ -4,7 +4,8 @@
 
 use anyhow::Context as _;
 use bearing_model::{
-    Bearing, FaultClass, FaultSet, Noise, ParamSet, Scenario, SimConfig, Slip, Spall, scenario::CWRU_DEPTH_M,
+    Bearing, FaultClass, FaultSet, Noise, ParamSet, Scenario, SimConfig, Slip, Spall,
+    scenario::CWRU_DEPTH_M,
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -67,23 +68,38 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-const STATE_NAMES: [&str; 10] =
-    ["xs_m", "ys_m", "xp_m", "yp_m", "yr_m", "vxs_m_s", "vys_m_s", "vxp_m_s", "vyp_m_s", "vyr_m_s"];
+const STATE_NAMES: [&str; 10] = [
+    "xs_m", "ys_m", "xp_m", "yp_m", "yr_m", "vxs_m_s", "vys_m_s", "vxp_m_s", "vyp_m_s", "vyr_m_s",
+];
 
 /// Build the scenario the flags describe (all validation errors are `bearing-model`'s).
 pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
     let class: FaultClass = args.fault.parse()?;
     let set: ParamSet = args.params.parse()?;
     let bearing: Bearing = args.bearing.parse()?;
-    anyhow::ensure!(args.rpm.is_finite() && args.rpm > 0.0, "--rpm must be > 0 (got {})", args.rpm);
-    anyhow::ensure!(args.slip.is_finite() && args.slip >= 0.0, "--slip must be >= 0 (got {})", args.slip);
+    anyhow::ensure!(
+        args.rpm.is_finite() && args.rpm > 0.0,
+        "--rpm must be > 0 (got {})",
+        args.rpm
+    );
+    anyhow::ensure!(
+        args.slip.is_finite() && args.slip >= 0.0,
+        "--slip must be >= 0 (got {})",
+        args.slip
+    );
     let mut sc = Scenario::new(set, bearing, args.rpm)
         .with_fs(args.fs)
         .with_duration(args.duration)
         .with_seed(args.seed)
         .with_radial_load(args.radial_load)
         .with_states(args.states)
-        .with_slip(if args.slip > 0.0 { Slip::Random { fraction: args.slip } } else { Slip::Off })
+        .with_slip(if args.slip > 0.0 {
+            Slip::Random {
+                fraction: args.slip,
+            }
+        } else {
+            Slip::Off
+        })
         .with_noise(args.snr_db.map_or(Noise::Off, Noise::SnrDb));
     sc.sim.max_step_s = args.max_step;
     if class != FaultClass::None {
@@ -197,7 +213,14 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let out = dir.join("rec.csv");
         let args = parse(&[
-            "--fault", "inner+outer", "--duration", "0.05", "--seed", "3", "--states", "--out",
+            "--fault",
+            "inner+outer",
+            "--duration",
+            "0.05",
+            "--seed",
+            "3",
+            "--states",
+            "--out",
             out.to_str().unwrap(),
         ]);
         let sc = scenario(&args).unwrap();

@@ -77,7 +77,9 @@ pub enum ModelError {
         max: f64,
     },
     /// A fault-class name could not be parsed.
-    #[error("unknown fault class `{0}` (none|inner|outer|ball|inner+outer|inner+ball|outer+ball|inner+outer+ball)")]
+    #[error(
+        "unknown fault class `{0}` (none|inner|outer|ball|inner+outer|inner+ball|outer+ball|inner+outer+ball)"
+    )]
     UnknownFaultClass(String),
     /// A parameter-set name could not be parsed.
     #[error("unknown parameter set `{0}` (table2.1|cwru)")]
@@ -101,7 +103,11 @@ pub(crate) fn check_range(
     if value.is_finite() && value >= lo && value <= hi {
         Ok(())
     } else {
-        Err(ModelError::OutOfRange { name, value, expected })
+        Err(ModelError::OutOfRange {
+            name,
+            value,
+            expected,
+        })
     }
 }
 
@@ -110,6 +116,10 @@ pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(ModelError::OutOfRange { name, value, expected: "finite and > 0" })
+        Err(ModelError::OutOfRange {
+            name,
+            value,
+            expected: "finite and > 0",
+        })
     }
 }

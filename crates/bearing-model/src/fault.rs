@@ -33,7 +33,12 @@ impl Spall {
     /// A spall of `width_m` at the CWRU EDM depth (0.2794 mm), at 6 o'clock, present from
     /// the start.
     pub fn new(width_m: f64) -> Self {
-        Self { width_m, depth_m: 0.011 * 0.0254, angle_rad: -PI / 2.0, onset_s: f64::NEG_INFINITY }
+        Self {
+            width_m,
+            depth_m: 0.011 * 0.0254,
+            angle_rad: -PI / 2.0,
+            onset_s: f64::NEG_INFINITY,
+        }
     }
 
     /// Same spall with another depth.
@@ -57,7 +62,13 @@ impl Spall {
     fn validate(&self, location: &'static str, max_width_m: f64) -> Result<()> {
         check_positive("spall width_m", self.width_m)?;
         check_positive("spall depth_m", self.depth_m)?;
-        check_range("spall angle_rad", self.angle_rad, -1e3, 1e3, "finite, |angle| <= 1000 rad")?;
+        check_range(
+            "spall angle_rad",
+            self.angle_rad,
+            -1e3,
+            1e3,
+            "finite, |angle| <= 1000 rad",
+        )?;
         if self.onset_s.is_nan() {
             return Err(ModelError::OutOfRange {
                 name: "spall onset_s",
@@ -66,7 +77,11 @@ impl Spall {
             });
         }
         if self.width_m >= max_width_m {
-            return Err(ModelError::SpallTooWide { location, width_m: self.width_m, max_m: max_width_m });
+            return Err(ModelError::SpallTooWide {
+                location,
+                width_m: self.width_m,
+                max_m: max_width_m,
+            });
         }
         Ok(())
     }
@@ -117,10 +132,16 @@ impl FaultSet {
         let n = g.n_balls as f64;
         let d = g.ball_diameter_m;
         if let Some(s) = &self.inner {
-            s.validate("inner race", (2.0 * PI * g.inner_race_radius_m() / n).min(d))?;
+            s.validate(
+                "inner race",
+                (2.0 * PI * g.inner_race_radius_m() / n).min(d),
+            )?;
         }
         if let Some(s) = &self.outer {
-            s.validate("outer race", (2.0 * PI * g.outer_race_radius_m() / n).min(d))?;
+            s.validate(
+                "outer race",
+                (2.0 * PI * g.outer_race_radius_m() / n).min(d),
+            )?;
         }
         if let Some(s) = &self.ball {
             s.validate("ball", d)?;
@@ -165,17 +186,26 @@ impl FaultClass {
 
     /// Has an inner-race spall.
     pub fn has_inner(self) -> bool {
-        matches!(self, Self::Inner | Self::InnerOuter | Self::InnerBall | Self::InnerOuterBall)
+        matches!(
+            self,
+            Self::Inner | Self::InnerOuter | Self::InnerBall | Self::InnerOuterBall
+        )
     }
 
     /// Has an outer-race spall.
     pub fn has_outer(self) -> bool {
-        matches!(self, Self::Outer | Self::InnerOuter | Self::OuterBall | Self::InnerOuterBall)
+        matches!(
+            self,
+            Self::Outer | Self::InnerOuter | Self::OuterBall | Self::InnerOuterBall
+        )
     }
 
     /// Has a ball spall.
     pub fn has_ball(self) -> bool {
-        matches!(self, Self::Ball | Self::InnerBall | Self::OuterBall | Self::InnerOuterBall)
+        matches!(
+            self,
+            Self::Ball | Self::InnerBall | Self::OuterBall | Self::InnerOuterBall
+        )
     }
 
     /// Name as the CLI spells it (`"inner+outer"`).
@@ -300,7 +330,10 @@ mod tests {
         for c in FaultClass::ALL {
             assert_eq!(c.name().parse::<FaultClass>().unwrap(), c);
         }
-        assert_eq!("OR+IR".parse::<FaultClass>().unwrap(), FaultClass::InnerOuter);
+        assert_eq!(
+            "OR+IR".parse::<FaultClass>().unwrap(),
+            FaultClass::InnerOuter
+        );
         assert!("cage".parse::<FaultClass>().is_err());
         assert!("".parse::<FaultClass>().is_err());
     }
@@ -309,7 +342,13 @@ mod tests {
     fn profile_is_continuous_and_capped() {
         let g = BearingGeometry::skf_6205();
         let s = Spall::new(0.5e-3);
-        let p = SpallProfile::new(&s, g.outer_race_radius_m(), g.ball_diameter_m / 2.0, g.outer_race_radius_m(), -1.0);
+        let p = SpallProfile::new(
+            &s,
+            g.outer_race_radius_m(),
+            g.ball_diameter_m / 2.0,
+            g.outer_race_radius_m(),
+            -1.0,
+        );
         assert_eq!(p.drop(0.0), 0.0);
         assert_eq!(p.drop(p.width_rad), 0.0);
         let mid = p.drop(0.5 * p.width_rad);
@@ -329,10 +368,19 @@ mod tests {
     #[test]
     fn spall_validation() {
         let g = BearingGeometry::skf_6205();
-        let f = FaultSet { outer: Some(Spall::new(-1.0)), ..FaultSet::default() };
+        let f = FaultSet {
+            outer: Some(Spall::new(-1.0)),
+            ..FaultSet::default()
+        };
         assert!(f.validate(&g).is_err());
-        let f = FaultSet { inner: Some(Spall::new(9e-3)), ..FaultSet::default() };
-        assert!(matches!(f.validate(&g), Err(ModelError::SpallTooWide { .. })));
+        let f = FaultSet {
+            inner: Some(Spall::new(9e-3)),
+            ..FaultSet::default()
+        };
+        assert!(matches!(
+            f.validate(&g),
+            Err(ModelError::SpallTooWide { .. })
+        ));
         let f = FaultSet::of_class(FaultClass::InnerOuterBall, Spall::new(6e-3));
         assert!(f.validate(&g).is_ok());
     }

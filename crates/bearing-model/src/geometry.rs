@@ -85,7 +85,13 @@ impl BearingGeometry {
     /// Check that the geometry is physical: at least 3 balls, `0 < d < D`, balls fit on the
     /// pitch circle, contact angle in `[0, π/2)`.
     pub fn validate(&self) -> Result<()> {
-        check_range("n_balls", self.n_balls as f64, 3.0, 200.0, "3 ..= 200")?;
+        check_range(
+            "n_balls",
+            self.n_balls as f64,
+            3.0,
+            crate::state_space::MAX_BALLS as f64,
+            "3 ..= 32",
+        )?;
         check_positive("ball_diameter_m", self.ball_diameter_m)?;
         check_positive("pitch_diameter_m", self.pitch_diameter_m)?;
         check_range(
@@ -191,8 +197,12 @@ mod tests {
     fn cwru_6203_orders() {
         // CWRU fan-end table: BPFI 4.9469, BPFO 3.0530, FTF 0.3817, BSF(x2) 3.9874.
         let o = BearingGeometry::skf_6203().orders();
-        for (got, want) in [(o.bpfi, 4.9469), (o.bpfo, 3.0530), (o.ftf, 0.3817), (o.ball_defect, 3.9874)]
-        {
+        for (got, want) in [
+            (o.bpfi, 4.9469),
+            (o.bpfo, 3.0530),
+            (o.ftf, 0.3817),
+            (o.ball_defect, 3.9874),
+        ] {
             assert!(((got - want) / want).abs() < 2e-4, "{got} vs {want}");
         }
     }

@@ -49,4 +49,11 @@ pub use params::{
 };
 pub use scenario::Scenario;
 pub use simulate::{Noise, Recording, SimConfig, simulate};
-pub use state_space::{BearingModel, DofVector, Input, LinearParts, N_DOF, STATE_DIM, State};
+pub use state_space::{
+    BallFrame, BearingModel, DofVector, Input, LinearParts, MAX_BALLS, N_DOF, STATE_DIM, State,
+};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -202,8 +202,15 @@ impl ModelSpec {
                     pedestal_damping_ns_m: 654.0,
                 },
                 // Table 2.1 gives no sprung mass: borrowed from the CWRU set.
-                Housing { mass_kg: 1.0, resonance_hz: 3300.0, damping_ratio: 0.05 },
-                Contact { hertz_constant: 5.96e7, clearance_m: 0.0 },
+                Housing {
+                    mass_kg: 1.0,
+                    resonance_hz: 3300.0,
+                    damping_ratio: 0.05,
+                },
+                Contact {
+                    hertz_constant: 5.96e7,
+                    clearance_m: 0.0,
+                },
                 Gravity::AllMasses,
             ),
             ParamSet::CwruRig => (
@@ -215,8 +222,15 @@ impl ModelSpec {
                     pedestal_stiffness_n_m: 1.51e7,
                     pedestal_damping_ns_m: 2210.7,
                 },
-                Housing { mass_kg: 1.0, resonance_hz: 3300.0, damping_ratio: 0.05 },
-                Contact { hertz_constant: 9.3e9, clearance_m: 0.0 },
+                Housing {
+                    mass_kg: 1.0,
+                    resonance_hz: 3300.0,
+                    damping_ratio: 0.05,
+                },
+                Contact {
+                    hertz_constant: 9.3e9,
+                    clearance_m: 0.0,
+                },
                 Gravity::ShaftOnly,
             ),
         };
@@ -243,21 +257,57 @@ impl ModelSpec {
         let s = &self.structure;
         check_positive("shaft_mass_kg", s.shaft_mass_kg)?;
         check_positive("shaft_stiffness_n_m", s.shaft_stiffness_n_m)?;
-        check_range("shaft_damping_ns_m", s.shaft_damping_ns_m, 0.0, 1e9, "0 ..= 1e9")?;
+        check_range(
+            "shaft_damping_ns_m",
+            s.shaft_damping_ns_m,
+            0.0,
+            1e9,
+            "0 ..= 1e9",
+        )?;
         check_positive("pedestal_mass_kg", s.pedestal_mass_kg)?;
         check_positive("pedestal_stiffness_n_m", s.pedestal_stiffness_n_m)?;
-        check_range("pedestal_damping_ns_m", s.pedestal_damping_ns_m, 0.0, 1e9, "0 ..= 1e9")?;
+        check_range(
+            "pedestal_damping_ns_m",
+            s.pedestal_damping_ns_m,
+            0.0,
+            1e9,
+            "0 ..= 1e9",
+        )?;
         check_positive("housing mass_kg", self.housing.mass_kg)?;
-        check_range("housing resonance_hz", self.housing.resonance_hz, 1.0, 1e6, "1 ..= 1e6 Hz")?;
-        check_range("housing damping_ratio", self.housing.damping_ratio, 0.0, 2.0, "0 ..= 2")?;
+        check_range(
+            "housing resonance_hz",
+            self.housing.resonance_hz,
+            1.0,
+            1e6,
+            "1 ..= 1e6 Hz",
+        )?;
+        check_range(
+            "housing damping_ratio",
+            self.housing.damping_ratio,
+            0.0,
+            2.0,
+            "0 ..= 2",
+        )?;
         check_positive("hertz_constant", self.contact.hertz_constant)?;
-        check_range("clearance_m", self.contact.clearance_m, 0.0, 1e-3, "0 ..= 1 mm")?;
+        check_range(
+            "clearance_m",
+            self.contact.clearance_m,
+            0.0,
+            1e-3,
+            "0 ..= 1 mm",
+        )?;
         check_range("radial_load_n", self.radial_load_n, 0.0, 1e6, "0 ..= 1e6 N")?;
         check_range("rpm", self.speed.rpm, 0.0, 1e5, "0 ..= 100000")?;
         check_range("speed ratio", self.speed.ratio, 0.5, 2.0, "0.5 ..= 2")?;
         for h in &self.harmonics {
             check_range("harmonic order", h.order as f64, 1.0, 100.0, "1 ..= 100")?;
-            check_range("harmonic amplitude_n", h.amplitude_n, 0.0, 1e6, "0 ..= 1e6 N")?;
+            check_range(
+                "harmonic amplitude_n",
+                h.amplitude_n,
+                0.0,
+                1e6,
+                "0 ..= 1e6 N",
+            )?;
             check_range("harmonic phase_rad", h.phase_rad, -1e3, 1e3, "finite")?;
         }
         self.faults.validate(&self.geometry)?;

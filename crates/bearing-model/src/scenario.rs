@@ -34,7 +34,10 @@ pub struct Scenario {
 impl Scenario {
     /// A healthy bearing from a parameter set at `rpm`: 12 kHz, 1 s, no slip, no noise.
     pub fn new(set: ParamSet, bearing: Bearing, rpm: f64) -> Self {
-        Self { spec: ModelSpec::from_set(set, bearing.geometry(), rpm), sim: SimConfig::new(12_000.0, 1.0) }
+        Self {
+            spec: ModelSpec::from_set(set, bearing.geometry(), rpm),
+            sim: SimConfig::new(12_000.0, 1.0),
+        }
     }
 
     /// CWRU-like drive-end recording: SKF 6205, [`ParamSet::CwruRig`], spall width
@@ -44,8 +47,10 @@ impl Scenario {
         check_positive("fault_size_in", fault_size_in)?;
         check_positive("rpm", rpm)?;
         let mut s = Self::new(ParamSet::CwruRig, Bearing::Skf6205, rpm);
-        s.spec.faults =
-            FaultSet::of_class(class, Spall::new(fault_size_in * 0.0254).with_depth(CWRU_DEPTH_M));
+        s.spec.faults = FaultSet::of_class(
+            class,
+            Spall::new(fault_size_in * 0.0254).with_depth(CWRU_DEPTH_M),
+        );
         s.spec.slip = Slip::Random { fraction: 0.01 };
         s.spec.validate()?;
         Ok(s)
@@ -59,7 +64,8 @@ impl Scenario {
         check_positive("crack_mm", crack_mm)?;
         check_positive("rpm", rpm)?;
         let mut s = Self::new(ParamSet::CwruRig, Bearing::Skf6205, rpm);
-        s.spec.faults = FaultSet::of_class(class, Spall::new(crack_mm * 1e-3).with_depth(SHSE_DEPTH_M));
+        s.spec.faults =
+            FaultSet::of_class(class, Spall::new(crack_mm * 1e-3).with_depth(SHSE_DEPTH_M));
         s.spec.slip = Slip::Random { fraction: 0.015 };
         s.sim.noise = Noise::SnrDb(20.0);
         s.spec.validate()?;
@@ -119,9 +125,13 @@ impl Scenario {
     }
     /// Fault onset time `T_f` for every spall, s.
     pub fn with_fault_onset(mut self, onset_s: f64) -> Self {
-        for s in [&mut self.spec.faults.inner, &mut self.spec.faults.outer, &mut self.spec.faults.ball]
-            .into_iter()
-            .flatten()
+        for s in [
+            &mut self.spec.faults.inner,
+            &mut self.spec.faults.outer,
+            &mut self.spec.faults.ball,
+        ]
+        .into_iter()
+        .flatten()
         {
             s.onset_s = onset_s;
         }

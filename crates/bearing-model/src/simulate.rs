@@ -88,7 +88,11 @@ impl SimConfig {
         let f_res = model.spec().housing.resonance_hz;
         let required = 2.2 * f_res;
         if self.fs_hz < required {
-            return Err(ModelError::SamplingTooLow { fs_hz: self.fs_hz, resonance_hz: f_res, required_hz: required });
+            return Err(ModelError::SamplingTooLow {
+                fs_hz: self.fs_hz,
+                resonance_hz: f_res,
+                required_hz: required,
+            });
         }
         Ok(())
     }
@@ -128,7 +132,11 @@ fn design_fir(m: usize) -> Vec<f64> {
     let mut h: Vec<f64> = (0..=2 * half)
         .map(|i| {
             let k = i as f64 - half as f64;
-            let sinc = if k == 0.0 { 2.0 * fc } else { (2.0 * PI * fc * k).sin() / (PI * k) };
+            let sinc = if k == 0.0 {
+                2.0 * fc
+            } else {
+                (2.0 * PI * fc * k).sin() / (PI * k)
+            };
             let w = 0.5 * (1.0 + (PI * k / (half as f64 + 1.0)).cos());
             sinc * w
         })
@@ -154,7 +162,12 @@ pub fn simulate(model: &BearingModel, cfg: &SimConfig) -> Result<Recording> {
     let mut x = model.static_equilibrium(t0)?;
     let u = Input::zeros();
     let mut raw = Vec::with_capacity(n_int);
-    let mut states = if cfg.record_states { Some(Vec::with_capacity(n_out)) } else { None };
+    let mut states = if cfg.record_states {
+        Some(Vec::with_capacity(n_out))
+    } else {
+        None
+    };
+    let mut frame = model.frame(t0);
     for i in 0..n_int {
         let t = t0 + i as f64 * h;
         raw.push(model.output(t, &x));
@@ -163,13 +176,15 @@ pub fn simulate(model: &BearingModel, cfg: &SimConfig) -> Result<Recording> {
                 st.push(x);
             }
         }
-        model.step(t, &mut x, h, &u);
+        frame = model.step_with_frame(&frame, t, &mut x, h, &u);
         if i % 1024 == 0 && !x.iter().all(|v| v.is_finite()) {
             return Err(ModelError::Diverged { time_s: t });
         }
     }
     if !x.iter().all(|v| v.is_finite()) {
-        return Err(ModelError::Diverged { time_s: t0 + n_int as f64 * h });
+        return Err(ModelError::Diverged {
+            time_s: t0 + n_int as f64 * h,
+        });
     }
     let mut accel: Vec<f64> = (0..n_out)
         .map(|k| {
@@ -197,5 +212,11 @@ pub fn simulate(model: &BearingModel, cfg: &SimConfig) -> Result<Recording> {
     }
     debug_assert!(states.as_ref().is_none_or(|s| s.len() == n_out));
     let _ = STATE_DIM;
-    Ok(Recording { fs_hz: cfg.fs_hz, accel, states, step_s: h, noise_std })
+    Ok(Recording {
+        fs_hz: cfg.fs_hz,
+        accel,
+        states,
+        step_s: h,
+        noise_std,
+    })
 }

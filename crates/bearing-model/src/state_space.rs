@@ -81,6 +81,23 @@ pub struct LinearParts {
 
 const SLIP_REVS: usize = 1024;
 
+/// Largest number of balls the model supports (fixed-size per-ball buffers).
+pub const MAX_BALLS: usize = 32;
+
+/// Everything about the balls that depends on time only (not on the state): their directions
+/// `(cos θ_j, sin θ_j)`, their gaps (clearance + spall drop), and the shaft-harmonic force.
+/// Computing it once per time instant lets RK4 share it between the two mid-step stages and
+/// between the end of one step and the start of the next.
+#[derive(Debug, Clone, Copy)]
+pub struct BallFrame {
+    n: usize,
+    c: [f64; MAX_BALLS],
+    s: [f64; MAX_BALLS],
+    gap: [f64; MAX_BALLS],
+    hx: f64,
+    hy: f64,
+}
+
 /// The 5-DOF bearing model with its (possibly perturbed) parameters, faults and slip.
 ///
 /// Build once with [`BearingModel::new`]; every evaluation afterwards is allocation-free.
@@ -129,7 +146,13 @@ impl BearingModel {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
         rng.set_stream(1);
         let u = spec.uncertainty;
-        let mut draw = |b: f64| if b > 0.0 { 1.0 + rng.random_range(-b..=b) } else { 1.0 };
+        let mut draw = |b: f64| {
+            if b > 0.0 {
+                1.0 + rng.random_range(-b..=b)
+            } else {
+                1.0
+            }
+        };
         let ms = s.shaft_mass_kg * draw(u.mass);
         let mp = s.pedestal_mass_kg * draw(u.mass);
         let mr = spec.housing.mass_kg * draw(u.mass);
@@ -149,8 +172,10 @@ impl BearingModel {
         let orders = geo.orders();
         let omega_s = TAU * spec.speed.hz();
         let n = geo.n_balls;
-        let ball_offsets: Vec<(f64, f64)> =
-            (0..n).map(|j| (TAU * j as f64 / n as f64).sin_cos()).map(|(s, c)| (c, s)).collect();
+        let ball_offsets: Vec<(f64, f64)> = (0..n)
+            .map(|j| (TAU * j as f64 / n as f64).sin_cos())
+            .map(|(s, c)| (c, s))
+            .collect();
         // Load on the pedestal from a rigid-contact estimate: negative = pushed down = load
         // zone at 6 o'clock; slip offsets are redrawn on the opposite (unloaded) side.
         let total_down = ms * g_shaft + spec.radial_load_n + (mp + mr) * g_housing;
@@ -177,8 +202,14 @@ impl BearingModel {
         let r_ball = 0.5 * geo.ball_diameter_m;
         let r_in = geo.inner_race_radius_m();
         let r_out = geo.outer_race_radius_m();
-        let inner = spec.faults.inner.map(|sp| SpallProfile::new(&sp, r_in, r_ball, r_in, 1.0));
-        let outer = spec.faults.outer.map(|sp| SpallProfile::new(&sp, r_out, r_ball, r_out, -1.0));
+        let inner = spec
+            .faults
+            .inner
+            .map(|sp| SpallProfile::new(&sp, r_in, r_ball, r_in, 1.0));
+        let outer = spec
+            .faults
+            .outer
+            .map(|sp| SpallProfile::new(&sp, r_out, r_ball, r_out, -1.0));
         let ball = spec.faults.ball.map(|sp| {
             (
                 SpallProfile::new(&sp, r_ball, r_ball, r_out, -1.0),
@@ -249,55 +280,77 @@ impl BearingModel {
         self.theta0 + self.omega_c * t
     }
 
-    /// Visit every ball: `(j, cos θ_j, sin θ_j, θ_j)`.
+    /// Visit every ball: `(j, cos θ_j, sin θ_j, a_j)` with `θ_j = θ_c(t) + a_j`, `a_j` the
+    /// ball's angular offset from ball 0's nominal position (2πj/n plus slip).
     #[inline(always)]
     fn for_each_ball(&self, t: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
         let th = self.cage_angle(t);
+        let (s0, c0) = th.sin_cos();
+        let n = self.n_balls as f64;
         match &self.slip {
             None => {
-                let (s0, c0) = th.sin_cos();
                 for (j, &(ca, sa)) in self.ball_offsets.iter().enumerate() {
                     let c = c0 * ca - s0 * sa;
                     let s = s0 * ca + c0 * sa;
-                    f(j, c, s, th + TAU * j as f64 / self.n_balls as f64);
+                    f(j, c, s, TAU * j as f64 / n);
                 }
             }
             Some(tab) => {
-                let (s0, c0) = th.sin_cos();
-                let n = self.n_balls as f64;
                 for j in 0..self.n_balls {
                     let a = TAU * j as f64 / n;
-                    let rev = ((th + a - self.slip_switch) / TAU).floor() as i64;
-                    let k = rev.rem_euclid(SLIP_REVS as i64) as usize;
+                    let rev = ((th + a - self.slip_switch) * (1.0 / TAU)).floor() as i64;
+                    let k = (rev & (SLIP_REVS as i64 - 1)) as usize;
                     let (e, ca, sa) = tab[j * SLIP_REVS + k];
                     let c = c0 * ca - s0 * sa;
                     let s = s0 * ca + c0 * sa;
-                    f(j, c, s, th + a + e);
+                    f(j, c, s, a + e);
                 }
             }
         }
     }
 
-    /// Total spall drop β_j(t) for ball `j` at angle `theta` (eqs. 2.16–2.24).
+    /// Per-evaluation fault phases: the cage angle relative to each race spall's entry edge
+    /// (wrapped once), and the ball spall's spin angle. `NaN` = spall absent or not yet there.
     #[inline(always)]
-    fn spall_drop(&self, t: f64, j: usize, theta: f64) -> f64 {
-        let mut drop = 0.0;
+    fn fault_phases(&self, t: f64) -> [f64; 3] {
+        let th = self.cage_angle(t);
+        let mut ph = [f64::NAN; 3];
         if let Some(p) = &self.outer {
             if t >= p.onset {
-                drop += p.drop((theta - p.angle0).rem_euclid(TAU));
+                ph[0] = wrap(th - p.angle0);
             }
         }
         if let Some(p) = &self.inner {
             if t >= p.onset {
-                drop += p.drop((theta - p.angle0 - self.omega_s * t).rem_euclid(TAU));
+                ph[1] = wrap(th - p.angle0 - self.omega_s * t);
             }
         }
-        if j == 0 {
+        if let Some((po, _)) = &self.ball {
+            if t >= po.onset {
+                ph[2] = wrap(po.angle0 + self.omega_spin * t);
+            }
+        }
+        ph
+    }
+
+    /// Total spall drop β_j(t) for ball `j` with offset `a_j` (eqs. 2.16–2.24), given the
+    /// phases of [`Self::fault_phases`].
+    #[inline(always)]
+    fn spall_drop(&self, ph: &[f64; 3], j: usize, a: f64) -> f64 {
+        let mut drop = 0.0;
+        if let Some(p) = &self.outer {
+            if !ph[0].is_nan() {
+                drop += p.drop(wrap_fast(ph[0] + a));
+            }
+        }
+        if let Some(p) = &self.inner {
+            if !ph[1].is_nan() {
+                drop += p.drop(wrap_fast(ph[1] + a));
+            }
+        }
+        if j == 0 && !ph[2].is_nan() {
             if let Some((po, pi)) = &self.ball {
-                if t >= po.onset {
-                    let phi = po.angle0 + self.omega_spin * t;
-                    drop += po.drop(phi.rem_euclid(TAU)) + pi.drop((phi - PI).rem_euclid(TAU));
-                }
+                drop += po.drop(ph[2]) + pi.drop(wrap_fast(ph[2] + PI));
             }
         }
         drop
@@ -308,33 +361,68 @@ impl BearingModel {
         self.inner.is_some() || self.outer.is_some() || self.ball.is_some()
     }
 
-    /// Contact force on the pedestal `(F_x, F_y)` (eq. 2.9); the shaft gets the opposite.
+    /// The time-only part of the model at `t` (ball directions, gaps, harmonic force).
+    #[inline]
+    pub fn frame(&self, t: f64) -> BallFrame {
+        let mut f = BallFrame {
+            n: self.n_balls,
+            c: [0.0; MAX_BALLS],
+            s: [0.0; MAX_BALLS],
+            gap: [self.clearance; MAX_BALLS],
+            hx: 0.0,
+            hy: 0.0,
+        };
+        let faults = self.has_faults();
+        let ph = if faults {
+            self.fault_phases(t)
+        } else {
+            [f64::NAN; 3]
+        };
+        self.for_each_ball(t, |j, c, s, a| {
+            f.c[j] = c;
+            f.s[j] = s;
+            if faults {
+                f.gap[j] += self.spall_drop(&ph, j, a);
+            }
+        });
+        for h in &self.harmonics {
+            let (sn, cs) = (h.order as f64 * self.omega_s * t + h.phase_rad).sin_cos();
+            f.hx += h.amplitude_n * cs;
+            f.hy += h.amplitude_n * sn;
+        }
+        f
+    }
+
     #[inline(always)]
-    pub fn contact_force(&self, t: f64, x: &State) -> (f64, f64) {
+    fn contact_force_frame(&self, f: &BallFrame, x: &State) -> (f64, f64) {
         let ex = x[idx::XS] - x[idx::XP];
         let ey = x[idx::YS] - x[idx::YP];
         let (mut fx, mut fy) = (0.0, 0.0);
-        let faults = self.has_faults();
-        self.for_each_ball(t, |j, c, s, th| {
-            let mut d = ex * c + ey * s - self.clearance;
-            if faults {
-                d -= self.spall_drop(t, j, th);
-            }
+        for j in 0..f.n {
+            let (c, s) = (f.c[j], f.s[j]);
+            let d = ex * c + ey * s - f.gap[j];
             if d > 0.0 {
                 let q = self.kb * d * d.sqrt();
                 fx += q * c;
                 fy += q * s;
             }
-        });
+        }
         (fx, fy)
+    }
+
+    /// Contact force on the pedestal `(F_x, F_y)` (eq. 2.9); the shaft gets the opposite.
+    #[inline]
+    pub fn contact_force(&self, t: f64, x: &State) -> (f64, f64) {
+        self.contact_force_frame(&self.frame(t), x)
     }
 
     /// Per-ball contact loads `Q_j ≥ 0` (N) into `out` (length ≥ `n_balls`), eqs. (2.9)–(2.11).
     pub fn ball_loads(&self, t: f64, x: &State, out: &mut [f64]) {
         let ex = x[idx::XS] - x[idx::XP];
         let ey = x[idx::YS] - x[idx::YP];
-        self.for_each_ball(t, |j, c, s, th| {
-            let d = ex * c + ey * s - self.clearance - self.spall_drop(t, j, th);
+        let ph = self.fault_phases(t);
+        self.for_each_ball(t, |j, c, s, a| {
+            let d = ex * c + ey * s - self.clearance - self.spall_drop(&ph, j, a);
             if let Some(o) = out.get_mut(j) {
                 *o = if d > 0.0 { self.kb * d * d.sqrt() } else { 0.0 };
             }
@@ -343,9 +431,10 @@ impl BearingModel {
 
     /// Angles θ_j(t) of the balls (slip included), rad, into `out`.
     pub fn ball_angles(&self, t: f64, out: &mut [f64]) {
-        self.for_each_ball(t, |j, _, _, th| {
+        let th = self.cage_angle(t);
+        self.for_each_ball(t, |j, _, _, a| {
             if let Some(o) = out.get_mut(j) {
-                *o = th;
+                *o = th + a;
             }
         });
     }
@@ -353,13 +442,14 @@ impl BearingModel {
     /// Generalized accelerations `q̈ = f(t, x, u)`, eq. (2.4)/(3.8), allocation-free.
     #[inline]
     pub fn accelerations(&self, t: f64, x: &State, u: &Input) -> DofVector {
-        let (fx, fy) = self.contact_force(t, x);
-        let (mut hx, mut hy) = (0.0, 0.0);
-        for h in &self.harmonics {
-            let (s, c) = (h.order as f64 * self.omega_s * t + h.phase_rad).sin_cos();
-            hx += h.amplitude_n * c;
-            hy += h.amplitude_n * s;
-        }
+        self.accelerations_frame(&self.frame(t), x, u)
+    }
+
+    /// [`Self::accelerations`] with the time-only part precomputed by [`Self::frame`].
+    #[inline(always)]
+    pub fn accelerations_frame(&self, f: &BallFrame, x: &State, u: &Input) -> DofVector {
+        let (fx, fy) = self.contact_force_frame(f, x);
+        let (hx, hy) = (f.hx, f.hy);
         let (xs, ys, xp, yp, yr) = (x[0], x[1], x[2], x[3], x[4]);
         let (vxs, vys, vxp, vyp, vyr) = (x[5], x[6], x[7], x[8], x[9]);
         let spring_r = self.kr * (yp - yr) + self.cr * (vyp - vyr);
@@ -376,9 +466,16 @@ impl BearingModel {
     /// State derivative `ẋ = [q̇; q̈]`, the right-hand side of eq. (3.8).
     #[inline]
     pub fn derivatives(&self, t: f64, x: &State, u: &Input) -> State {
-        let a = self.accelerations(t, x, u);
+        self.derivatives_frame(&self.frame(t), x, u)
+    }
+
+    /// [`Self::derivatives`] with the time-only part precomputed by [`Self::frame`].
+    #[inline(always)]
+    pub fn derivatives_frame(&self, f: &BallFrame, x: &State, u: &Input) -> State {
+        let a = self.accelerations_frame(f, x, u);
         let mut d = State::zeros();
-        d.fixed_rows_mut::<N_DOF>(0).copy_from(&x.fixed_rows::<N_DOF>(N_DOF));
+        d.fixed_rows_mut::<N_DOF>(0)
+            .copy_from(&x.fixed_rows::<N_DOF>(N_DOF));
         d.fixed_rows_mut::<N_DOF>(N_DOF).copy_from(&a);
         d
     }
@@ -387,7 +484,8 @@ impl BearingModel {
     /// no input on the sprung mass. Equals `output_row() · x + output_offset()`.
     #[inline]
     pub fn output(&self, _t: f64, x: &State) -> f64 {
-        (self.kr * (x[idx::YP] - x[idx::YR]) + self.cr * (x[idx::YP + idx::VEL] - x[idx::YR + idx::VEL]))
+        (self.kr * (x[idx::YP] - x[idx::YR])
+            + self.cr * (x[idx::YP + idx::VEL] - x[idx::YR + idx::VEL]))
             * self.inv_mr
             - self.g_housing
     }
@@ -410,11 +508,29 @@ impl BearingModel {
     /// One classical fourth-order Runge–Kutta step of length `h` with the input held constant.
     #[inline]
     pub fn step(&self, t: f64, x: &mut State, h: f64, u: &Input) {
-        let k1 = self.derivatives(t, x, u);
-        let k2 = self.derivatives(t + 0.5 * h, &(*x + k1 * (0.5 * h)), u);
-        let k3 = self.derivatives(t + 0.5 * h, &(*x + k2 * (0.5 * h)), u);
-        let k4 = self.derivatives(t + h, &(*x + k3 * h), u);
+        let f0 = self.frame(t);
+        let _ = self.step_with_frame(&f0, t, x, h, u);
+    }
+
+    /// RK4 step given the frame at `t`; returns the frame at `t + h` for the next step
+    /// (two frame evaluations per step instead of four).
+    #[inline]
+    pub fn step_with_frame(
+        &self,
+        f0: &BallFrame,
+        t: f64,
+        x: &mut State,
+        h: f64,
+        u: &Input,
+    ) -> BallFrame {
+        let fm = self.frame(t + 0.5 * h);
+        let f1 = self.frame(t + h);
+        let k1 = self.derivatives_frame(f0, x, u);
+        let k2 = self.derivatives_frame(&fm, &(*x + k1 * (0.5 * h)), u);
+        let k3 = self.derivatives_frame(&fm, &(*x + k2 * (0.5 * h)), u);
+        let k4 = self.derivatives_frame(&f1, &(*x + k3 * h), u);
         *x += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
+        f1
     }
 
     /// `n` RK4 steps of `h` from `t` (useful when an observer runs slower than the model's
@@ -491,10 +607,11 @@ impl BearingModel {
     /// Static equilibrium at time `t` (ball positions frozen at `t`, harmonics off, input 0):
     /// damped Newton iteration on the five force balances.
     pub fn static_equilibrium(&self, t: f64) -> Result<State> {
+        let frame = self.frame(t);
         let resid = |q: &DofVector| -> DofVector {
             let mut x = State::zeros();
             x.fixed_rows_mut::<N_DOF>(0).copy_from(q);
-            let (fx, fy) = self.contact_force(t, &x);
+            let (fx, fy) = self.contact_force_frame(&frame, &x);
             let spring_r = self.kr * (q[3] - q[4]);
             DofVector::new(
                 -self.ks * q[0] - fx,
@@ -505,7 +622,8 @@ impl BearingModel {
             )
         };
         // Initial guess: shaft and pedestal moving together on ks + kp.
-        let total = self.ms * self.g_shaft + self.radial_load + (self.mp + self.mr) * self.g_housing;
+        let total =
+            self.ms * self.g_shaft + self.radial_load + (self.mp + self.mr) * self.g_housing;
         let y0 = -total / (self.ks + self.kp);
         let mut q = DofVector::new(0.0, y0, 0.0, y0, y0 - self.mr * self.g_housing / self.kr);
         let scale = total.max(1.0);
@@ -540,7 +658,10 @@ impl BearingModel {
             }
             it += 1;
         }
-        Err(ModelError::EquilibriumNotFound { iterations: it, residual_n: r.norm() })
+        Err(ModelError::EquilibriumNotFound {
+            iterations: it,
+            residual_n: r.norm(),
+        })
     }
 
     /// Mechanical energy (J) at state `x` and time `t`: kinetic + spring + Hertz contact
@@ -557,8 +678,9 @@ impl BearingModel {
         let ex = x[0] - x[2];
         let ey = x[1] - x[3];
         let mut hz = 0.0;
-        self.for_each_ball(t, |j, c, s, th| {
-            let d = ex * c + ey * s - self.clearance - self.spall_drop(t, j, th);
+        let ph = self.fault_phases(t);
+        self.for_each_ball(t, |j, c, s, a| {
+            let d = ex * c + ey * s - self.clearance - self.spall_drop(&ph, j, a);
             if d > 0.0 {
                 hz += self.kb * d * d * d.sqrt() / 2.5;
             }
@@ -566,5 +688,31 @@ impl BearingModel {
         let grav = (self.ms * self.g_shaft + self.radial_load) * x[1]
             + self.g_housing * (self.mp * x[3] + self.mr * x[4]);
         kin + spr + hz + grav
+    }
+}
+
+/// Wrap an angle known to lie in `(−2π, 4π)` into `[0, 2π)` without a division.
+#[inline(always)]
+fn wrap_fast(x: f64) -> f64 {
+    if x >= TAU {
+        let y = x - TAU;
+        if y >= TAU { y - TAU } else { y }
+    } else if x < 0.0 {
+        x + TAU
+    } else {
+        x
+    }
+}
+
+/// Wrap any finite angle into `[0, 2π)`.
+#[inline(always)]
+fn wrap(x: f64) -> f64 {
+    let y = x - TAU * (x * (1.0 / TAU)).floor();
+    if y >= TAU {
+        y - TAU
+    } else if y < 0.0 {
+        0.0
+    } else {
+        y
     }
 }

@@ -39,7 +39,11 @@ fn outer_race_strongest_line_within_1_percent_of_bpfo() {
     let (_, o) = lines();
     let (df, e, _) = env(FaultClass::Outer);
     let f = argmax_in(df, &e, 5.0, 600.0);
-    assert!((f - o.bpfo).abs() <= 0.01 * o.bpfo, "strongest {f} Hz, BPFO {} Hz", o.bpfo);
+    assert!(
+        (f - o.bpfo).abs() <= 0.01 * o.bpfo,
+        "strongest {f} Hz, BPFO {} Hz",
+        o.bpfo
+    );
     assert!(prominence(df, &e, 2.0 * o.bpfo) > 5.0, "2×BPFO harmonic");
 }
 
@@ -74,7 +78,12 @@ fn ball_defect_rate_with_cage_sidebands() {
 #[test]
 fn combined_faults_show_each_line() {
     let (_, o) = lines();
-    for class in [FaultClass::InnerOuter, FaultClass::InnerBall, FaultClass::OuterBall, FaultClass::InnerOuterBall] {
+    for class in [
+        FaultClass::InnerOuter,
+        FaultClass::InnerBall,
+        FaultClass::OuterBall,
+        FaultClass::InnerOuterBall,
+    ] {
         let (df, e, _) = env(class);
         let mut want = Vec::new();
         if class.has_inner() {
@@ -96,7 +105,10 @@ fn combined_faults_show_each_line() {
 #[test]
 fn healthy_shows_only_the_ball_pass_vibration() {
     let (_, o) = lines();
-    let r = Scenario::cwru(FaultClass::None, 0.014, RPM).unwrap().simulate().unwrap();
+    let r = Scenario::cwru(FaultClass::None, 0.014, RPM)
+        .unwrap()
+        .simulate()
+        .unwrap();
     let (df, e) = envelope_spectrum(&r.accel, r.fs_hz, 2000.0, 5000.0);
     // the plain spectrum's strongest line is a ball-pass harmonic
     let n = r.accel.len();
@@ -104,17 +116,31 @@ fn healthy_shows_only_the_ball_pass_vibration() {
         let mut planner = rustfft::FftPlanner::<f64>::new();
         let fft = planner.plan_fft_forward(n);
         let mean = r.accel.iter().sum::<f64>() / n as f64;
-        let mut b: Vec<rustfft::num_complex::Complex<f64>> =
-            r.accel.iter().map(|&v| rustfft::num_complex::Complex::new(v - mean, 0.0)).collect();
+        let mut b: Vec<rustfft::num_complex::Complex<f64>> = r
+            .accel
+            .iter()
+            .map(|&v| rustfft::num_complex::Complex::new(v - mean, 0.0))
+            .collect();
         fft.process(&mut b);
         b[..n / 2].iter().map(|c| c.norm()).collect::<Vec<f64>>()
     };
     let dfr = r.fs_hz / n as f64;
     let f = argmax_in(dfr, &raw, 5.0, 1000.0);
     let k = (f / o.bpfo).round();
-    assert!(k >= 1.0 && (f - k * o.bpfo).abs() <= 0.01 * f, "strongest raw line {f} Hz is not a BPFO harmonic");
+    assert!(
+        k >= 1.0 && (f - k * o.bpfo).abs() <= 0.01 * f,
+        "strongest raw line {f} Hz is not a BPFO harmonic"
+    );
     assert!(prominence(df, &e, o.bpfi) < 3.0, "no BPFI line");
-    assert!(prominence(df, &e, o.ball_defect) < 3.0, "no ball-defect line");
+    assert!(
+        prominence(df, &e, o.ball_defect) < 3.0,
+        "no ball-defect line"
+    );
     let (_, _, outer) = env(FaultClass::Outer);
-    assert!(rms(&r.accel) < 0.05 * rms(&outer), "healthy {} vs outer {}", rms(&r.accel), rms(&outer));
+    assert!(
+        rms(&r.accel) < 0.05 * rms(&outer),
+        "healthy {} vs outer {}",
+        rms(&r.accel),
+        rms(&outer)
+    );
 }

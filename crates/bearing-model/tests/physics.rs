@@ -56,8 +56,13 @@ fn static_equilibrium_matches_hand_calculation_and_load_zone_is_at_6_oclock() {
         let mut th = [0.0; 9];
         m.ball_loads(0.0, &x, &mut q);
         m.ball_angles(0.0, &mut th);
-        let jmax = (0..9).max_by(|&a, &b| q[a].partial_cmp(&q[b]).unwrap()).unwrap();
-        assert!((th[jmax].sin() + 1.0).abs() < 1e-12, "max-loaded ball at 6 o'clock");
+        let jmax = (0..9)
+            .max_by(|&a, &b| q[a].partial_cmp(&q[b]).unwrap())
+            .unwrap();
+        assert!(
+            (th[jmax].sin() + 1.0).abs() < 1e-12,
+            "max-loaded ball at 6 o'clock"
+        );
         for j in 0..9 {
             let psi = th[j] + PI / 2.0;
             let want = q[jmax] * psi.cos().max(0.0).powf(1.5);
@@ -70,7 +75,9 @@ fn static_equilibrium_matches_hand_calculation_and_load_zone_is_at_6_oclock() {
 fn table_2_1_as_printed_lifts_the_outer_race_onto_the_top_balls() {
     // With gravity on every mass (eq. 2.12 as printed) and K_P = 1.31e5 N/m the pedestal sags
     // 0.2 mm on its own; it hangs on the shaft through the top balls.
-    let m = Scenario::new(ParamSet::Table21, Bearing::Skf6205, 1797.0).model().unwrap();
+    let m = Scenario::new(ParamSet::Table21, Bearing::Skf6205, 1797.0)
+        .model()
+        .unwrap();
     let x = m.static_equilibrium(0.0).unwrap();
     let mut q = [0.0; 9];
     let mut th = [0.0; 9];
@@ -78,11 +85,14 @@ fn table_2_1_as_printed_lifts_the_outer_race_onto_the_top_balls() {
     m.ball_angles(0.0, &mut th);
     let load_up: f64 = (0..9).map(|j| q[j] * th[j].sin()).sum();
     let load_down: f64 = (0..9).filter(|&j| th[j].sin() < 0.0).map(|j| q[j]).sum();
-    assert!(load_up > 0.0 && load_down == 0.0, "top balls carry the load");
+    assert!(
+        load_up > 0.0 && load_down == 0.0,
+        "top balls carry the load"
+    );
     // and the resultant equals the pedestal+sprung weight minus the pedestal spring's share
     let (_, fy) = m.contact_force(0.0, &x);
     let kp = 1.31e5;
-    assert!((fy - (-kp * x[idx::YP] - (2.7 + 1.0) * G) * -1.0).abs() < 1e-6 * fy.abs());
+    assert!((fy - (kp * x[idx::YP] + (2.7 + 1.0) * G)).abs() < 1e-6 * fy.abs());
 }
 
 #[test]
@@ -91,7 +101,9 @@ fn healthy_response_is_periodic_at_the_ball_pass_rate() {
     let bpfo = BearingGeometry::skf_6205().orders().bpfo * rpm / 60.0;
     let per = 112usize;
     let fs = bpfo * per as f64;
-    let mut sc = Scenario::new(ParamSet::CwruRig, Bearing::Skf6205, rpm).with_fs(fs).with_duration(0.25);
+    let mut sc = Scenario::new(ParamSet::CwruRig, Bearing::Skf6205, rpm)
+        .with_fs(fs)
+        .with_duration(0.25);
     sc.sim.settle_s = 0.1;
     let r = sc.simulate().unwrap();
     let a = &r.accel[..r.accel.len() - per];
@@ -124,7 +136,10 @@ fn energy_of_a_displaced_system_at_rest_only_decreases() {
             m.step(t, &mut x, h, &u);
             t += h;
             let e = m.mechanical_energy(t, &x);
-            assert!(e <= e_prev + 1e-12 * e0.abs().max(1e-9), "{set:?}: energy rose {e_prev} -> {e}");
+            assert!(
+                e <= e_prev + 1e-12 * e0.abs().max(1e-9),
+                "{set:?}: energy rose {e_prev} -> {e}"
+            );
             e_prev = e;
         }
         assert!(e_prev < e0);
@@ -133,8 +148,14 @@ fn energy_of_a_displaced_system_at_rest_only_decreases() {
 
 #[test]
 fn halving_the_step_changes_the_output_by_less_than_0_1_percent() {
-    for (fs, class) in [(12_000.0, FaultClass::InnerOuterBall), (48_000.0, FaultClass::Outer)] {
-        let sc = Scenario::cwru(class, 0.014, 1797.0).unwrap().with_fs(fs).with_duration(0.15);
+    for (fs, class) in [
+        (12_000.0, FaultClass::InnerOuterBall),
+        (48_000.0, FaultClass::Outer),
+    ] {
+        let sc = Scenario::cwru(class, 0.014, 1797.0)
+            .unwrap()
+            .with_fs(fs)
+            .with_duration(0.15);
         let a = sc.simulate().unwrap();
         let mut fine = sc.clone();
         fine.sim.max_step_s = a.step_s / 2.0 * 1.0001;
@@ -142,14 +163,24 @@ fn halving_the_step_changes_the_output_by_less_than_0_1_percent() {
         assert!(b.step_s < a.step_s * 0.51);
         let diff: Vec<f64> = a.accel.iter().zip(&b.accel).map(|(x, y)| x - y).collect();
         let rel = rms(&diff) / rms(&b.accel);
-        eprintln!("convergence {fs} Hz {class}: rel {rel:.2e} at step {:.3e}", a.step_s);
-        assert!(rel < 1e-3, "{fs} Hz {class}: relative RMS change {rel} at step {}", a.step_s);
+        eprintln!(
+            "convergence {fs} Hz {class}: rel {rel:.2e} at step {:.3e}",
+            a.step_s
+        );
+        assert!(
+            rel < 1e-3,
+            "{fs} Hz {class}: relative RMS change {rel} at step {}",
+            a.step_s
+        );
     }
 }
 
 #[test]
 fn output_is_the_linear_output_row() {
-    let sc = Scenario::cwru(FaultClass::Outer, 0.007, 1797.0).unwrap().with_states(true).with_duration(0.02);
+    let sc = Scenario::cwru(FaultClass::Outer, 0.007, 1797.0)
+        .unwrap()
+        .with_states(true)
+        .with_duration(0.02);
     let m = sc.model().unwrap();
     let r = sc.simulate().unwrap();
     let h = m.output_row();
@@ -177,7 +208,9 @@ fn jacobian_without_contact_is_the_linear_parts() {
         for j in 0..N_DOF {
             assert!((a[(i, N_DOF + j)] - if i == j { 1.0 } else { 0.0 }).abs() < 1e-6);
             assert!((a[(N_DOF + i, j)] - k[(i, j)]).abs() <= 1e-6 * k[(i, j)].abs().max(1.0));
-            assert!((a[(N_DOF + i, N_DOF + j)] - c[(i, j)]).abs() <= 1e-6 * c[(i, j)].abs().max(1.0));
+            assert!(
+                (a[(N_DOF + i, N_DOF + j)] - c[(i, j)]).abs() <= 1e-6 * c[(i, j)].abs().max(1.0)
+            );
         }
     }
     assert_eq!(lp.stiffness, lp.stiffness.transpose());
@@ -185,7 +218,9 @@ fn jacobian_without_contact_is_the_linear_parts() {
 
 #[test]
 fn lumped_term_is_zero_for_the_nominal_model_and_carries_the_fault() {
-    let sc = Scenario::cwru(FaultClass::Outer, 0.021, 1797.0).unwrap().with_slip(Slip::Off);
+    let sc = Scenario::cwru(FaultClass::Outer, 0.021, 1797.0)
+        .unwrap()
+        .with_slip(Slip::Off);
     let m = sc.model().unwrap();
     let nom = m.nominal().unwrap();
     let x = nom.static_equilibrium(0.0).unwrap();
@@ -193,7 +228,9 @@ fn lumped_term_is_zero_for_the_nominal_model_and_carries_the_fault() {
     assert_eq!(nom.lumped_term(&nom, 0.0, &x, &u).norm(), 0.0);
     // the 6 o'clock ball sits in the outer spall at t = 0 + (half the spall width)
     let r_out = BearingGeometry::skf_6205().outer_race_radius_m();
-    let t_mid = 0.5 * 0.021 * 0.0254 / r_out / (nom.shaft_omega() * BearingGeometry::skf_6205().orders().ftf);
+    let t_mid = 0.5 * 0.021 * 0.0254
+        / r_out
+        / (nom.shaft_omega() * BearingGeometry::skf_6205().orders().ftf);
     let l = m.lumped_term(&nom, t_mid, &x, &u);
     assert!(l.norm() > 0.0, "fault term inside the spall");
     let l_far = m.lumped_term(&nom, 0.02, &x, &u);
@@ -202,19 +239,34 @@ fn lumped_term_is_zero_for_the_nominal_model_and_carries_the_fault() {
 
 #[test]
 fn fault_onset_leaves_the_signal_healthy_before_t_f() {
-    let base = Scenario::cwru(FaultClass::Outer, 0.014, 1797.0).unwrap().with_duration(0.2);
-    let healthy = Scenario { spec: ModelSpec { faults: FaultSet::healthy(), ..base.spec.clone() }, ..base.clone() };
+    let base = Scenario::cwru(FaultClass::Outer, 0.014, 1797.0)
+        .unwrap()
+        .with_duration(0.2);
+    let healthy = Scenario {
+        spec: ModelSpec {
+            faults: FaultSet::healthy(),
+            ..base.spec.clone()
+        },
+        ..base.clone()
+    };
     let late = base.clone().with_fault_onset(0.1);
     let (h, l) = (healthy.simulate().unwrap(), late.simulate().unwrap());
     let n = 1100; // 0.0917 s: before onset, minus the anti-alias filter's half length
-    let d: f64 = h.accel[..n].iter().zip(&l.accel[..n]).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let d: f64 = h.accel[..n]
+        .iter()
+        .zip(&l.accel[..n])
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
     assert_eq!(d, 0.0);
     assert!(rms(&l.accel[1300..]) > 10.0 * rms(&h.accel[1300..]));
 }
 
 #[test]
 fn seeded_runs_are_reproducible() {
-    let sc = Scenario::shse(FaultClass::InnerBall, 3.0, 400.0).unwrap().with_duration(0.05).with_seed(7);
+    let sc = Scenario::shse(FaultClass::InnerBall, 3.0, 400.0)
+        .unwrap()
+        .with_duration(0.05)
+        .with_seed(7);
     let a = sc.simulate().unwrap();
     let b = sc.simulate().unwrap();
     assert_eq!(a.accel, b.accel);
@@ -232,8 +284,14 @@ fn bad_parameters_are_typed_errors() {
         Err(ModelError::SpallTooWide { .. })
     ));
     let sc = Scenario::cwru(FaultClass::Outer, 0.007, 1797.0).unwrap();
-    assert!(matches!(sc.clone().with_fs(4000.0).simulate(), Err(ModelError::SamplingTooLow { .. })));
-    assert!(matches!(sc.clone().with_duration(0.0).simulate(), Err(ModelError::BadLength { .. })));
+    assert!(matches!(
+        sc.clone().with_fs(4000.0).simulate(),
+        Err(ModelError::SamplingTooLow { .. })
+    ));
+    assert!(matches!(
+        sc.clone().with_duration(0.0).simulate(),
+        Err(ModelError::BadLength { .. })
+    ));
     assert!(sc.clone().with_duration(f64::NAN).simulate().is_err());
     let mut bad = sc.clone();
     bad.spec.structure.shaft_mass_kg = f64::NAN;

@@ -16,6 +16,7 @@
 //! - `ndarray`: only because linfa takes `ndarray` matrices.
 //! - `rand` 0.9 + `rand_chacha`: seeded, platform-independent splits (we never pass an RNG into
 //!   linfa, so linfa's internal rand 0.8 is not needed here).
+//! - `rayon`: the one-vs-one pair machines are independent and train in parallel.
 //! - `serde` / `serde_json`: trained classifiers, plans and evaluations are saved and reloaded.
 //! - `thiserror`: the crate's one error enum.
 //!

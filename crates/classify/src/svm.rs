@@ -11,6 +11,7 @@
 use linfa::prelude::*;
 use linfa_svm::Svm;
 use ndarray::{Array1, Array2};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::dataset::Dataset;
@@ -117,9 +118,15 @@ impl OvoLinearSvm {
             .pos_neg_weights(params.c, params.c)
             .eps(params.tolerance)
             .linear_kernel();
-        let mut machines = Vec::new();
-        for (a, &ci) in classes.iter().enumerate() {
-            for &cj in &classes[a + 1..] {
+        let pairs: Vec<(usize, usize)> = classes
+            .iter()
+            .enumerate()
+            .flat_map(|(a, &ci)| classes[a + 1..].iter().map(move |&cj| (ci, cj)))
+            .collect();
+        // Pairs are independent: train them in parallel, collect in pair order (deterministic).
+        let machines = pairs
+            .par_iter()
+            .map(|&(ci, cj)| {
                 let n = by_class[ci].len() + by_class[cj].len();
                 let mut x = Array2::<f64>::zeros((n, d));
                 let mut y = Array1::<bool>::from_elem(n, false);
@@ -139,14 +146,14 @@ impl OvoLinearSvm {
                         model.weighted_sum(&e)
                     })
                     .collect();
-                machines.push(PairMachine {
+                Ok(PairMachine {
                     positive: ci,
                     negative: cj,
                     weights,
                     bias: -model.rho,
-                });
-            }
-        }
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
         Ok(Self {
             scaler,
             n_classes: data.n_classes(),

@@ -6,7 +6,7 @@
 //! - `realfft` / `rustfft`: Welch PSDs (real FFT) and the analytic-signal envelope (complex FFT).
 //! - `serde`: the ledger is written as JSON by `cargo xtask close-loop`.
 //! - `thiserror`: the crate's one error enum.
-//! - `bearing-model`: the 5-DOF physics model, the declared model of [`physics::PhysicsModel`].
+//! - `bearing-model`: the 5-DOF physics model behind [`physics::PhysicsModel`].
 //!
 //! The declared model comes in through the [`DeclaredModel`] trait, so this crate needs no
 //! simulator of its own; [`scenario::PhenomenologicalModel`] is a small impact-train model used by

@@ -45,7 +45,12 @@ impl PhysicsModel {
     ///
     /// # Errors
     /// [`CloseLoopError::Model`] with the simulator's message.
-    pub fn scenario(&self, op: &OperatingPoint, n: usize, fs: f64) -> Result<Scenario, CloseLoopError> {
+    pub fn scenario(
+        &self,
+        op: &OperatingPoint,
+        n: usize,
+        fs: f64,
+    ) -> Result<Scenario, CloseLoopError> {
         let class = match op.fault {
             DeclaredFault::None => FaultClass::None,
             DeclaredFault::Outer => FaultClass::Outer,
@@ -60,11 +65,14 @@ impl PhysicsModel {
         if class != FaultClass::None {
             s.spec.faults = FaultSet::of_class(
                 class,
-                Spall::new(self.fault_size_in * 0.0254).with_depth(bearing_model::scenario::CWRU_DEPTH_M),
+                Spall::new(self.fault_size_in * 0.0254)
+                    .with_depth(bearing_model::scenario::CWRU_DEPTH_M),
             );
         }
         if self.slip_fraction > 0.0 {
-            s = s.with_slip(Slip::Random { fraction: self.slip_fraction });
+            s = s.with_slip(Slip::Random {
+                fraction: self.slip_fraction,
+            });
         }
         if let Some(h) = self.housing {
             s = s.with_housing(h);
@@ -72,7 +80,9 @@ impl PhysicsModel {
         for h in &self.harmonics {
             s = s.with_harmonic(*h);
         }
-        s.spec.validate().map_err(|e| CloseLoopError::Model { reason: e.to_string() })?;
+        s.spec.validate().map_err(|e| CloseLoopError::Model {
+            reason: e.to_string(),
+        })?;
         Ok(s)
     }
 }
@@ -86,7 +96,9 @@ impl DeclaredModel for PhysicsModel {
         let rec = self
             .scenario(op, n, fs)?
             .simulate()
-            .map_err(|e| CloseLoopError::Model { reason: e.to_string() })?;
+            .map_err(|e| CloseLoopError::Model {
+                reason: e.to_string(),
+            })?;
         let mut y = rec.accel;
         y.resize(n, 0.0);
         Ok(y)

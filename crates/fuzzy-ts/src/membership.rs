@@ -182,9 +182,19 @@ impl TermSet {
         } else {
             x.clamp(self.lo, self.hi)
         };
+        // Equal widths and spacing Δ: μ_{i+1} = μ_i · a · q^i with a = exp(((x − c_0)Δ − Δ²/2)/σ²)
+        // and q = exp(−Δ²/σ²), so two exponentials replace seven. Inputs are saturated, so the
+        // smallest degree is exp(−0.5 (6Δ/σ)²) ≈ 5e−44: no underflow.
+        let c0 = self.sets[0].center;
+        let s2 = self.sets[0].sigma * self.sets[0].sigma;
+        let d = self.sets[1].center - c0;
         let mut out = [0.0; 7];
-        for (o, s) in out.iter_mut().zip(&self.sets) {
-            *o = s.degree(x);
+        out[0] = self.sets[0].degree(x);
+        let mut ratio = (((x - c0) * d - 0.5 * d * d) / s2).exp();
+        let q = (-(d * d) / s2).exp();
+        for i in 1..7 {
+            out[i] = (out[i - 1] * ratio).min(1.0);
+            ratio *= q;
         }
         out
     }

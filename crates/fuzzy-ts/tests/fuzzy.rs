@@ -41,7 +41,7 @@ fn membership_crossings_and_peaks() {
     for (i, t) in Term::ALL.into_iter().enumerate() {
         let c = -0.3 + 0.1 * i as f64;
         assert!((ts.center(t) - c).abs() < 1e-15);
-        assert!((ts.degrees(c)[i] - 1.0).abs() < 1e-15);
+        assert!((ts.degrees(c)[i] - 1.0).abs() < 1e-12); // recurrence rounding
     }
     let mid = ts.degrees(-0.25);
     assert!((mid[0] - 0.5).abs() < 1e-12 && (mid[1] - 0.5).abs() < 1e-12);

@@ -43,8 +43,13 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Elements(N as u64));
     g.sample_size(20);
     for kind in ObserverKind::ALL {
-        let mut o =
-            arx_observer(kind, &model, &FaultDirection::Input, &ObserverSettings::new(1e-3)).unwrap();
+        let mut o = arx_observer(
+            kind,
+            &model,
+            &FaultDirection::Input,
+            &ObserverSettings::new(1e-3),
+        )
+        .unwrap();
         g.bench_with_input(BenchmarkId::from_parameter(kind), &y, |b, y| {
             b.iter(|| {
                 o.reset();

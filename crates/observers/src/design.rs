@@ -197,7 +197,11 @@ impl BoundGains {
 
 /// A data-driven per-sample bound: the `quantile` (in (0, 1]) of |Δᵐ y|, the m-th difference of
 /// the measured record (m = 3 for Levant laws, 2 for super-twisting and sign laws), times 1.
-pub fn estimate_bound(y: &[f64], difference_order: usize, quantile: f64) -> Result<f64, ObserverError> {
+pub fn estimate_bound(
+    y: &[f64],
+    difference_order: usize,
+    quantile: f64,
+) -> Result<f64, ObserverError> {
     if !(quantile.is_finite() && quantile > 0.0 && quantile <= 1.0) {
         return Err(ObserverError::InvalidParameter {
             name: "quantile",

@@ -73,7 +73,10 @@ pub enum ObserverError {
         /// Decay rate tried.
         gamma: f64,
     },
-    /// An upstream model crate reported an error.
-    #[error("model error: {0}")]
-    Model(String),
+    /// A string did not name an observer kind.
+    #[error("unknown observer kind (a string of {length} bytes)")]
+    UnknownKind {
+        /// Length of the string that failed to parse.
+        length: usize,
+    },
 }

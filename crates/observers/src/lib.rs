@@ -45,6 +45,6 @@ pub use named::{
 };
 pub use observer::{Observer, ObserverOutput, RunObserver, StepOutput};
 pub use predictor::{
-    ArxLaguerreModel, ArxLaguerrePredictor, FalPredictor, ModalParams, Predictor,
-    SecondOrderPredictor,
+    ArxLaguerreModel, ArxLaguerrePredictor, FalPredictor, LAGUERRE_STRUCTURE_TOLERANCE,
+    LaguerreStructure, ModalParams, Predictor, SecondOrderPredictor,
 };

@@ -100,6 +100,17 @@ impl ObserverKind {
     }
 }
 
+impl std::str::FromStr for ObserverKind {
+    type Err = ObserverError;
+    /// Parse a dissertation name, case-insensitive ("hostsmo", "AFSMO", …).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or(ObserverError::UnknownKind { length: s.len() })
+    }
+}
+
 impl std::fmt::Display for ObserverKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())

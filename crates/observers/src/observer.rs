@@ -204,10 +204,10 @@ impl<P: Predictor, L: CorrectionLaw> Observer<P, L> {
                 .magnitude()
                 .max(s.residual.abs())
                 .max(s.injection.abs());
-            // `!(m <= limit)` also catches NaN; `limit` is finite so Inf fails too. The fault
+            // `limit` is finite, so an infinite magnitude fails too. The fault
             // estimate is in physical units (it may legitimately exceed the output scale), so
             // only its finiteness is checked.
-            if !(m <= limit) || !s.fault.is_finite() {
+            if m.is_nan() || m > limit || !s.fault.is_finite() {
                 return Err(ObserverError::Diverged {
                     index: k,
                     value: m,

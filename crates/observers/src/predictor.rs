@@ -121,7 +121,10 @@ pub fn discretize_mode(p: &ModalParams) -> ([f64; 4], [f64; 2]) {
     aug[(1, 1)] = -2.0 * p.damping_ratio * w * t;
     aug[(1, 2)] = t;
     let e = aug.exp();
-    ([e[(0, 0)], e[(0, 1)], e[(1, 0)], e[(1, 1)]], [e[(0, 2)], e[(1, 2)]])
+    (
+        [e[(0, 0)], e[(0, 1)], e[(1, 0)], e[(1, 1)]],
+        [e[(0, 2)], e[(1, 2)]],
+    )
 }
 
 impl SecondOrderPredictor {
@@ -223,6 +226,56 @@ pub struct ArxLaguerreModel {
     pub k: Vec<f64>,
 }
 
+/// The Laguerre structure of an ARX-Laguerre model (eqs 2.29–2.32, 4.12–4.15): an output bank
+/// of `n_a` functions with pole ζ_a followed by an input bank of `n_b` functions with pole ζ_b.
+///
+/// When a model has this structure, [`ArxLaguerrePredictor`] replaces the dense O(n²) product
+/// A X̂ + b_y Ŷ + b_u u by the O(n) cascade of each bank,
+/// x₀(k+1) = ζ x₀(k) + √(1−ζ²) s(k), xᵢ(k+1) = ζ xᵢ(k) + xᵢ₋₁(k) − ζ xᵢ₋₁(k+1),
+/// which is the same linear map (see `laguerre_id::LaguerreBank::step`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LaguerreStructure {
+    /// Output-bank pole ζ_a (0 when `n_a` = 0).
+    pub zeta_a: f64,
+    /// Output-bank order N_a.
+    pub n_a: usize,
+    /// Input-bank pole ζ_b (0 when `n_b` = 0).
+    pub zeta_b: f64,
+    /// Input-bank order N_b.
+    pub n_b: usize,
+}
+
+/// Largest absolute deviation from the Laguerre block structure that
+/// [`ArxLaguerreModel::laguerre_structure`] accepts (the entries are at most 1 in magnitude).
+pub const LAGUERRE_STRUCTURE_TOLERANCE: f64 = 1e-12;
+
+/// The Laguerre blocks of eqs (2.29)–(2.32): (A row-major, b_y, b_u) for n = n_a + n_b.
+fn laguerre_blocks(
+    zeta_a: f64,
+    n_a: usize,
+    zeta_b: f64,
+    n_b: usize,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let n = n_a + n_b;
+    let mut a = vec![0.0; n * n];
+    let mut b_y = vec![0.0; n];
+    let mut b_u = vec![0.0; n];
+    let mut block = |off: usize, m: usize, z: f64, b: &mut [f64]| {
+        let s = 1.0 - z * z;
+        for i in 0..m {
+            a[(off + i) * n + off + i] = z;
+            for j in 0..i {
+                // (2.30): entry (i, j) = (−ζ)^{i−j−1}(1 − ζ²) below the diagonal.
+                a[(off + i) * n + off + j] = (-z).powi((i - j - 1) as i32) * s;
+            }
+            b[off + i] = s.sqrt() * (-z).powi(i as i32);
+        }
+    };
+    block(0, n_a, zeta_a, &mut b_y);
+    block(n_a, n_b, zeta_b, &mut b_u);
+    (a, b_y, b_u)
+}
+
 impl ArxLaguerreModel {
     /// Number of states n.
     pub fn order(&self) -> usize {
@@ -250,7 +303,13 @@ impl ArxLaguerreModel {
                 });
             }
         }
-        for v in self.a.iter().chain(&self.b_y).chain(&self.b_u).chain(&self.k) {
+        for v in self
+            .a
+            .iter()
+            .chain(&self.b_y)
+            .chain(&self.b_u)
+            .chain(&self.k)
+        {
             if !v.is_finite() {
                 return Err(ObserverError::InvalidParameter {
                     name: "ARX-Laguerre coefficient",
@@ -287,25 +346,46 @@ impl ArxLaguerreModel {
                 found: k.len(),
             });
         }
-        let mut a = vec![0.0; n * n];
-        let mut b_y = vec![0.0; n];
-        let mut b_u = vec![0.0; n];
-        let mut block = |off: usize, m: usize, z: f64, b: &mut [f64]| {
-            let s = 1.0 - z * z;
-            for i in 0..m {
-                a[(off + i) * n + off + i] = z;
-                for j in 0..i {
-                    // (2.30): entry (i, j) = (−ζ)^{i−j−1}(1 − ζ²) below the diagonal.
-                    a[(off + i) * n + off + j] = (-z).powi((i - j - 1) as i32) * s;
-                }
-                b[off + i] = s.sqrt() * (-z).powi(i as i32);
-            }
-        };
-        block(0, n_a, zeta_a, &mut b_y);
-        block(n_a, n_b, zeta_b, &mut b_u);
+        let (a, b_y, b_u) = laguerre_blocks(zeta_a, n_a, zeta_b, n_b);
         let m = Self { a, b_y, b_u, k };
         m.validate()?;
         Ok(m)
+    }
+
+    /// The Laguerre structure of A, b_y, b_u (eqs 2.29–2.32), if the model has it to within
+    /// [`LAGUERRE_STRUCTURE_TOLERANCE`] and n ≤ `laguerre_id::MAX_STATES`; `None` for a general
+    /// (dense) model.
+    ///
+    /// N_a is the index of the first non-zero entry of b_u (its first entry √(1−ζ_b²) is never
+    /// zero), or n when b_u = 0 (AR form); ζ_a = A₀₀ and ζ_b = A_{N_a N_a}. Every entry of A, b_y
+    /// and b_u is then compared with the blocks [`ArxLaguerreModel::from_poles`] builds, so
+    /// `from_poles` models and `laguerre-id` state spaces are recognised exactly.
+    pub fn laguerre_structure(&self) -> Option<LaguerreStructure> {
+        let n = self.order();
+        if n == 0 || n > laguerre_id::MAX_STATES || self.validate().is_err() {
+            return None;
+        }
+        let n_a = self.b_u.iter().position(|v| *v != 0.0).unwrap_or(n);
+        let n_b = n - n_a;
+        let zeta_a = if n_a > 0 { self.a[0] } else { 0.0 };
+        let zeta_b = if n_b > 0 { self.a[n_a * n + n_a] } else { 0.0 };
+        if !(zeta_a.abs() < 1.0 && zeta_b.abs() < 1.0) {
+            return None;
+        }
+        let (a, b_y, b_u) = laguerre_blocks(zeta_a, n_a, zeta_b, n_b);
+        let close = |x: &[f64], y: &[f64]| {
+            x.iter()
+                .zip(y)
+                .all(|(p, q)| (p - q).abs() <= LAGUERRE_STRUCTURE_TOLERANCE)
+        };
+        (close(&a, &self.a) && close(&b_y, &self.b_y) && close(&b_u, &self.b_u)).then_some(
+            LaguerreStructure {
+                zeta_a,
+                n_a,
+                zeta_b,
+                n_b,
+            },
+        )
     }
 
     /// A + b_y Kᵀ, the model run as a parallel (simulation) model.
@@ -321,16 +401,100 @@ impl ArxLaguerreModel {
     }
 }
 
-/// The ARX-Laguerre observer's predictor (eqs 2.33, 3.9, 4.16, 4.18, 5.21):
-///
-/// X̂(k+1) = A X̂(k) + b_y Ŷ(k) + b_u u(k) + K_p e(k) + f (d̂(k) + c₁),
-/// d̂(k+1) = d̂(k) + c₂ + χ̂(k), χ̂(k+1) = χ̂(k) + c₃, Ŷ(k) = Kᵀ X̂(k),
-///
-/// with the fault direction f normalised to Kᵀ f = 1 (so d̂ is in output units: a unit d̂ moves
-/// the next prediction by one unit).
+/// Fixed-size vectors of the O(n) Laguerre path (n ≤ `laguerre_id::MAX_STATES`, no heap).
+type Fixed = [f64; laguerre_id::MAX_STATES];
+
+/// The O(n) update of a model with [`LaguerreStructure`]: the two bank cascades fused with the
+/// injection K_p e + f s and the output Kᵀ X̂(k+1).
 #[derive(Debug, Clone, PartialEq)]
-pub struct ArxLaguerrePredictor {
-    n: usize,
+struct CascadeKernel {
+    s: LaguerreStructure,
+    gain_a: f64,
+    gain_b: f64,
+    k: Fixed,
+    kp: Fixed,
+    f: Fixed,
+    x: Fixed,
+    x0: Fixed,
+}
+
+/// One bank: x ← A_bank x + b_bank drive (cascade) + kp e + f s; returns Σ kᵢ xᵢ(k+1).
+///
+/// The cascade runs on the model part alone (`pure`): xᵢ(k+1) − injection =
+/// ζ xᵢ(k) + xᵢ₋₁(k) − ζ (xᵢ₋₁(k+1) − injectionᵢ₋₁), an identity of the block matrix that holds
+/// for any X̂(k).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn cascade_bank(
+    z: f64,
+    g: f64,
+    drive: f64,
+    e: f64,
+    s: f64,
+    x: &mut [f64],
+    k: &[f64],
+    kp: &[f64],
+    f: &[f64],
+) -> f64 {
+    let (Some((x0, xr)), Some((k0, kr)), Some((kp0, kpr)), Some((f0, fr))) = (
+        x.split_first_mut(),
+        k.split_first(),
+        kp.split_first(),
+        f.split_first(),
+    ) else {
+        return 0.0;
+    };
+    let mut prev_old = *x0;
+    let mut prev_pure = z * prev_old + g * drive;
+    *x0 = prev_pure + kp0 * e + f0 * s;
+    let mut y = k0 * *x0;
+    for (((xi, ki), kpi), fi) in xr.iter_mut().zip(kr).zip(kpr).zip(fr) {
+        let old = *xi;
+        let pure = z * old + prev_old - z * prev_pure;
+        prev_old = old;
+        prev_pure = pure;
+        let v = pure + kpi * e + fi * s;
+        *xi = v;
+        y += ki * v;
+    }
+    y
+}
+
+impl CascadeKernel {
+    #[inline(always)]
+    fn advance(&mut self, y_hat: f64, u: f64, e: f64, s: f64) -> f64 {
+        let na = self.s.n_a;
+        let n = na + self.s.n_b;
+        let (xa, xb) = self.x[..n].split_at_mut(na);
+        let ya = cascade_bank(
+            self.s.zeta_a,
+            self.gain_a,
+            y_hat,
+            e,
+            s,
+            xa,
+            &self.k[..na],
+            &self.kp[..na],
+            &self.f[..na],
+        );
+        let yb = cascade_bank(
+            self.s.zeta_b,
+            self.gain_b,
+            u,
+            e,
+            s,
+            xb,
+            &self.k[na..n],
+            &self.kp[na..n],
+            &self.f[na..n],
+        );
+        ya + yb
+    }
+}
+
+/// The general O(n²) update X̂(k+1) = A X̂ + b_y Ŷ + b_u u + K_p e + f s.
+#[derive(Debug, Clone, PartialEq)]
+struct DenseKernel {
     a: Vec<f64>,
     b_y: Vec<f64>,
     b_u: Vec<f64>,
@@ -338,7 +502,52 @@ pub struct ArxLaguerrePredictor {
     kp: Vec<f64>,
     f: Vec<f64>,
     x: Vec<f64>,
+    x0: Vec<f64>,
     tmp: Vec<f64>,
+}
+
+impl DenseKernel {
+    #[inline(always)]
+    fn advance(&mut self, y_hat: f64, u: f64, e: f64, s: f64) -> f64 {
+        let n = self.k.len();
+        let mut y_next = 0.0;
+        for i in 0..n {
+            let row = &self.a[i * n..(i + 1) * n];
+            let v = dot(row, &self.x)
+                + self.b_y[i] * y_hat
+                + self.b_u[i] * u
+                + self.kp[i] * e
+                + self.f[i] * s;
+            self.tmp[i] = v;
+            y_next += self.k[i] * v;
+        }
+        std::mem::swap(&mut self.x, &mut self.tmp);
+        y_next
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Kernel {
+    Cascade(CascadeKernel),
+    Dense(DenseKernel),
+}
+
+/// The ARX-Laguerre observer's predictor (eqs 2.33, 3.9, 4.16, 4.18, 5.21):
+///
+/// X̂(k+1) = A X̂(k) + b_y Ŷ(k) + b_u u(k) + K_p e(k) + f (d̂(k) + c₁),
+/// d̂(k+1) = d̂(k) + c₂ + χ̂(k), χ̂(k+1) = χ̂(k) + c₃, Ŷ(k) = Kᵀ X̂(k),
+///
+/// with the fault direction f normalised to Kᵀ f = 1 (so d̂ is in output units: a unit d̂ moves
+/// the next prediction by one unit).
+///
+/// Models with the Laguerre structure ([`ArxLaguerreModel::laguerre_structure`]: every
+/// `from_poles` model and every `laguerre-id` model up to `laguerre_id::MAX_STATES` states)
+/// run the O(n) bank cascade on fixed-size arrays; any other A runs the dense O(n²) product.
+/// The two paths agree to rounding ([`ArxLaguerrePredictor::new_dense`] forces the dense one).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArxLaguerrePredictor {
+    n: usize,
+    kernel: Kernel,
     d: f64,
     chi: f64,
     y_hat: f64,
@@ -346,11 +555,31 @@ pub struct ArxLaguerrePredictor {
 
 impl ArxLaguerrePredictor {
     /// Build from a model, the fault direction (normalised here so that Kᵀf = 1) and the
-    /// proportional output-injection vector K_p.
+    /// proportional output-injection vector K_p. Uses the O(n) Laguerre cascade when the model
+    /// has the Laguerre structure, the dense product otherwise.
     pub fn new(
         model: &ArxLaguerreModel,
         fault_direction: &[f64],
         kp: &[f64],
+    ) -> Result<Self, ObserverError> {
+        Self::build(model, fault_direction, kp, true)
+    }
+
+    /// As [`ArxLaguerrePredictor::new`] but always with the dense O(n²) update (the reference
+    /// path; results agree with the cascade to rounding).
+    pub fn new_dense(
+        model: &ArxLaguerreModel,
+        fault_direction: &[f64],
+        kp: &[f64],
+    ) -> Result<Self, ObserverError> {
+        Self::build(model, fault_direction, kp, false)
+    }
+
+    fn build(
+        model: &ArxLaguerreModel,
+        fault_direction: &[f64],
+        kp: &[f64],
+        allow_cascade: bool,
     ) -> Result<Self, ObserverError> {
         model.validate()?;
         let n = model.order();
@@ -362,7 +591,12 @@ impl ArxLaguerrePredictor {
                 });
             }
         }
-        let kf: f64 = model.k.iter().zip(fault_direction).map(|(a, b)| a * b).sum();
+        let kf: f64 = model
+            .k
+            .iter()
+            .zip(fault_direction)
+            .map(|(a, b)| a * b)
+            .sum();
         let fnorm: f64 = fault_direction.iter().map(|v| v * v).sum::<f64>().sqrt();
         if !kf.is_finite() || kf.abs() <= 1e-9 * fnorm.max(1e-300) {
             return Err(ObserverError::FaultDirectionInvisible { value: kf.abs() });
@@ -374,23 +608,74 @@ impl ArxLaguerrePredictor {
                 reason: "must be finite",
             });
         }
+        let f: Vec<f64> = fault_direction.iter().map(|v| v / kf).collect();
+        let structure = if allow_cascade {
+            model.laguerre_structure()
+        } else {
+            None
+        };
+        let kernel = match structure {
+            Some(s) => {
+                let fixed = |v: &[f64]| {
+                    let mut a: Fixed = [0.0; laguerre_id::MAX_STATES];
+                    a[..n].copy_from_slice(v);
+                    a
+                };
+                Kernel::Cascade(CascadeKernel {
+                    s,
+                    gain_a: (1.0 - s.zeta_a * s.zeta_a).sqrt(),
+                    gain_b: (1.0 - s.zeta_b * s.zeta_b).sqrt(),
+                    k: fixed(&model.k),
+                    kp: fixed(kp),
+                    f: fixed(&f),
+                    x: [0.0; laguerre_id::MAX_STATES],
+                    x0: [0.0; laguerre_id::MAX_STATES],
+                })
+            }
+            None => Kernel::Dense(DenseKernel {
+                a: model.a.clone(),
+                b_y: model.b_y.clone(),
+                b_u: model.b_u.clone(),
+                k: model.k.clone(),
+                kp: kp.to_vec(),
+                f,
+                x: vec![0.0; n],
+                x0: vec![0.0; n],
+                tmp: vec![0.0; n],
+            }),
+        };
         Ok(Self {
             n,
-            a: model.a.clone(),
-            b_y: model.b_y.clone(),
-            b_u: model.b_u.clone(),
-            k: model.k.clone(),
-            kp: kp.to_vec(),
-            f: fault_direction.iter().map(|v| v / kf).collect(),
-            x: vec![0.0; n],
-            tmp: vec![0.0; n],
+            kernel,
             d: 0.0,
             chi: 0.0,
             y_hat: 0.0,
         })
     }
 
-    /// Set the initial state estimate (length n); keeps d̂ = χ̂ = 0.
+    /// Whether the O(n) Laguerre cascade is in use (else the dense O(n²) product).
+    pub fn uses_laguerre_cascade(&self) -> bool {
+        matches!(self.kernel, Kernel::Cascade(_))
+    }
+
+    fn parts(&self) -> (&[f64], &[f64], &[f64], &[f64]) {
+        let n = self.n;
+        match &self.kernel {
+            Kernel::Cascade(c) => (&c.k[..n], &c.f[..n], &c.x[..n], &c.x0[..n]),
+            Kernel::Dense(d) => (&d.k, &d.f, &d.x, &d.x0),
+        }
+    }
+
+    fn state_mut(&mut self) -> (&mut [f64], &mut [f64]) {
+        let n = self.n;
+        match &mut self.kernel {
+            Kernel::Cascade(c) => (&mut c.x[..n], &mut c.x0[..n]),
+            Kernel::Dense(d) => (&mut d.x[..], &mut d.x0[..]),
+        }
+    }
+
+    /// Set the initial state estimate (length n; also what [`Predictor::reset`] returns to);
+    /// keeps d̂ and χ̂.
     pub fn set_state(&mut self, x: &[f64]) -> Result<(), ObserverError> {
         if x.len() != self.n {
             return Err(ObserverError::DimensionMismatch {
@@ -398,19 +683,22 @@ impl ArxLaguerrePredictor {
                 found: x.len(),
             });
         }
-        self.x.copy_from_slice(x);
-        self.y_hat = dot(&self.k, &self.x);
+        let (cur, init) = self.state_mut();
+        cur.copy_from_slice(x);
+        init.copy_from_slice(x);
+        let (k, _, xs, _) = self.parts();
+        self.y_hat = dot(k, xs);
         Ok(())
     }
 
     /// The normalised fault direction f (Kᵀ f = 1).
     pub fn fault_direction(&self) -> &[f64] {
-        &self.f
+        self.parts().1
     }
 
     /// Current state estimate.
     pub fn state(&self) -> &[f64] {
-        &self.x
+        self.parts().2
     }
 }
 
@@ -426,22 +714,12 @@ impl Predictor for ArxLaguerrePredictor {
     }
     #[inline(always)]
     fn advance(&mut self, _y: f64, u: f64, e: f64, c: Correction) {
-        let n = self.n;
         let s = self.d + c.c1;
         let yh = self.y_hat;
-        let mut y_next = 0.0;
-        for i in 0..n {
-            let row = &self.a[i * n..(i + 1) * n];
-            let v = dot(row, &self.x)
-                + self.b_y[i] * yh
-                + self.b_u[i] * u
-                + self.kp[i] * e
-                + self.f[i] * s;
-            self.tmp[i] = v;
-            y_next += self.k[i] * v;
-        }
-        std::mem::swap(&mut self.x, &mut self.tmp);
-        self.y_hat = y_next;
+        self.y_hat = match &mut self.kernel {
+            Kernel::Cascade(k) => k.advance(yh, u, e, s),
+            Kernel::Dense(k) => k.advance(yh, u, e, s),
+        };
         self.d += c.c2 + self.chi;
         self.chi += c.c3;
     }
@@ -458,10 +736,12 @@ impl Predictor for ArxLaguerrePredictor {
         self.y_hat.abs().max(self.d.abs()).max(self.chi.abs())
     }
     fn reset(&mut self) {
-        self.x.iter_mut().for_each(|v| *v = 0.0);
+        let (cur, init) = self.state_mut();
+        cur.copy_from_slice(init);
         self.d = 0.0;
         self.chi = 0.0;
-        self.y_hat = 0.0;
+        let (k, _, xs, _) = self.parts();
+        self.y_hat = dot(k, xs);
     }
     fn order(&self) -> usize {
         self.n
@@ -519,9 +799,10 @@ impl ArxLaguerreModel {
 
 /// The fuzzy ARX-Laguerre predictor of eq. (5.19) with the observer's chain: the ARX-Laguerre
 /// part is an [`ArxLaguerrePredictor`] (injection, d̂, χ̂ as there) and the fuzzy term
-/// σ_f J_f(k), J_f = Table 5.1 inference on (e(k), e(k) − e(k−1)), is filtered by the model's
-/// J_f Laguerre bank and added to the output with its coefficients λ_f (`fuzzy-ts`), with e the
-/// observer's own output error (eqs 5.21, 5.25, 5.30 carry σ_f J_f inside the observer).
+/// σ_f J_f(k), J_f = Table 5.1 inference on (e_b(k), e_b(k) − e_b(k−1)), is filtered by the
+/// model's J_f Laguerre bank and added to the output with its coefficients λ_f (`fuzzy-ts`),
+/// where e_b = y − Kᵀ X̂ is the error of the observer's ARX-Laguerre part (eqs 5.21, 5.25, 5.30
+/// carry σ_f J_f inside the observer).
 #[derive(Debug, Clone)]
 pub struct FalPredictor {
     base: ArxLaguerrePredictor,
@@ -560,8 +841,11 @@ impl Predictor for FalPredictor {
     }
     #[inline(always)]
     fn advance(&mut self, y: f64, u: f64, e: f64, c: Correction) {
-        let jf = self.fal.inference().infer(e, e - self.e_prev);
-        self.e_prev = e;
+        // J_f is driven by the ARX-Laguerre part's own error, the quantity the fuzzy stage was
+        // fitted to predict (fuzzy-ts, stage 2).
+        let e_base = y - self.base.output();
+        let jf = self.fal.inference().infer(e_base, e_base - self.e_prev);
+        self.e_prev = e_base;
         self.base.advance(y, u, e, c);
         self.fal.fuzzy_bank().step(&mut self.xf, jf);
         self.y_hat = self.base.output() + dot(&self.kf, &self.xf);
@@ -582,7 +866,7 @@ impl Predictor for FalPredictor {
         self.base.reset();
         self.xf.iter_mut().for_each(|v| *v = 0.0);
         self.e_prev = 0.0;
-        self.y_hat = 0.0;
+        self.y_hat = self.base.output();
     }
     fn order(&self) -> usize {
         self.base.order() + self.xf.len()

@@ -8,6 +8,7 @@ use observers::named::{arx_observer, physics_observer};
 use observers::scenarios::{reference_arx_model, total_variation_per_sample};
 use observers::*;
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 
 const N: usize = 4800; // 0.4 s at 12 kHz
 const REACH: usize = 2400; // stated reaching time: 0.2 s
@@ -29,14 +30,18 @@ fn tol(kind: ObserverKind, rel_levant: f64, rel_other: f64, scale: f64, bound: f
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        cases: 24,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("proptest-regressions/convergence.txt"))),
+        ..ProptestConfig::default()
+    })]
 
     /// Every kind on the physics mode: from a random initial estimation error, |e| falls below
     /// its stated tolerance within REACH samples and stays there.
     #[test]
     fn physics_output_error_reaches_and_stays(
         x1 in -1.0f64..1.0, x2n in -1.0f64..1.0,
-        c0 in -1.0f64..1.0, a1 in 0.0f64..0.5, f1 in 5.0f64..30.0, phase in 0.0f64..6.28,
+        c0 in -1.0f64..1.0, a1 in 0.0f64..0.5, f1 in 5.0f64..30.0, phase in 0.0f64..std::f64::consts::TAU,
     ) {
         let d = Smooth { c0, a1, f1, phase };
         let y = oscillator_record(x1, x2n * mode().omega(), N, |k| d.at(k));
@@ -119,7 +124,13 @@ proptest! {
 fn arx_step_and_ramp_fault_tracked() {
     // δ = 0.5 step at k = 1000 plus a 1e-4/sample ramp; linear (ALPIO), super-twisting
     // (SMALPIO), Levant (ASMO, AFSMO) track it to within 2 % of the step after 1000 samples.
-    let delta = |k: usize| if k >= 1000 { 0.5 + 1e-4 * (k - 1000) as f64 } else { 0.0 };
+    let delta = |k: usize| {
+        if k >= 1000 {
+            0.5 + 1e-4 * (k - 1000) as f64
+        } else {
+            0.0
+        }
+    };
     let (y, u) = arx_record(&[0.0; 8], 5000, delta);
     let model = reference_arx_model();
     for (kind, bound) in [
@@ -139,7 +150,11 @@ fn arx_step_and_ramp_fault_tracked() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        cases: 16,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("proptest-regressions/convergence.txt"))),
+        ..ProptestConfig::default()
+    })]
 
     /// Chattering (total variation per sample of the level-1 injection, steady state) is lower
     /// for super-twisting and Levant laws than for the first-order sign law at the same bound,
@@ -207,20 +222,41 @@ proptest! {
 fn non_finite_and_malformed_inputs_are_typed_errors() {
     let s = ObserverSettings::new(1e-3);
     let mut o = build_observer(ObserverKind::Hostsmo, &ModelConfig::Physics(mode()), &s).unwrap();
-    assert_eq!(o.run(&[0.0, f64::NAN]), Err(ObserverError::NonFiniteInput { index: 1 }));
+    assert_eq!(
+        o.run(&[0.0, f64::NAN]),
+        Err(ObserverError::NonFiniteInput { index: 1 })
+    );
     assert_eq!(o.run(&[]), Err(ObserverError::EmptyInput));
     assert!(matches!(
         RunObserver::run(&mut o, &[0.0; 3], Some(&[0.0; 2])),
-        Err(ObserverError::LengthMismatch { expected: 3, found: 2 })
+        Err(ObserverError::LengthMismatch {
+            expected: 3,
+            found: 2
+        })
     ));
-    assert!(build_observer(ObserverKind::Hostsmo, &ModelConfig::Physics(mode()), &ObserverSettings::new(-1.0)).is_err());
-    let bad_mode = ModalParams { natural_frequency_hz: 7000.0, ..mode() };
+    assert!(
+        build_observer(
+            ObserverKind::Hostsmo,
+            &ModelConfig::Physics(mode()),
+            &ObserverSettings::new(-1.0)
+        )
+        .is_err()
+    );
+    let bad_mode = ModalParams {
+        natural_frequency_hz: 7000.0,
+        ..mode()
+    };
     assert!(build_observer(ObserverKind::Flo, &ModelConfig::Physics(bad_mode), &s).is_err());
 }
 
 #[test]
 fn runs_are_deterministic_and_run_into_matches_run() {
-    let d = Smooth { c0: 0.2, a1: 0.3, f1: 12.0, phase: 1.0 };
+    let d = Smooth {
+        c0: 0.2,
+        a1: 0.3,
+        f1: 12.0,
+        phase: 1.0,
+    };
     let y = oscillator_record(0.5, 0.0, 3000, |k| d.at(k));
     let s = ObserverSettings::new(physics_bound(ObserverKind::Hostsmo, &d));
     let mut a = physics_observer(ObserverKind::Hostsmo, mode(), &s).unwrap();
@@ -229,4 +265,12 @@ fn runs_are_deterministic_and_run_into_matches_run() {
     let mut out = ObserverOutput::default();
     a.run_into(&y, None, &mut out).unwrap();
     assert_eq!(first, out);
+}
+
+#[test]
+fn kinds_parse_from_their_names() {
+    for k in ObserverKind::ALL {
+        assert_eq!(k.name().to_lowercase().parse::<ObserverKind>(), Ok(k));
+    }
+    assert!("luenberger".parse::<ObserverKind>().is_err());
 }

@@ -183,14 +183,16 @@ fn build(kind: ObserverKind, model: &ModelConfig, bound: f64) -> anyhow::Result<
                 _ => observers::design::BoundGains::levant(bound)?,
             };
             let law = observers::HomogeneousLaw::new(lin, nl, kind.family())?;
-            FALLBACKS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             Ok(observers::AnyObserver::Physics(observers::Observer::new(p, observers::NamedLaw::Plain(law))))
         }
     }
 }
 
-/// How many observers were built through the clamped-gain fallback in this process.
-pub static FALLBACKS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+/// Whether `method` needs the clamped-gain fallback of [`build`] with this model.
+pub fn needs_fallback(method: Method, prepared: &Prepared) -> bool {
+    let (kind, model, bound) = kind_and_model(method, prepared);
+    observers::build_observer(kind, &model, &ObserverSettings::new(bound)).is_err()
+}
 
 /// Window energies Σr² (eq. 2.46 / 5.33) of `count` non-overlapping windows of `len` samples.
 pub fn window_energies(r: &[f64], len: usize, count: usize) -> anyhow::Result<Vec<f64>> {

@@ -101,8 +101,6 @@ pub struct Rec {
     pub window_len: usize,
     /// Windows to cut.
     pub n_windows: usize,
-    /// Whether this recording is simulated.
-    pub simulated: bool,
 }
 
 /// Is the CWRU data directory there?
@@ -239,7 +237,7 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
                     };
                     sig.truncate(need);
                     let n_windows = ((sig.len().saturating_sub(start)) / wlen).min(nwin);
-                    Ok(Rec { id, fs: CWRU_FS, rpm, signal: sig, window_start: start, window_len: wlen, n_windows, simulated: false })
+                    Ok(Rec { id, fs: CWRU_FS, rpm, signal: sig, window_start: start, window_len: wlen, n_windows, })
                 }
                 None => {
                     let rpm = [1797.0, 1772.0, 1750.0, 1730.0][load as usize % 4];
@@ -257,7 +255,6 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
                         window_start: start,
                         window_len: wlen,
                         n_windows: nwin,
-                        simulated: true,
                     })
                 }
             }
@@ -304,7 +301,6 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
                 window_start: start,
                 window_len: wlen,
                 n_windows: nwin,
-                simulated: true,
             })
         }
     }

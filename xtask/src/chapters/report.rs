@@ -266,6 +266,7 @@ pub fn markdown(rep: &ChapterReport, diss: &[&DissTable]) -> String {
     }
     for d in diss {
         let _ = writeln!(m, "## Table {} — {}\n", d.id, d.title.trim_end_matches('.'));
+        let _ = writeln!(m, "Dissertation: Table {} (line {} of dissertation.txt), proposed method {}.\n", d.id, d.source_line, d.proposed);
         if let Some(dn) = rep.data.iter().find(|x| x.table == d.id) {
             let _ = writeln!(m, "**Data.** {}\n", dn.text);
             if !dn.recordings.is_empty() {

@@ -18,7 +18,11 @@ pub fn envelope_spectrum(x: &[f64], fs: f64, lo: f64, hi: f64) -> (f64, Vec<f64>
     for (k, b) in buf.iter_mut().enumerate() {
         let f = k as f64 * fs / n as f64;
         let keep = k > 0 && k < n.div_ceil(2) && f >= lo && f <= hi;
-        *b = if keep { *b * 2.0 } else { Complex::new(0.0, 0.0) };
+        *b = if keep {
+            *b * 2.0
+        } else {
+            Complex::new(0.0, 0.0)
+        };
     }
     inv.process(&mut buf);
     let env: Vec<f64> = buf.iter().map(|c| c.norm() / n as f64).collect();

@@ -71,7 +71,11 @@ pub fn arx_record(x0: &[f64], n: usize, delta: impl Fn(usize) -> f64) -> (Vec<f6
     let f = FaultDirection::Input.vector(&model);
     let mut p = ArxPlant::new(&model, &f).unwrap();
     p.set_state(x0);
-    p.simulate(n, |k| (k as f64 * 0.05).sin() + 0.5 * (k as f64 * 0.31).sin(), delta)
+    p.simulate(
+        n,
+        |k| (k as f64 * 0.05).sin() + 0.5 * (k as f64 * 0.31).sin(),
+        delta,
+    )
 }
 
 pub fn max_abs(x: &[f64]) -> f64 {
