@@ -44,8 +44,18 @@ enum Task {
     CloseLoop(close_loop::Args),
 }
 
-fn main() -> anyhow::Result<()> {
-    let cli = Cli::parse();
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            // One line per cause, no backtrace: errors name the recording and stage that failed.
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
     let ctx = common::Context::new(&cli.global)?;
     match cli.task {
         Task::Data(a) => data::run(&ctx, a),

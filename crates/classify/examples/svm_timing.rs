@@ -31,14 +31,25 @@ fn main() -> Result<(), classify::ClassifyError> {
     }
     let data = b.build()?;
     let all: Vec<usize> = (0..data.n_samples()).collect();
-    for tol in [1e-3, 1e-2] {
-        let spec = ClassifierSpec::LinearSvm(LinearSvmParams {
-            c: 1.0,
-            tolerance: tol,
-        });
+    let settings = [
+        (
+            "default (C=10, per-pair, balanced)",
+            LinearSvmParams::default(),
+        ),
+        (
+            "default, tolerance 1e-2",
+            LinearSvmParams {
+                tolerance: 1e-2,
+                ..Default::default()
+            },
+        ),
+        ("sklearn (C=1, global, uniform)", LinearSvmParams::sklearn()),
+    ];
+    for (name, p) in settings {
+        let spec = ClassifierSpec::LinearSvm(p);
         let t = Instant::now();
         let _m = spec.fit(&data, &all)?;
-        println!("tolerance {tol}: {:.3} s", t.elapsed().as_secs_f64());
+        println!("{name}: {:.3} s", t.elapsed().as_secs_f64());
     }
     Ok(())
 }

@@ -28,6 +28,17 @@ pub enum ClassifyError {
         /// The offending value.
         value: f64,
     },
+    /// A feature value is zero or negative where a logarithm is taken
+    /// ([`crate::FeatureTransform::Log10`]).
+    #[error("non-positive feature {value} at row {row}, column {column} (log transform needs > 0)")]
+    NonPositive {
+        /// Row (window) index (0 for a single row given to a trained model).
+        row: usize,
+        /// Column (feature) index.
+        column: usize,
+        /// The offending value.
+        value: f64,
+    },
     /// Two collections that must have equal lengths do not.
     #[error("length mismatch for {what}: expected {expected}, found {found}")]
     LengthMismatch {

@@ -1,4 +1,4 @@
-//! One-vs-one linear SVM and Gini trees on linfa, with honest evaluation protocols.
+//! One-vs-one linear SVM on linfa and deterministic Gini trees, with honest evaluation protocols.
 //!
 //! The decision stage of Piltan (2020): window features of a residual (energy, eq. 2.46 / 5.33)
 //! are classified by a one-against-one linear SVM (ch. 2–4) or a Gini decision tree whose
@@ -8,11 +8,21 @@
 //! grouped by recording, leave one load out and leave one fault size out. Every protocol states
 //! in its output what it could not apply to the data present.
 //!
+//! The SVM's defaults ([`LinearSvmParams::default`]: C = 10, standardisation fitted per class
+//! pair, balanced class weights per pair) differ from scikit-learn's on purpose: with global
+//! scaling and C = 1 a minority class squeezed between louder ones (CWRU's normal windows) is
+//! given up entirely. [`LinearSvmParams::sklearn`] keeps scikit-learn's settings for comparison.
+//!
 //! Knows nothing about observers or signals: it takes feature rows.
 //!
 //! # Dependencies and why
-//! - `linfa`, `linfa-svm`, `linfa-trees`: the Rust ML toolkit's SMO solver (a libsvm port) and
-//!   CART tree; we wrap them rather than re-implement them.
+//! - `linfa`, `linfa-svm`: the Rust ML toolkit's SMO solver (a libsvm port); we wrap it rather
+//!   than re-implement it.
+//! - The Gini tree is grown by this crate's own small CART engine, not by `linfa-trees`:
+//!   linfa-trees 0.8.1 sums Gini terms over a `std::collections::HashMap<_, f32>`, whose
+//!   iteration order follows the random per-process hash seed, so tied splits were resolved
+//!   differently from one process to the next. `linfa-trees` remains a dev-dependency: a test
+//!   checks both give the same tree on tie-free data.
 //! - `ndarray`: only because linfa takes `ndarray` matrices.
 //! - `rand` 0.9 + `rand_chacha`: seeded, platform-independent splits (we never pass an RNG into
 //!   linfa, so linfa's internal rand 0.8 is not needed here).
@@ -53,6 +63,8 @@ mod protocol;
 mod scale;
 mod svm;
 mod tree;
+#[cfg(test)]
+mod tree_linfa_check;
 
 pub use dataset::{Dataset, DatasetBuilder, RecordingInfo, WindowMeta};
 pub use error::{ClassifyError, Result};
@@ -64,7 +76,7 @@ pub use protocol::{
     grouped_by_recording, leave_one_fault_size_out, leave_one_load_out, random_window_split,
 };
 pub use scale::Standardizer;
-pub use svm::{LinearSvmParams, OvoLinearSvm, PairMachine};
+pub use svm::{ClassWeight, FeatureTransform, LinearSvmParams, OvoLinearSvm, PairMachine, Scaling};
 pub use tree::{Condition, GiniTree, GiniTreeParams, NamedRule, Node, Rule};
 
 /// The README's example, compiled and run as a doctest.

@@ -17,9 +17,22 @@ pub enum ClassifierSpec {
 }
 
 impl ClassifierSpec {
-    /// The dissertation's SVM with default parameters (C = 1).
+    /// The dissertation's one-vs-one linear SVM with the pipelines' defaults
+    /// ([`LinearSvmParams::default`]: C = 10, per-pair standardisation, balanced class weights,
+    /// no feature transform).
     pub fn svm() -> Self {
         Self::LinearSvm(LinearSvmParams::default())
+    }
+
+    /// The SVM with explicit parameters, e.g.
+    /// `ClassifierSpec::svm_with(LinearSvmParams::default().with_transform(FeatureTransform::Log10))`.
+    pub fn svm_with(params: LinearSvmParams) -> Self {
+        Self::LinearSvm(params)
+    }
+
+    /// scikit-learn's `StandardScaler` + `SVC(kernel='linear', C=1)` ([`LinearSvmParams::sklearn`]).
+    pub fn svm_sklearn() -> Self {
+        Self::LinearSvm(LinearSvmParams::sklearn())
     }
 
     /// The dissertation's tree with default parameters (grown until pure).

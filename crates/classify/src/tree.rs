@@ -1,30 +1,39 @@
-//! Gini decision tree (Piltan 2020, ch. 5: eq. 5.34 split criterion, rules of eqs. 5.35–5.36) on
-//! `linfa-trees`.
+//! Gini decision tree (Piltan 2020, ch. 5: eq. 5.34 split criterion, rules of eqs. 5.35–5.36).
 //!
-//! The split search is linfa-trees' CART with the Gini diversity index
-//! `GDI = 1 − Σ_k p_k²` (eq. 5.34). The fitted tree is then converted into a small serde-friendly
-//! [`GiniTree`] whose thresholds are in the original feature units, so the learned rules read like
-//! eqs. 5.35–5.36 ("if E ≤ ζ_n → Normal …"). Three corrections to linfa-trees 0.8.1 are applied
-//! during the conversion (see `docs/equations/classify.md`):
-//! 1. linfa fits on standardised features, because it treats values closer than 1e-5 (absolute)
-//!    as equal, which would merge distinct raw energies;
-//! 2. each threshold is recomputed as the midpoint between the largest training value that goes
-//!    left and the smallest that goes right *within the node* (the CART/scikit-learn rule; linfa
-//!    uses the next value in the global sort order, which may belong to another node);
-//! 3. leaf classes are recomputed from the training counts with ties to the lowest class index
-//!    (linfa breaks ties in HashMap order, which varies run to run), and sibling leaves that now
-//!    agree are merged.
+//! CART with the Gini diversity index `GDI = 1 − Σ_k p_k²` (eq. 5.34), grown by this crate's own
+//! deterministic engine; the fitted [`GiniTree`] keeps thresholds in the original feature units,
+//! so the learned rules read like eqs. 5.35–5.36 ("if E ≤ ζ_n → Normal …").
+//!
+//! # Why not linfa-trees
+//! linfa-trees 0.8.1 keeps class frequencies in a `std::collections::HashMap<L, f32>` and sums the
+//! Gini terms over the map's values in f32. A `HashMap`'s iteration order depends on its random
+//! per-process hash seed, so the rounding of the sum — and therefore which of two equal (or
+//! nearly equal) candidate splits wins — changes from one process to the next: the chapter-5
+//! pipeline moved by about one test window between runs. linfa-trees is kept as a test-only
+//! cross-check (`src/tree_linfa_check.rs`: same trees on tie-free data).
+//!
+//! # The engine (see `docs/equations/classify.md`)
+//! - Features are scanned in index order; within a node the candidate thresholds are the
+//!   midpoints between consecutive *distinct* sorted values of that node (exact `==`; no
+//!   tolerance, so tiny raw energies need no rescaling).
+//! - A candidate is scored by the size-weighted child Gini, compared **exactly**: minimising it
+//!   is maximising `Σ_k n_{L,k}²/n_L + Σ_k n_{R,k}²/n_R` (scikit-learn's proxy), a ratio of
+//!   integers compared by cross-multiplication in `u128`. No floating-point rounding decides a
+//!   split.
+//! - Strict improvement only: ties go to the first feature, then the lowest threshold
+//!   (scikit-learn's rule when it does not shuffle features).
+//! - Stopping as in linfa-trees: fewer than `min_samples_split` windows, `max_depth` reached, a
+//!   pure node, a child below `min_samples_leaf`, or a Gini decrease (parent minus weighted
+//!   children, computed in f64) below `min_impurity_decrease`.
+//! - Leaves predict the training majority, ties to the lowest class index; sibling leaves that
+//!   predict the same class are merged.
 
 use std::fmt;
 
-use linfa::prelude::*;
-use linfa_trees::{DecisionTree, SplitQuality, TreeNode as LinfaNode};
-use ndarray::{Array1, Array2};
 use serde::{Deserialize, Serialize};
 
 use crate::dataset::Dataset;
 use crate::error::{ClassifyError, Result};
-use crate::scale::Standardizer;
 use crate::svm::{argmax_first, check_row};
 
 /// Hyper-parameters of the Gini tree.
@@ -36,7 +45,8 @@ pub struct GiniTreeParams {
     pub min_samples_split: usize,
     /// Minimum number of training windows in each child (≥ 1).
     pub min_samples_leaf: usize,
-    /// Minimum Gini decrease for a split (> 0; linfa requires it positive). Default 1e-7.
+    /// Minimum Gini decrease (parent minus size-weighted children, not scaled by the node's
+    /// share of the data) for a split (> 0). Default 1e-7.
     pub min_impurity_decrease: f64,
 }
 
@@ -211,63 +221,150 @@ impl Rule {
     }
 }
 
-struct Ctx<'a> {
-    z: &'a [Vec<f64>],
-    raw: &'a [Vec<f64>],
+/// The deterministic CART engine: recursive binary splitting on the Gini index (eq. 5.34).
+///
+/// Every decision is made in exact integer arithmetic on class counts, so a fit depends on
+/// nothing but the data, the parameters and the order of the features.
+struct Engine<'a> {
+    /// Raw feature rows of the training windows.
+    x: &'a [Vec<f64>],
+    /// Class of each training window.
     y: &'a [usize],
     n_classes: usize,
+    params: &'a GiniTreeParams,
 }
 
-impl Ctx<'_> {
-    fn leaf(&self, idx: &[usize]) -> Node {
-        let mut counts = vec![0; self.n_classes];
+/// The best split of a node found so far.
+struct Best {
+    feature: usize,
+    /// Largest value going left.
+    below: f64,
+    /// Smallest value going right.
+    above: f64,
+    /// `Σ_k n_{L,k}² / n_L + Σ_k n_{R,k}² / n_R` as numerator / denominator.
+    proxy_num: u128,
+    proxy_den: u128,
+}
+
+/// `a/b > c/d` for positive denominators, exactly when the products fit in `u128`.
+fn ratio_greater(a: u128, b: u128, c: u128, d: u128) -> bool {
+    match (a.checked_mul(d), c.checked_mul(b)) {
+        (Some(l), Some(r)) => l > r,
+        // Beyond ~2·10⁷ windows per node: deterministic f64 comparison instead.
+        _ => (a as f64 / b as f64) > (c as f64 / d as f64),
+    }
+}
+
+/// Midpoint of two consecutive distinct values `a < b`, never equal to `b` (so `x ≤ t` keeps
+/// exactly the values `≤ a` on the left).
+fn midpoint(a: f64, b: f64) -> f64 {
+    let mut t = 0.5 * (a + b);
+    if !t.is_finite() {
+        t = 0.5 * a + 0.5 * b;
+    }
+    if t >= b || t < a { a } else { t }
+}
+
+impl Engine<'_> {
+    fn grow(&self, idx: &[usize], depth: usize) -> Node {
+        let mut counts = vec![0usize; self.n_classes];
         for &i in idx {
             counts[self.y[i]] += 1;
         }
-        Node::Leaf {
-            class: argmax_first(&counts),
-            counts,
-        }
-    }
-
-    fn convert(&self, node: &LinfaNode<f64, usize>, idx: &[usize]) -> Node {
-        if node.is_leaf() {
-            return self.leaf(idx);
-        }
-        let children = node.children();
-        let (Some(l), Some(r)) = (children[0].as_ref(), children[1].as_ref()) else {
-            return self.leaf(idx);
+        let n = idx.len();
+        let stop = n < self.params.min_samples_split
+            || self.params.max_depth.is_some_and(|m| depth >= m)
+            || counts.iter().filter(|&&c| c > 0).count() < 2;
+        let best = if stop {
+            None
+        } else {
+            self.best_split(idx, &counts)
         };
-        let (feature, thr, _) = node.split();
-        let (li, ri): (Vec<usize>, Vec<usize>) =
-            idx.iter().partition(|&&i| self.z[i][feature] <= thr);
-        if li.is_empty() || ri.is_empty() {
-            return self.leaf(idx);
+        let Some(best) = best else {
+            return Node::Leaf {
+                class: argmax_first(&counts),
+                counts,
+            };
+        };
+        // Gini decrease (parent − size-weighted children, as in linfa-trees):
+        // (1 − S_P/n²) − (1 − proxy/n) = proxy/n − S_P/n².
+        let nf = n as f64;
+        let sp: u128 = counts.iter().map(|&c| (c as u128) * (c as u128)).sum();
+        let decrease = best.proxy_num as f64 / best.proxy_den as f64 / nf - sp as f64 / (nf * nf);
+        if decrease < self.params.min_impurity_decrease {
+            return Node::Leaf {
+                class: argmax_first(&counts),
+                counts,
+            };
         }
-        let lmax = li
+        let threshold = midpoint(best.below, best.above);
+        let (li, ri): (Vec<usize>, Vec<usize>) = idx
             .iter()
-            .map(|&i| self.raw[i][feature])
-            .fold(f64::NEG_INFINITY, f64::max);
-        let rmin = ri
-            .iter()
-            .map(|&i| self.raw[i][feature])
-            .fold(f64::INFINITY, f64::min);
-        let mut threshold = 0.5 * (lmax + rmin);
-        if threshold >= rmin {
-            threshold = lmax; // rounding when lmax and rmin are adjacent floats
-        }
-        let left = self.convert(l, &li);
-        let right = self.convert(r, &ri);
+            .partition(|&&i| self.x[i][best.feature] <= threshold);
+        let left = self.grow(&li, depth + 1);
+        let right = self.grow(&ri, depth + 1);
         merge_if_same(Node::Split {
-            feature,
+            feature: best.feature,
             threshold,
             left: Box::new(left),
             right: Box::new(right),
         })
     }
+
+    /// Scan features in index order and, per feature, the gaps between consecutive distinct
+    /// sorted values in ascending order; keep a candidate only if strictly better. Ties go to
+    /// the first feature, then the lowest threshold.
+    fn best_split(&self, idx: &[usize], counts: &[usize]) -> Option<Best> {
+        let n = idx.len();
+        let min_leaf = self.params.min_samples_leaf;
+        let d = self.x.first().map_or(0, Vec::len);
+        let mut best: Option<Best> = None;
+        let mut sorted: Vec<(f64, usize)> = Vec::with_capacity(n);
+        for feature in 0..d {
+            sorted.clear();
+            sorted.extend(idx.iter().map(|&i| (self.x[i][feature], self.y[i])));
+            sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut left = vec![0u64; self.n_classes];
+            let mut right: Vec<u64> = counts.iter().map(|&c| c as u64).collect();
+            let mut sl: u128 = 0;
+            let mut sr: u128 = right.iter().map(|&c| u128::from(c) * u128::from(c)).sum();
+            for k in 0..n - 1 {
+                let c = sorted[k].1;
+                sl += 2 * u128::from(left[c]) + 1;
+                left[c] += 1;
+                sr -= 2 * u128::from(right[c]) - 1;
+                right[c] -= 1;
+                // `==` (not total order): −0.0 and 0.0 are one value.
+                if sorted[k].0 == sorted[k + 1].0 {
+                    continue;
+                }
+                let nl = k + 1;
+                let nr = n - nl;
+                if nl < min_leaf || nr < min_leaf {
+                    continue;
+                }
+                let (nl, nr) = (nl as u128, nr as u128);
+                let num = sl * nr + sr * nl;
+                let den = nl * nr;
+                let better = best
+                    .as_ref()
+                    .is_none_or(|b| ratio_greater(num, den, b.proxy_num, b.proxy_den));
+                if better {
+                    best = Some(Best {
+                        feature,
+                        below: sorted[k].0,
+                        above: sorted[k + 1].0,
+                        proxy_num: num,
+                        proxy_den: den,
+                    });
+                }
+            }
+        }
+        best
+    }
 }
 
-fn merge_if_same(node: Node) -> Node {
+pub(crate) fn merge_if_same(node: Node) -> Node {
     if let Node::Split { left, right, .. } = &node {
         if let (
             Node::Leaf {
@@ -293,48 +390,31 @@ fn merge_if_same(node: Node) -> Node {
 }
 
 impl GiniTree {
-    /// Train on the windows `train` of `data` (raw features; see the module docs for the
-    /// standardisation used internally).
+    /// Train on the windows `train` of `data` (raw features) with the deterministic CART engine
+    /// described in the module docs: the result depends only on the data and the parameters,
+    /// bit for bit, in every process.
     ///
     /// # Errors
-    /// Invalid parameters, empty/out-of-range indices, [`ClassifyError::SingleClass`], linfa errors.
+    /// Invalid parameters, empty/out-of-range indices, [`ClassifyError::SingleClass`].
     pub fn fit(params: &GiniTreeParams, data: &Dataset, train: &[usize]) -> Result<Self> {
         params.validate()?;
         data.check_indices(train, "training indices")?;
-        let d = data.n_features();
-        let scaler = Standardizer::fit(data, train)?;
-        let raw: Vec<Vec<f64>> = train.iter().map(|&i| data.row(i).to_vec()).collect();
-        let z: Vec<Vec<f64>> = raw.iter().map(|r| scaler.transform(r)).collect();
+        let x: Vec<Vec<f64>> = train.iter().map(|&i| data.row(i).to_vec()).collect();
         let y: Vec<usize> = train.iter().map(|&i| data.label(i)).collect();
         let first = y[0];
         if y.iter().all(|&c| c == first) {
             return Err(ClassifyError::SingleClass { class: first });
         }
-        let mut x = Array2::<f64>::zeros((z.len(), d));
-        for (r, row) in z.iter().enumerate() {
-            for (k, v) in row.iter().enumerate() {
-                x[[r, k]] = *v;
-            }
-        }
-        let ds = linfa::Dataset::new(x, Array1::from(y.clone()));
-        let model = DecisionTree::<f64, usize>::params()
-            .split_quality(SplitQuality::Gini)
-            .max_depth(params.max_depth)
-            .min_weight_split(params.min_samples_split as f32)
-            .min_weight_leaf(params.min_samples_leaf as f32)
-            .min_impurity_decrease(params.min_impurity_decrease)
-            .fit(&ds)?;
-        let ctx = Ctx {
-            z: &z,
-            raw: &raw,
+        let engine = Engine {
+            x: &x,
             y: &y,
             n_classes: data.n_classes(),
+            params,
         };
         let all: Vec<usize> = (0..y.len()).collect();
-        let root = ctx.convert(model.root_node(), &all);
         Ok(Self {
-            root,
-            n_features: d,
+            root: engine.grow(&all, 0),
+            n_features: data.n_features(),
             n_classes: data.n_classes(),
         })
     }

@@ -274,7 +274,7 @@ fn bad_input_gets_typed_errors() {
     ));
     let bad_c = ClassifierSpec::LinearSvm(LinearSvmParams {
         c: -1.0,
-        tolerance: 1e-3,
+        ..Default::default()
     });
     assert!(matches!(
         bad_c.fit(&data, &all),

@@ -200,4 +200,44 @@ pub trait DeclaredModel {
     /// # Errors
     /// Whatever the model cannot do, as [`CloseLoopError::Model`].
     fn simulate(&self, op: &OperatingPoint, n: usize, fs: f64) -> Result<Vec<f64>, CloseLoopError>;
+
+    /// The model's expected one-sided PSD (units²/Hz) on the grid k·fs/`nperseg`,
+    /// k = 0..=nperseg/2, when it is known in closed form (`None`: the loop takes the Welch PSD of
+    /// [`DeclaredModel::simulate`]'s output, which carries the estimate's own variance).
+    fn expected_psd(&self, _op: &OperatingPoint, _nperseg: usize, _fs: f64) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// The observer that runs this model against the measurement for the residual-RMS metric
+    /// (default: ALPIO on an ARX-Laguerre model identified on the fitting segment).
+    fn residual_observer(&self, _fs: f64) -> crate::observe::ResidualObserver {
+        crate::observe::ResidualObserver::ArxLaguerre
+    }
+
+    /// The model with an added shaft-harmonic force of order `order`, amplitude `amplitude_n`
+    /// (N) and phase `phase_rad`, when the model has a shaft (`None` otherwise: the effect then
+    /// stays a sensor line).
+    fn with_shaft_force(
+        &self,
+        _order: u32,
+        _amplitude_n: f64,
+        _phase_rad: f64,
+    ) -> Option<Box<dyn DeclaredModel>> {
+        None
+    }
+
+    /// The model with its measured-channel (housing) mode moved to `frequency_hz`, damping
+    /// `damping_ratio`, when it has one (`None` otherwise: a mode is then a channel filter).
+    fn with_housing_mode(
+        &self,
+        _frequency_hz: f64,
+        _damping_ratio: f64,
+    ) -> Option<Box<dyn DeclaredModel>> {
+        None
+    }
+
+    /// The model's own measured-channel mode (frequency Hz, damping ratio), if it has one.
+    fn housing_mode(&self) -> Option<(f64, f64)> {
+        None
+    }
 }

@@ -34,13 +34,15 @@ impl EffectKind {
     }
 }
 
-/// Where an effect is put: into the physics or into the measurement channel.
+/// Where an effect is put: into the physics (the declared model is re-simulated with it) or into
+/// the measurement channel (a term applied to the model's output).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Placement {
-    /// A physical change of the model (a force, a mode, a speed).
+    /// Re-simulated in the declared model: a shaft force, a moved housing mode, a corrected speed.
     Physics,
-    /// A term added by the sensor chain (pick-up).
+    /// Applied to the model output: a pick-up line, a channel mode, a modulation of the output,
+    /// or a shaft line when the declared model has no shaft (ARX-Laguerre).
     Measurement,
 }
 
@@ -161,11 +163,18 @@ pub enum Effect {
         line: Line,
         /// fr used to name the order, Hz.
         shaft_hz: f64,
+        /// The shaft force (amplitude N, phase rad) re-simulated in the physics model that
+        /// reproduces the line; `None` when the model has no shaft (the line stays a sensor term).
+        force: Option<(f64, f64)>,
     },
     /// A structural mode.
     Resonance {
-        /// The fitted mode.
+        /// The fitted mode. For a moved housing mode, `gain` is 0 and the mode is in the
+        /// simulation.
         mode: Mode,
+        /// `true`: the physics model's housing mode was moved to `mode.frequency_hz` and
+        /// re-simulated; `false`: a parallel mode on the model output.
+        housing: bool,
     },
     /// A corrected speed.
     SpeedOffset {
@@ -200,8 +209,10 @@ impl Effect {
     /// Where it goes in the model.
     pub fn placement(&self) -> Placement {
         match self {
-            Self::Tone { .. } => Placement::Measurement,
-            _ => Placement::Physics,
+            Self::SpeedOffset { .. }
+            | Self::ShaftHarmonic { force: Some(_), .. }
+            | Self::Resonance { housing: true, .. } => Placement::Physics,
+            _ => Placement::Measurement,
         }
     }
 
@@ -210,7 +221,7 @@ impl Effect {
     pub fn frequency_hz(&self) -> Option<f64> {
         match self {
             Self::Tone { line } | Self::ShaftHarmonic { line, .. } => Some(line.frequency_hz),
-            Self::Resonance { mode } => Some(mode.frequency_hz),
+            Self::Resonance { mode, .. } => Some(mode.frequency_hz),
             Self::SpeedOffset { .. } => None,
             Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
         }
@@ -228,8 +239,13 @@ impl Effect {
                 order,
                 line,
                 shaft_hz,
+                force,
             } => {
                 m.insert("order".into(), f64::from(*order));
+                if let Some((a, p)) = force {
+                    m.insert("force_amplitude_n".into(), *a);
+                    m.insert("force_phase_rad".into(), *p);
+                }
                 m.insert("amplitude".into(), line.amplitude());
                 m.insert("phase_rad".into(), line.phase());
                 m.insert(
@@ -237,7 +253,8 @@ impl Effect {
                     line.frequency_hz / (f64::from(*order) * shaft_hz),
                 );
             }
-            Self::Resonance { mode } => {
+            Self::Resonance { mode, housing } => {
+                m.insert("housing_mode".into(), if *housing { 1.0 } else { 0.0 });
                 m.insert("damping_ratio".into(), mode.damping_ratio);
                 m.insert("gain".into(), mode.gain);
                 m.insert(
@@ -269,12 +286,24 @@ impl Effect {
                 line.frequency_hz,
                 line.amplitude()
             ),
-            Self::ShaftHarmonic { order, line, .. } => format!(
-                "shaft harmonic {order}x at {:.3} Hz, amplitude {:.4e}",
+            Self::ShaftHarmonic {
+                order, line, force, ..
+            } => format!(
+                "shaft harmonic {order}x at {:.3} Hz, amplitude {:.4e}{}",
                 line.frequency_hz,
-                line.amplitude()
+                line.amplitude(),
+                force.map_or(String::new(), |(a, p)| format!(
+                    " (shaft force {a:.4e} N, phase {p:+.3} rad)"
+                ))
             ),
-            Self::Resonance { mode } => format!(
+            Self::Resonance {
+                mode,
+                housing: true,
+            } => format!(
+                "housing mode moved to {:.1} Hz, zeta {:.4}",
+                mode.frequency_hz, mode.damping_ratio
+            ),
+            Self::Resonance { mode, .. } => format!(
                 "mode at {:.1} Hz, zeta {:.4}, parallel gain {:+.3}",
                 mode.frequency_hz, mode.damping_ratio, mode.gain
             ),

@@ -18,10 +18,25 @@ pub(crate) struct Base {
     pub psd_hi: Vec<f64>,
 }
 
+/// A shared declared model (the one given, or one with physics effects put in).
+#[derive(Clone)]
+pub(crate) struct ModelRef(pub Arc<dyn DeclaredModel>);
+
+impl std::fmt::Debug for ModelRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.0.name())
+    }
+}
+
 /// The model as augmented so far.
 #[derive(Debug, Clone)]
 pub(crate) struct State {
+    /// The physics model with the physics effects put in (`None`: the declared model as given).
+    pub model: Option<ModelRef>,
     pub base: Arc<Base>,
+    /// Steady-state responses to shaft forces that are in the simulation (`base`) already: they
+    /// enter the time-domain residual, not the PSD.
+    pub physics_lines: Vec<Line>,
     pub modes: Vec<Mode>,
     pub mods: Vec<Modulation>,
     pub lines: Vec<Line>,
@@ -55,16 +70,44 @@ pub(crate) struct Scores {
     pub rms: f64,
 }
 
+impl State {
+    /// Sensor lines and physics lines together: the model's phase-coherent prediction.
+    pub fn all_lines(&self) -> Vec<Line> {
+        self.lines
+            .iter()
+            .chain(&self.physics_lines)
+            .copied()
+            .collect()
+    }
+}
+
 impl Ctx<'_> {
     pub fn held(&self) -> Range<usize> {
         self.n_fit..self.y.len()
     }
 
+    /// The state's model (the declared one unless physics effects were put in).
+    pub fn model_of<'s>(&'s self, st: &'s State) -> &'s dyn DeclaredModel {
+        match &st.model {
+            Some(m) => m.0.as_ref(),
+            None => self.model,
+        }
+    }
+
     /// Simulate the declared model at `ratio` × declared speed.
     pub fn make_base(&self, ratio: f64) -> Result<Arc<Base>, CloseLoopError> {
+        self.make_base_with(self.model, ratio)
+    }
+
+    /// Simulate `model` at `ratio` × declared speed over the fitting segment.
+    pub fn make_base_with(
+        &self,
+        model: &dyn DeclaredModel,
+        ratio: f64,
+    ) -> Result<Arc<Base>, CloseLoopError> {
         let n = self.n_fit;
         let op = self.op.with_speed_ratio(ratio);
-        let signal = self.model.simulate(&op, n, self.fs)?;
+        let signal = model.simulate(&op, n, self.fs)?;
         if signal.len() != n {
             return Err(CloseLoopError::ModelLength {
                 expected: n,
@@ -74,8 +117,14 @@ impl Ctx<'_> {
         if let Some(index) = signal.iter().position(|v| !v.is_finite()) {
             return Err(CloseLoopError::NonFinite { index });
         }
-        let psd = self.welch.psd(&signal);
-        let psd_hi = self.welch_hi.psd(&signal);
+        let psd = match model.expected_psd(&op, self.welch.nperseg(), self.fs) {
+            Some(p) if p.len() == self.welch.n_bins() => p,
+            _ => self.welch.try_psd(&signal)?,
+        };
+        let psd_hi = match model.expected_psd(&op, self.welch_hi.nperseg(), self.fs) {
+            Some(p) if p.len() == self.welch_hi.n_bins() => p,
+            _ => self.welch_hi.try_psd(&signal)?,
+        };
         Ok(Arc::new(Base {
             ratio,
             signal,
@@ -154,7 +203,7 @@ impl Ctx<'_> {
         let model = self.model_psd(st, &shaped, &lp);
         let lsd = log_spectral_distance(&self.s_held, &model, self.bins.clone());
         let yh = &self.y[held.clone()];
-        let d = self.lines_signal(&st.lines, held);
+        let d = self.lines_signal(&st.all_lines(), held);
         let r: Vec<f64> = yh.iter().zip(&d).map(|(a, b)| a - b).collect();
         let ry = rms(yh);
         Scores {
@@ -163,9 +212,9 @@ impl Ctx<'_> {
         }
     }
 
-    /// Fitting-segment residual y − lines.
-    pub fn fit_residual(&self, lines: &[Line]) -> Vec<f64> {
-        let d = self.lines_signal(lines, 0..self.n_fit);
+    /// Fitting-segment residual y − (all lines of `st`).
+    pub fn fit_residual(&self, st: &State) -> Vec<f64> {
+        let d = self.lines_signal(&st.all_lines(), 0..self.n_fit);
         self.y[..self.n_fit]
             .iter()
             .zip(&d)

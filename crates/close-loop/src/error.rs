@@ -65,6 +65,18 @@ pub enum CloseLoopError {
         /// What the model reported.
         reason: String,
     },
+    /// A spectral estimate (`residual-features`) failed.
+    #[error("spectral estimate failed: {reason}")]
+    Spectral {
+        /// What `residual-features` reported.
+        reason: String,
+    },
+    /// The observer residual (`laguerre-id` identification or an `observers` observer) failed.
+    #[error("observer residual failed: {reason}")]
+    Observer {
+        /// What the identification or the observer reported.
+        reason: String,
+    },
     /// The declared model returned the wrong number of samples.
     #[error("the declared model returned {found} samples, {expected} were requested")]
     ModelLength {

@@ -3,7 +3,12 @@
 //! error before and after, effect by effect (architecture brief, "Closing the loop").
 //!
 //! # Dependencies and why
-//! - `realfft` / `rustfft`: Welch PSDs (real FFT) and the analytic-signal envelope (complex FFT).
+//! - `residual-features`: the Welch PSD, Hilbert envelope and FFT (one implementation in the
+//!   workspace); this crate adds only the zoom DFT, the band-pass mode and running medians.
+//! - `rustfft`: its `Complex` type for the zoom DFT and the biquad response.
+//! - `laguerre-id`: the ARX-Laguerre model (declared model `--model arx-laguerre`, and the model
+//!   the ALPIO observer runs on).
+//! - `observers`: ALPIO / HOSTSMO, which give the observer-residual RMS metric.
 //! - `serde`: the ledger is written as JSON by `cargo xtask close-loop`.
 //! - `thiserror`: the crate's one error enum.
 //! - `bearing-model`: the 5-DOF physics model behind [`physics::PhysicsModel`].
@@ -18,6 +23,7 @@ pub mod effect;
 mod engine;
 mod error;
 pub mod metric;
+pub mod observe;
 mod optimize;
 pub mod physics;
 pub mod report;
@@ -30,4 +36,4 @@ pub use declared::{BearingRates, DeclaredFault, DeclaredModel, OperatingPoint};
 pub use effect::{Effect, EffectKind, Placement};
 pub use error::CloseLoopError;
 pub use report::{EffectEntry, Ledger, Outcome, Spectra};
-pub use runner::{MIN_NPERSEG, close_loop, min_samples};
+pub use runner::{MIN_NPERSEG, close_loop, fit_len, min_samples};

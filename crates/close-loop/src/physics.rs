@@ -87,9 +87,59 @@ impl PhysicsModel {
     }
 }
 
+impl PhysicsModel {
+    /// The housing (measured-channel) mode the model uses: the override or the parameter set's.
+    pub fn effective_housing(&self) -> Housing {
+        self.housing
+            .unwrap_or_else(|| Scenario::new(self.set, self.bearing, 1797.0).spec.housing)
+    }
+}
+
 impl DeclaredModel for PhysicsModel {
     fn name(&self) -> &str {
         "physics-5dof"
+    }
+
+    fn residual_observer(&self, _fs: f64) -> crate::observe::ResidualObserver {
+        let h = self.effective_housing();
+        crate::observe::ResidualObserver::Physics {
+            natural_frequency_hz: h.resonance_hz,
+            damping_ratio: h.damping_ratio,
+        }
+    }
+
+    fn with_shaft_force(
+        &self,
+        order: u32,
+        amplitude_n: f64,
+        phase_rad: f64,
+    ) -> Option<Box<dyn DeclaredModel>> {
+        let mut m = self.clone();
+        m.harmonics.push(ShaftHarmonic {
+            order,
+            amplitude_n,
+            phase_rad,
+        });
+        Some(Box::new(m))
+    }
+
+    fn with_housing_mode(
+        &self,
+        frequency_hz: f64,
+        damping_ratio: f64,
+    ) -> Option<Box<dyn DeclaredModel>> {
+        let mut m = self.clone();
+        m.housing = Some(Housing {
+            resonance_hz: frequency_hz,
+            damping_ratio,
+            ..self.effective_housing()
+        });
+        Some(Box::new(m))
+    }
+
+    fn housing_mode(&self) -> Option<(f64, f64)> {
+        let h = self.effective_housing();
+        Some((h.resonance_hz, h.damping_ratio))
     }
 
     fn simulate(&self, op: &OperatingPoint, n: usize, fs: f64) -> Result<Vec<f64>, CloseLoopError> {

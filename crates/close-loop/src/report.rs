@@ -35,6 +35,10 @@ pub struct EffectEntry {
     pub fit_error_before: f64,
     /// Fitting-segment primary error after.
     pub fit_error_after: f64,
+    /// Held-out RMS of the observer residual before this effect (`null` if the observer failed).
+    pub residual_rms_before: Option<f64>,
+    /// Held-out RMS of the observer residual after this effect.
+    pub residual_rms_after: Option<f64>,
 }
 
 /// A candidate that was evaluated in the last round and not kept.
@@ -97,6 +101,14 @@ pub struct Ledger {
     pub secondary_before: f64,
     /// Secondary error after all effects.
     pub secondary_after: f64,
+    /// The observer behind `residual_rms_*` (see `close_loop::observe`).
+    pub observer: String,
+    /// Held-out RMS of the observer residual of the declared model (`null` if it failed).
+    pub residual_rms_before: Option<f64>,
+    /// Held-out RMS of the observer residual after all effects.
+    pub residual_rms_after: Option<f64>,
+    /// RMS of the measurement on the held-out segment (the scale of `residual_rms_*`).
+    pub held_out_signal_rms: f64,
     /// Accepted effects, in the order they were added.
     pub effects: Vec<EffectEntry>,
     /// Candidates of the last round that did not pass the stop rule.
@@ -165,11 +177,19 @@ impl Ledger {
             self.secondary_before,
             self.secondary_after
         ));
-        s.push_str("| # | kind | frequency (Hz) | where | effect | LSD before (dB) | LSD after (dB) | RMS ratio before | RMS ratio after |\n");
-        s.push_str("|---|---|---|---|---|---|---|---|---|\n");
+        let opt = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.4e}"));
+        s.push_str(&format!(
+            "Held-out observer residual RMS ({}): {} → {} (held-out signal RMS {:.4e}).\n\n",
+            self.observer,
+            opt(self.residual_rms_before),
+            opt(self.residual_rms_after),
+            self.held_out_signal_rms
+        ));
+        s.push_str("| # | kind | frequency (Hz) | where | effect | LSD before (dB) | LSD after (dB) | observer RMS before | observer RMS after | RMS ratio before | RMS ratio after |\n");
+        s.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (i, e) in self.effects.iter().enumerate() {
             s.push_str(&format!(
-                "| {} | {} | {} | {:?} | {} | {:.3} | {:.3} | {:.4} | {:.4} |\n",
+                "| {} | {} | {} | {:?} | {} | {:.3} | {:.3} | {} | {} | {:.4} | {:.4} |\n",
                 i + 1,
                 e.kind.as_str(),
                 e.frequency_hz
@@ -178,12 +198,14 @@ impl Ledger {
                 e.description,
                 e.error_before,
                 e.error_after,
+                opt(e.residual_rms_before),
+                opt(e.residual_rms_after),
                 e.secondary_before,
                 e.secondary_after
             ));
         }
         if self.effects.is_empty() {
-            s.push_str("| – | (no effect found) | | | | | | | |\n");
+            s.push_str("| – | (no effect found) | | | | | | | | | |\n");
         }
         s.push_str(&format!("\nStop: {}\n", self.stop_reason));
         if !self.rejected.is_empty() {

@@ -1,22 +1,23 @@
-//! Spectral estimators the loop looks through: Welch PSD, analytic-signal envelope, zoom DFT, and
-//! the digital band-pass mode used by the `resonance` effect.
+//! Spectral estimators the loop looks through. The Welch PSD, the Hilbert envelope and the
+//! FFT behind the envelope periodogram are `residual-features`' (one implementation in the
+//! workspace, conventions in `docs/equations/residual-features.md`); what that crate lacks lives
+//! here: the zoom DFT that places a line between bins, the zero-padded envelope periodogram, the
+//! digital band-pass mode used by the `resonance` effect and running medians.
 
 use crate::CloseLoopError;
-use realfft::{RealFftPlanner, RealToComplex};
-use rustfft::FftPlanner;
+use residual_features::spectral::{SpectralEngine, Taper, WelchConfig};
 use rustfft::num_complex::Complex;
 use std::f64::consts::PI;
-use std::sync::Arc;
+use std::sync::Mutex;
 
-/// Welch power spectral density (Welch 1967): periodic Hann window, 50 % overlap, per-segment
-/// mean removal, one-sided density scaling (units²/Hz), so that Σ S·Δf ≈ variance.
-#[derive(Clone)]
+/// Welch power spectral density (Welch 1967) at a fixed segment length: a thin wrapper over
+/// [`residual_features::spectral::SpectralEngine::welch_psd`] (periodic Hann, 50 % overlap,
+/// per-segment mean removal, one-sided density scaling in units²/Hz so that Σ S·Δf ≈ variance;
+/// segments that do not fit are left out). The engine caches the FFT plan.
 pub struct Welch {
     fs: f64,
     nperseg: usize,
-    window: Vec<f64>,
-    scale: f64,
-    fft: Arc<dyn RealToComplex<f64>>,
+    engine: Mutex<SpectralEngine>,
 }
 
 impl std::fmt::Debug for Welch {
@@ -46,17 +47,10 @@ impl Welch {
                 max: f64::INFINITY,
             });
         }
-        let window: Vec<f64> = (0..nperseg)
-            .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / nperseg as f64).cos())
-            .collect();
-        let s2: f64 = window.iter().map(|w| w * w).sum();
-        let fft = RealFftPlanner::<f64>::new().plan_fft_forward(nperseg);
         Ok(Self {
             fs,
             nperseg,
-            window,
-            scale: 1.0 / (fs * s2),
-            fft,
+            engine: Mutex::new(SpectralEngine::new()),
         })
     }
 
@@ -85,70 +79,80 @@ impl Welch {
         k as f64 * self.df()
     }
 
-    /// The PSD of `x`. A signal shorter than one segment is zero-padded into a single segment.
+    /// The PSD of `x`.
+    ///
+    /// # Errors
+    /// [`CloseLoopError::TooShort`] when `x` holds less than one segment,
+    /// [`CloseLoopError::Spectral`] for anything else `residual-features` rejects (non-finite
+    /// samples).
+    pub fn try_psd(&self, x: &[f64]) -> Result<Vec<f64>, CloseLoopError> {
+        if x.len() < self.nperseg {
+            return Err(CloseLoopError::TooShort {
+                needed: self.nperseg,
+                found: x.len(),
+            });
+        }
+        let mut eng = self
+            .engine
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        eng.welch_psd(x, self.fs, WelchConfig::half_overlap(self.nperseg))
+            .map(|s| s.values)
+            .map_err(|e| CloseLoopError::Spectral {
+                reason: e.to_string(),
+            })
+    }
+
+    /// The PSD of `x`; NaN in every bin when [`Welch::try_psd`] fails, so that a candidate built
+    /// on a bad signal scores NaN and is discarded (the loop never feeds it such signals: the
+    /// recording and the model output are checked finite and both parts hold whole segments).
     pub fn psd(&self, x: &[f64]) -> Vec<f64> {
-        let n = self.nperseg;
-        let hop = n / 2;
-        let mut acc = vec![0.0; n / 2 + 1];
-        let mut input = self.fft.make_input_vec();
-        let mut out = self.fft.make_output_vec();
-        let mut scratch = self.fft.make_scratch_vec();
-        let mut count = 0usize;
-        let mut start = 0usize;
-        loop {
-            let end = (start + n).min(x.len());
-            let seg = &x[start.min(x.len())..end];
-            let mean = if seg.is_empty() {
-                0.0
-            } else {
-                seg.iter().sum::<f64>() / seg.len() as f64
-            };
-            for (i, v) in input.iter_mut().enumerate() {
-                *v = seg.get(i).map_or(0.0, |s| (s - mean) * self.window[i]);
-            }
-            let _ = self
-                .fft
-                .process_with_scratch(&mut input, &mut out, &mut scratch);
-            for (a, c) in acc.iter_mut().zip(&out) {
-                *a += c.norm_sqr();
-            }
-            count += 1;
-            start += hop;
-            if start + n > x.len() {
-                break;
-            }
-        }
-        let last = n / 2;
-        for (k, a) in acc.iter_mut().enumerate() {
-            let two = if k == 0 || k == last { 1.0 } else { 2.0 };
-            *a *= two * self.scale / count as f64;
-        }
-        acc
+        self.try_psd(x)
+            .unwrap_or_else(|_| vec![f64::NAN; self.n_bins()])
     }
 }
 
-/// Hilbert envelope |x + j·H{x}| of the mean-removed signal (analytic signal by FFT).
+/// Hilbert envelope |x + j·H{x}| of the mean-removed signal
+/// ([`residual_features::spectral::hilbert_envelope`] after removing the mean; empty in, empty
+/// out; a signal `residual-features` rejects gives zeros).
 pub fn envelope(x: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    if n == 0 {
+    if x.is_empty() {
         return Vec::new();
     }
-    let mean = x.iter().sum::<f64>() / n as f64;
-    let mut planner = FftPlanner::<f64>::new();
-    let fwd = planner.plan_fft_forward(n);
-    let inv = planner.plan_fft_inverse(n);
-    let mut buf: Vec<Complex<f64>> = x.iter().map(|&v| Complex::new(v - mean, 0.0)).collect();
-    fwd.process(&mut buf);
-    for (k, c) in buf.iter_mut().enumerate().skip(1) {
-        let h = match (2 * k).cmp(&n) {
-            std::cmp::Ordering::Less => 2.0,
-            std::cmp::Ordering::Equal => 1.0,
-            std::cmp::Ordering::Greater => 0.0,
-        };
-        *c *= h;
-    }
-    inv.process(&mut buf);
-    buf.iter().map(|c| c.norm() / n as f64).collect()
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    let c: Vec<f64> = x.iter().map(|v| v - mean).collect();
+    residual_features::spectral::hilbert_envelope(&c).unwrap_or_else(|_| vec![0.0; x.len()])
+}
+
+/// Normalised envelope periodogram of `x` and its bin width: the Hann-windowed Hilbert envelope
+/// zero-padded to a power of two ≥ 2·len (a two-fold interpolated grid, which the speed search
+/// needs), |E_k|² / (m²·len) with m the mean envelope, so a modulation of depth μ reads ≈ μ²/16·len.
+/// The FFT is `residual-features`' amplitude spectrum with a rectangular taper on the padded,
+/// already windowed block (|E_k| = A_k·N_pad / c_k, c_k its one-sided factor).
+pub fn envelope_periodogram(x: &[f64], fs: f64) -> (Vec<f64>, f64) {
+    let env = envelope(x);
+    let m = env.iter().sum::<f64>() / env.len().max(1) as f64;
+    let xw = hann_windowed(&env);
+    let nfft = (2 * xw.len()).next_power_of_two().max(2);
+    let mut padded = vec![0.0; nfft];
+    padded[..xw.len()].copy_from_slice(&xw);
+    let norm = (m * m * xw.len() as f64).max(1e-300);
+    let de = fs / nfft as f64;
+    let Ok(spec) = residual_features::spectral::amplitude_spectrum(&padded, fs, Taper::Rectangular)
+    else {
+        return (vec![0.0; nfft / 2 + 1], de);
+    };
+    let vals = spec
+        .values
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let c = if k == 0 || k == nfft / 2 { 1.0 } else { 2.0 };
+            let mag = a * nfft as f64 / c;
+            mag * mag / norm
+        })
+        .collect();
+    (vals, de)
 }
 
 /// Hann-windowed copy of `x` (the window spans the whole signal), for [`zoom_power`].

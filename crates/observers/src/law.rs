@@ -81,10 +81,39 @@ pub enum LawFamily {
 /// 5.21–5.26 in one form). Gains are per sample; linear gains may have any sign (a Kalman
 /// design on a fast mode gives negative components), nonlinear gains are non-negative.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(into = "HomogeneousLawRepr", try_from = "HomogeneousLawRepr")]
 pub struct HomogeneousLaw {
     linear: [f64; 3],
     nonlinear: [f64; 3],
     family: LawFamily,
+    /// k₂√k₁, the collapsed Levant level-2 gain.
+    k2_sqrt_k1: f64,
+}
+
+/// Serialised form of [`HomogeneousLaw`] (the derived gain is recomputed and the gains
+/// re-validated on deserialisation).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct HomogeneousLawRepr {
+    linear: [f64; 3],
+    nonlinear: [f64; 3],
+    family: LawFamily,
+}
+
+impl From<HomogeneousLaw> for HomogeneousLawRepr {
+    fn from(l: HomogeneousLaw) -> Self {
+        Self {
+            linear: l.linear,
+            nonlinear: l.nonlinear,
+            family: l.family,
+        }
+    }
+}
+
+impl TryFrom<HomogeneousLawRepr> for HomogeneousLaw {
+    type Error = ObserverError;
+    fn try_from(r: HomogeneousLawRepr) -> Result<Self, ObserverError> {
+        Self::new(r.linear, r.nonlinear, r.family)
+    }
 }
 
 fn check_gains(name: &'static str, g: &[f64; 3], nonneg: bool) -> Result<(), ObserverError> {
@@ -121,6 +150,7 @@ impl HomogeneousLaw {
             linear,
             nonlinear,
             family,
+            k2_sqrt_k1: nonlinear[1] * nonlinear[0].sqrt(),
         })
     }
 
@@ -158,10 +188,12 @@ impl CorrectionLaw for HomogeneousLaw {
             }
             LawFamily::SuperTwisting => (k1 * sig_half(e), k2 * sgn(e), 0.0),
             LawFamily::Levant => {
-                // Levant's recursive differentiator: e2 is the level-1 injection, i.e. the
-                // "X̂1-dot − X̂2" of eq. (2.41); sgn(e2) = sgn(e).
-                let e2 = k1 * sig_two_thirds(e);
-                (e2, k2 * sig_half(e2), k3 * sgn(e))
+                // Levant's recursive differentiator: e2 = k1|e|^⅔ sgn e is the level-1
+                // injection, i.e. the "X̂1-dot − X̂2" of eq. (2.41); sgn(e2) = sgn(e), so
+                // k2|e2|^½ sgn e2 = k2√k1 |e|^⅓ sgn e = k2√k1 ∛e: one cube root per sample
+                // (√k1 is precomputed), the same value as the recursive form to rounding.
+                let c = e.cbrt();
+                (k1 * (c * c.abs()), self.k2_sqrt_k1 * c, k3 * sgn(e))
             }
         };
         Correction {

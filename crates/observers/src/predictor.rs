@@ -411,6 +411,10 @@ struct CascadeKernel {
     s: LaguerreStructure,
     gain_a: f64,
     gain_b: f64,
+    /// AᵀK, so that Kᵀ X̂(k+1) = wᵀX̂(k) + β Ŷ(k) + γ u + κ e + (Kᵀf) s.
+    w: Fixed,
+    /// (Kᵀb_y, Kᵀb_u, KᵀK_p, Kᵀf).
+    kb: [f64; 4],
     k: Fixed,
     kp: Fixed,
     f: Fixed,
@@ -418,77 +422,58 @@ struct CascadeKernel {
     x0: Fixed,
 }
 
-/// One bank: x ← A_bank x + b_bank drive (cascade) + kp e + f s; returns Σ kᵢ xᵢ(k+1).
+/// One bank: x ← A_bank x + b_bank drive (cascade) + kp e + f s.
 ///
-/// The cascade runs on the model part alone (`pure`): xᵢ(k+1) − injection =
+/// The cascade runs on the model part alone (`pure`): xᵢ(k+1) − injectionᵢ =
 /// ζ xᵢ(k) + xᵢ₋₁(k) − ζ (xᵢ₋₁(k+1) − injectionᵢ₋₁), an identity of the block matrix that holds
 /// for any X̂(k).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn cascade_bank(
-    z: f64,
-    g: f64,
-    drive: f64,
-    e: f64,
-    s: f64,
-    x: &mut [f64],
-    k: &[f64],
-    kp: &[f64],
-    f: &[f64],
-) -> f64 {
-    let (Some((x0, xr)), Some((k0, kr)), Some((kp0, kpr)), Some((f0, fr))) = (
-        x.split_first_mut(),
-        k.split_first(),
-        kp.split_first(),
-        f.split_first(),
-    ) else {
-        return 0.0;
+fn cascade_bank(z: f64, g: f64, drive: f64, e: f64, s: f64, x: &mut [f64], kp: &[f64], f: &[f64]) {
+    let (Some((x0, xr)), Some((kp0, kpr)), Some((f0, fr))) =
+        (x.split_first_mut(), kp.split_first(), f.split_first())
+    else {
+        return;
     };
     let mut prev_old = *x0;
     let mut prev_pure = z * prev_old + g * drive;
     *x0 = prev_pure + kp0 * e + f0 * s;
-    let mut y = k0 * *x0;
-    for (((xi, ki), kpi), fi) in xr.iter_mut().zip(kr).zip(kpr).zip(fr) {
+    for ((xi, kpi), fi) in xr.iter_mut().zip(kpr).zip(fr) {
         let old = *xi;
         let pure = z * old + prev_old - z * prev_pure;
         prev_old = old;
         prev_pure = pure;
-        let v = pure + kpi * e + fi * s;
-        *xi = v;
-        y += ki * v;
+        *xi = pure + kpi * e + fi * s;
     }
-    y
+}
+
+/// wᵀx over the fixed-size arrays with four partial sums (the padding is zero).
+#[inline(always)]
+fn dot_fixed(w: &Fixed, x: &Fixed) -> f64 {
+    let mut acc = [0.0; 4];
+    for (wc, xc) in w.chunks_exact(4).zip(x.chunks_exact(4)) {
+        for i in 0..4 {
+            acc[i] += wc[i] * xc[i];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 impl CascadeKernel {
+    /// Advance X̂ and return Ŷ(k+1) = Kᵀ X̂(k+1), computed from X̂(k) through w = AᵀK so that the
+    /// output does not wait for the cascade (the two dependency chains run in parallel).
     #[inline(always)]
     fn advance(&mut self, y_hat: f64, u: f64, e: f64, s: f64) -> f64 {
+        let [kby, kbu, kkp, kf] = self.kb;
+        let y_next = dot_fixed(&self.w, &self.x) + (kby * y_hat + kbu * u) + (kkp * e + kf * s);
         let na = self.s.n_a;
         let n = na + self.s.n_b;
         let (xa, xb) = self.x[..n].split_at_mut(na);
-        let ya = cascade_bank(
-            self.s.zeta_a,
-            self.gain_a,
-            y_hat,
-            e,
-            s,
-            xa,
-            &self.k[..na],
-            &self.kp[..na],
-            &self.f[..na],
-        );
-        let yb = cascade_bank(
-            self.s.zeta_b,
-            self.gain_b,
-            u,
-            e,
-            s,
-            xb,
-            &self.k[na..n],
-            &self.kp[na..n],
-            &self.f[na..n],
-        );
-        ya + yb
+        let (kpa, kpb) = self.kp[..n].split_at(na);
+        let (fa, fb) = self.f[..n].split_at(na);
+        cascade_bank(self.s.zeta_a, self.gain_a, y_hat, e, s, xa, kpa, fa);
+        cascade_bank(self.s.zeta_b, self.gain_b, u, e, s, xb, kpb, fb);
+        y_next
     }
 }
 
@@ -528,8 +513,9 @@ impl DenseKernel {
 
 #[derive(Debug, Clone, PartialEq)]
 enum Kernel {
-    Cascade(CascadeKernel),
-    Dense(DenseKernel),
+    // Boxed: the fixed-size arrays are ~850 bytes and would bloat every observer enum.
+    Cascade(Box<CascadeKernel>),
+    Dense(Box<DenseKernel>),
 }
 
 /// The ARX-Laguerre observer's predictor (eqs 2.33, 3.9, 4.16, 4.18, 5.21):
@@ -621,18 +607,31 @@ impl ArxLaguerrePredictor {
                     a[..n].copy_from_slice(v);
                     a
                 };
-                Kernel::Cascade(CascadeKernel {
+                let mut w: Fixed = [0.0; laguerre_id::MAX_STATES];
+                for (i, ki) in model.k.iter().enumerate() {
+                    for (j, wj) in w[..n].iter_mut().enumerate() {
+                        *wj += model.a[i * n + j] * ki;
+                    }
+                }
+                Kernel::Cascade(Box::new(CascadeKernel {
                     s,
                     gain_a: (1.0 - s.zeta_a * s.zeta_a).sqrt(),
                     gain_b: (1.0 - s.zeta_b * s.zeta_b).sqrt(),
+                    w,
+                    kb: [
+                        dot(&model.k, &model.b_y),
+                        dot(&model.k, &model.b_u),
+                        dot(&model.k, kp),
+                        dot(&model.k, &f),
+                    ],
                     k: fixed(&model.k),
                     kp: fixed(kp),
                     f: fixed(&f),
                     x: [0.0; laguerre_id::MAX_STATES],
                     x0: [0.0; laguerre_id::MAX_STATES],
-                })
+                }))
             }
-            None => Kernel::Dense(DenseKernel {
+            None => Kernel::Dense(Box::new(DenseKernel {
                 a: model.a.clone(),
                 b_y: model.b_y.clone(),
                 b_u: model.b_u.clone(),
@@ -642,7 +641,7 @@ impl ArxLaguerrePredictor {
                 x: vec![0.0; n],
                 x0: vec![0.0; n],
                 tmp: vec![0.0; n],
-            }),
+            })),
         };
         Ok(Self {
             n,

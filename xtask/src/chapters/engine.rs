@@ -74,50 +74,91 @@ use anyhow::Context as _;
 use bearing_model::{FaultClass, Scenario};
 use classify::{ClassifierSpec, Dataset, GiniTreeParams, WindowMeta};
 use laguerre_id::{ArxLaguerreConfig, PoleChoice};
-use observers::{FaultDirection, ModalParams, ModelConfig, ObserverKind, ObserverSettings};
+use observers::{
+    FaultDirection, LawFamily, LinearDesign, ModalParams, ModelConfig, ObserverKind,
+    ObserverSettings,
+};
 
 /// ARX-Laguerre orders: N_a output filters, no input (AR form: CWRU has no measured force).
 pub const N_A: usize = 6;
-/// Quantile of |Δᵐy| on the healthy fit segment used as the per-sample uncertainty bound.
-pub const BOUND_QUANTILE: f64 = 0.99;
+/// Multiples c of the scale s_m = RMS(Δᵐy) of the healthy fit segment tried as the per-sample
+/// uncertainty bound Γ = c·s_m (m = 3 for Levant laws, 2 otherwise), smallest first.
+pub const GAMMA_MULTIPLES: [f64; 7] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
 /// Tree limits for the chapter-5 classifier (the dissertation's trees have one leaf per class).
 pub const TREE_MAX_DEPTH: usize = 4;
 /// Minimum training windows per leaf.
 pub const TREE_MIN_LEAF: usize = 5;
 
-/// What the observers need from the healthy fit segment: the identified ARX-Laguerre model and
-/// the physics mode of the measured channel.
+/// What the observers need from the healthy fit segment: the identified ARX-Laguerre and fuzzy
+/// ARX-Laguerre models, the physics mode of the measured channel, and the segment itself (the
+/// gains are tuned on it, see [`Prepared::tune`]).
 #[derive(Debug, Clone)]
 pub struct Prepared {
     arx: observers::ArxLaguerreModel,
+    fal: Option<Box<fuzzy_ts::FuzzyArxLaguerre>>,
     mode: ModalParams,
-    /// Per-sample bounds by difference order 2 and 3.
-    bound2: f64,
-    bound3: f64,
+    fit: Vec<f64>,
     /// Pole ζ_a chosen by the identification.
     pub zeta_a: f64,
 }
 
+/// The gains chosen for one observer on one healthy fit segment.
+#[derive(Debug, Clone, Copy)]
+pub struct Tuning {
+    /// Settings handed to `observers::build_observer`.
+    pub settings: ObserverSettings,
+    /// The chosen multiple c of Γ = c·RMS(Δᵐy) (None: linear law, Γ unused).
+    pub multiple: Option<f64>,
+    /// Difference order m of the bound's scale.
+    pub order: usize,
+    /// Whether the recorded-data linear design (`LinearDesign::for_recordings`) was chosen.
+    pub for_recordings: bool,
+    /// RMS(residual) / RMS(y) on the second half of the fit segment.
+    pub fit_ratio: f64,
+    /// RMS(residual) on the last quarter over that on the second quarter of the fit segment
+    /// (≫ 1 would mean divergence).
+    pub growth: f64,
+}
+
+fn rms(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// RMS of x / RMS of y (0 when y is silent).
+pub fn rms_ratio(x: &[f64], y: &[f64]) -> f64 {
+    let d = rms(y);
+    if d > 0.0 { rms(x) / d } else { 0.0 }
+}
+
 impl Prepared {
-    /// Identify the ARX-Laguerre model on `healthy` (eq. 4.10 pole by prediction error) and take
-    /// the housing mode of the 5-DOF CWRU-rig parameter set as the physics model.
-    pub fn new(healthy: &[f64], fs: f64, rpm: f64) -> anyhow::Result<Self> {
+    /// Identify the ARX-Laguerre model (and, when `fuzzy`, the fuzzy ARX-Laguerre model of
+    /// eq. 5.19) on `healthy` (eq. 4.10 pole by prediction error) and take the housing mode of
+    /// the 5-DOF CWRU-rig parameter set as the physics model.
+    pub fn new(healthy: &[f64], fs: f64, rpm: f64, fuzzy: bool) -> anyhow::Result<Self> {
         let cfg = ArxLaguerreConfig::new(N_A, 0, PoleChoice::DEFAULT_SEARCH)?;
         let m = laguerre_id::ArxLaguerreModel::identify(healthy, None, &cfg)
             .context("identifying the ARX-Laguerre model on the healthy fit segment")?;
-        let ss = m.state_space();
-        let n = ss.n_states;
-        let mut a = Vec::with_capacity(n * n);
-        for i in 0..n {
-            a.extend_from_slice(&ss.a[i][..n]);
-        }
-        let arx = observers::ArxLaguerreModel {
-            a,
-            b_y: ss.b_y[..n].to_vec(),
-            b_u: ss.b_u[..n].to_vec(),
-            k: ss.k[..n].to_vec(),
+        let arx = observers::ArxLaguerreModel::from_state_space(&m.state_space())?;
+        let fal = if fuzzy {
+            let f = fuzzy_ts::FuzzyArxLaguerre::identify(
+                healthy,
+                None,
+                &fuzzy_ts::FalConfig::with_base(cfg),
+            )
+            .context("identifying the fuzzy ARX-Laguerre model on the healthy fit segment")?;
+            Some(Box::new(f))
+        } else {
+            None
         };
-        let spec = Scenario::new(bearing_model::ParamSet::CwruRig, bearing_model::Bearing::Skf6205, rpm).spec;
+        let spec = Scenario::new(
+            bearing_model::ParamSet::CwruRig,
+            bearing_model::Bearing::Skf6205,
+            rpm,
+        )
+        .spec;
         let mode = ModalParams {
             natural_frequency_hz: spec.housing.resonance_hz.min(0.45 * fs),
             damping_ratio: spec.housing.damping_ratio,
@@ -126,72 +167,126 @@ impl Prepared {
         };
         Ok(Self {
             arx,
+            fal,
             mode,
-            bound2: observers::estimate_bound(healthy, 2, BOUND_QUANTILE)?,
-            bound3: observers::estimate_bound(healthy, 3, BOUND_QUANTILE)?,
+            fit: healthy.to_vec(),
             zeta_a: m.pole_a().value(),
+        })
+    }
+
+    fn kind_and_model(&self, method: Method) -> anyhow::Result<(ObserverKind, ModelConfig)> {
+        let arx = || ModelConfig::ArxLaguerre {
+            model: self.arx.clone(),
+            fault: FaultDirection::OutputFilter,
+        };
+        let fal = || -> anyhow::Result<ModelConfig> {
+            Ok(ModelConfig::FuzzyArxLaguerre {
+                model: self
+                    .fal
+                    .clone()
+                    .ok_or_else(|| anyhow::anyhow!("fuzzy ARX-Laguerre model not identified"))?,
+                fault: FaultDirection::OutputFilter,
+            })
+        };
+        let phys = ModelConfig::Physics(self.mode);
+        Ok(match method {
+            Method::Hostsmo => (ObserverKind::Hostsmo, phys),
+            Method::Smo => (ObserverKind::Smo, phys),
+            Method::Pflo => (ObserverKind::Pflo, phys),
+            Method::Flo => (ObserverKind::Flo, phys),
+            Method::Apio => (ObserverKind::Apio, arx()),
+            Method::Smalpio => (ObserverKind::Smalpio, arx()),
+            Method::Asmo => (ObserverKind::Asmo, fal()?),
+            Method::Afsmo => (ObserverKind::Afsmo, fal()?),
+            Method::SmoFuzzy => (ObserverKind::Smo, fal()?),
+        })
+    }
+
+    /// Choose Γ and the linear design of `method` on the healthy fit segment only: every
+    /// candidate Γ = c·RMS(Δᵐy), c ∈ [`GAMMA_MULTIPLES`], times the two linear designs
+    /// (default, `for_recordings`) runs over the segment from rest; the candidate with the
+    /// smallest residual RMS on the segment's second half wins (first in order on ties).
+    /// Candidates that fail to build, produce non-finite output or grow (last-quarter RMS more
+    /// than twice the second-quarter RMS) are skipped. No test window and no label is used.
+    pub fn tune(&self, method: Method) -> anyhow::Result<Tuning> {
+        let (kind, model) = self.kind_and_model(method)?;
+        let order = if kind.family() == LawFamily::Levant {
+            3
+        } else {
+            2
+        };
+        let mut d = self.fit.clone();
+        for _ in 0..order {
+            for i in 0..d.len() - 1 {
+                d[i] = d[i + 1] - d[i];
+            }
+            d.pop();
+        }
+        let scale = rms(&d);
+        anyhow::ensure!(scale > 0.0, "silent fit segment");
+        let linear_only = kind.family() == LawFamily::Linear;
+        let multiples: &[f64] = if linear_only {
+            &[1e-3]
+        } else {
+            &GAMMA_MULTIPLES
+        };
+        let n = self.fit.len();
+        let (q2, half, q4) = (n / 4, n / 2, 3 * n / 4);
+        let mut best: Option<Tuning> = None;
+        for &c in multiples {
+            for rec_design in [false, true] {
+                let mut settings = ObserverSettings::new(c * scale);
+                if rec_design {
+                    settings.linear = LinearDesign::for_recordings();
+                }
+                let Ok(mut obs) = observers::build_observer(kind, &model, &settings) else {
+                    continue;
+                };
+                let Ok(out) = obs.run(&self.fit) else {
+                    continue;
+                };
+                let r = &out.residual;
+                if r.iter().any(|v| !v.is_finite()) {
+                    continue;
+                }
+                let growth = rms(&r[q4..]) / rms(&r[q2..half]).max(1e-300);
+                if growth > 2.0 {
+                    continue;
+                }
+                let t = Tuning {
+                    settings,
+                    multiple: (!linear_only).then_some(c),
+                    order,
+                    for_recordings: rec_design,
+                    fit_ratio: rms_ratio(&r[half..], &self.fit[half..]),
+                    growth,
+                };
+                if best.is_none_or(|b| t.fit_ratio < b.fit_ratio) {
+                    best = Some(t);
+                }
+            }
+        }
+        best.ok_or_else(|| {
+            anyhow::anyhow!(
+                "no candidate gain of {} ran stably on the fit segment",
+                method.name()
+            )
         })
     }
 }
 
-fn kind_and_model(method: Method, p: &Prepared) -> (ObserverKind, ModelConfig, f64) {
-    let arx = || ModelConfig::ArxLaguerre { model: p.arx.clone(), fault: FaultDirection::OutputFilter };
-    let phys = ModelConfig::Physics(p.mode);
-    match method {
-        Method::Hostsmo => (ObserverKind::Hostsmo, phys, p.bound3),
-        Method::Smo => (ObserverKind::Smo, phys, p.bound2),
-        Method::Pflo => (ObserverKind::Pflo, phys, p.bound2),
-        Method::Flo => (ObserverKind::Flo, phys, p.bound2),
-        Method::Apio => (ObserverKind::Apio, arx(), p.bound2),
-        Method::Smalpio => (ObserverKind::Smalpio, arx(), p.bound2),
-        Method::Asmo => (ObserverKind::Asmo, arx(), p.bound3),
-        Method::Afsmo => (ObserverKind::Afsmo, arx(), p.bound3),
-        Method::SmoFuzzy => (ObserverKind::Smo, arx(), p.bound2),
-    }
-}
-
-/// The residual r = y − ŷ of `method` over the whole recording (eqs 2.45, 3.25, 4.30, 5.32).
-pub fn residual(method: Method, prepared: &Prepared, rec: &Rec) -> anyhow::Result<Vec<f64>> {
-    let (kind, model, bound) = kind_and_model(method, prepared);
-    let mut obs = build(kind, &model, bound)?;
+/// The residual r = y − ŷ of `method` over the whole recording (eqs 2.45, 3.25, 4.30, 5.32),
+/// with the gains chosen by [`Prepared::tune`].
+pub fn residual(
+    method: Method,
+    prepared: &Prepared,
+    tuning: &Tuning,
+    rec: &Rec,
+) -> anyhow::Result<Vec<f64>> {
+    let (kind, model) = prepared.kind_and_model(method)?;
+    let mut obs = observers::build_observer(kind, &model, &tuning.settings)
+        .with_context(|| format!("building {}", kind.name()))?;
     Ok(obs.run(&rec.signal)?.residual)
-}
-
-/// Build with the default settings. The crate's physics linear design (a steady-state Kalman
-/// gain on the per-sample chain) can have a negative entry for a mode above ~500 Hz at 12 kHz,
-/// which the law's gain check rejects; then (physics models only) the same observer is
-/// assembled from the crate's public parts with the negative linear gains set to zero, and the
-/// fallback is reported (`Fallback::ClampedLinearGain`).
-fn build(kind: ObserverKind, model: &ModelConfig, bound: f64) -> anyhow::Result<observers::AnyObserver> {
-    let settings = ObserverSettings::new(bound);
-    match observers::build_observer(kind, model, &settings) {
-        Ok(o) => Ok(o),
-        Err(e0) => {
-            let ModelConfig::Physics(mode) = model else {
-                return Err(anyhow::anyhow!(e0).context(format!("building {}", kind.name())));
-            };
-            let p = observers::SecondOrderPredictor::new(*mode)?;
-            let lin = if kind.has_linear_part() {
-                observers::named::design_physics_linear(&p, &settings.linear)?.law_gains.map(|g| g.max(0.0))
-            } else {
-                [0.0; 3]
-            };
-            let nl = match kind.family() {
-                observers::LawFamily::Linear => [0.0; 3],
-                observers::LawFamily::Sign => observers::design::BoundGains::sign(bound)?,
-                observers::LawFamily::SuperTwisting => observers::design::BoundGains::super_twisting(bound)?,
-                _ => observers::design::BoundGains::levant(bound)?,
-            };
-            let law = observers::HomogeneousLaw::new(lin, nl, kind.family())?;
-            Ok(observers::AnyObserver::Physics(observers::Observer::new(p, observers::NamedLaw::Plain(law))))
-        }
-    }
-}
-
-/// Whether `method` needs the clamped-gain fallback of [`build`] with this model.
-pub fn needs_fallback(method: Method, prepared: &Prepared) -> bool {
-    let (kind, model, bound) = kind_and_model(method, prepared);
-    observers::build_observer(kind, &model, &ObserverSettings::new(bound)).is_err()
 }
 
 /// Window energies Σr² (eq. 2.46 / 5.33) of `count` non-overlapping windows of `len` samples.
@@ -200,7 +295,11 @@ pub fn window_energies(r: &[f64], len: usize, count: usize) -> anyhow::Result<Ve
     for w in r.chunks_exact(len).take(count) {
         out.push(residual_features::energy(w)?);
     }
-    anyhow::ensure!(!out.is_empty(), "no complete window of {len} samples in {} samples", r.len());
+    anyhow::ensure!(
+        !out.is_empty(),
+        "no complete window of {len} samples in {} samples",
+        r.len()
+    );
     Ok(out)
 }
 
@@ -254,17 +353,29 @@ pub fn tree_rules(x: &[f64], y: &[usize], labels: &[String]) -> anyhow::Result<(
         &x.iter().map(|&v| vec![v]).collect::<Vec<_>>(),
         y.iter()
             .enumerate()
-            .map(|(i, &c)| WindowMeta { class: c, recording: String::new(), load_hp: 0, fault_size_mils: None, index_in_recording: i })
+            .map(|(i, &c)| WindowMeta {
+                class: c,
+                recording: String::new(),
+                load_hp: 0,
+                fault_size_mils: None,
+                index_in_recording: i,
+            })
             .collect(),
     )?;
     let train: Vec<usize> = (0..x.len()).collect();
     let tree = classify::GiniTree::fit(
-        &GiniTreeParams { max_depth: Some(TREE_MAX_DEPTH), min_samples_leaf: TREE_MIN_LEAF, ..GiniTreeParams::default() },
+        &GiniTreeParams {
+            max_depth: Some(TREE_MAX_DEPTH),
+            min_samples_leaf: TREE_MIN_LEAF,
+            ..GiniTreeParams::default()
+        },
         &data,
         &train,
     )?;
     let names = vec!["E".to_string()];
-    let mut text = String::from("Rules learned by the Gini tree on the window energy E (thresholds in the residual's units squared):\n\n```text\n");
+    let mut text = String::from(
+        "Rules learned by the Gini tree on the window energy E (thresholds in the residual's units squared):\n\n```text\n",
+    );
     for r in tree.rules() {
         text.push_str(&format!("{}\n", r.named(&names, labels)));
     }
@@ -272,7 +383,12 @@ pub fn tree_rules(x: &[f64], y: &[usize], labels: &[String]) -> anyhow::Result<(
     fn conv(n: &classify::Node) -> TreeDraw {
         match n {
             classify::Node::Leaf { class, .. } => TreeDraw::Leaf { class: *class },
-            classify::Node::Split { threshold, left, right, .. } => TreeDraw::Split {
+            classify::Node::Split {
+                threshold,
+                left,
+                right,
+                ..
+            } => TreeDraw::Split {
                 threshold: *threshold,
                 left: Box::new(conv(left)),
                 right: Box::new(conv(right)),
@@ -292,15 +408,30 @@ pub enum SimKind {
 }
 
 /// Simulate `n` samples of housing acceleration with `bearing-model`'s named scenarios.
-pub fn simulate(kind: SimKind, class: FaultClass, size: f64, rpm: f64, fs: f64, n: usize, seed: u64) -> anyhow::Result<Vec<f64>> {
+pub fn simulate(
+    kind: SimKind,
+    class: FaultClass,
+    size: f64,
+    rpm: f64,
+    fs: f64,
+    n: usize,
+    seed: u64,
+) -> anyhow::Result<Vec<f64>> {
     let sc = match kind {
         SimKind::Cwru => Scenario::cwru(class, size, rpm)?,
         SimKind::Shse => Scenario::shse(class, size, rpm)?,
     };
-    let rec = sc.with_fs(fs).with_duration(n as f64 / fs).with_seed(seed).simulate()?;
+    let rec = sc
+        .with_fs(fs)
+        .with_duration(n as f64 / fs)
+        .with_seed(seed)
+        .simulate()?;
     let mut a = rec.accel;
-    anyhow::ensure!(a.len() >= n, "simulation returned {} samples, {n} requested", a.len());
+    anyhow::ensure!(
+        a.len() >= n,
+        "simulation returned {} samples, {n} requested",
+        a.len()
+    );
     a.truncate(n);
     Ok(a)
 }
-

@@ -82,15 +82,22 @@ fn traces(title: &str, rows: &[(String, Vec<f64>)], fs: f64) -> anyhow::Result<V
             let amp = y.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
             let t_end = y.len() as f64 / fs;
             let mut b = ChartBuilder::on(area);
-            b.margin(6).x_label_area_size(if text { 28 } else { 0 }).y_label_area_size(if text { 60 } else { 0 });
+            b.margin(6)
+                .x_label_area_size(if text { 28 } else { 0 })
+                .y_label_area_size(if text { 60 } else { 0 });
             if text {
                 b.caption(label, (FONT, 15));
             }
-            let mut chart = b.build_cartesian_2d(0.0..t_end, -amp * 1.05..amp * 1.05).map_err(e)?;
+            let mut chart = b
+                .build_cartesian_2d(0.0..t_end, -amp * 1.05..amp * 1.05)
+                .map_err(e)?;
             let mut mesh = chart.configure_mesh();
             mesh.disable_mesh();
             if text {
-                mesh.x_desc("time (s)").label_style((FONT, 11)).x_labels(6).y_labels(4);
+                mesh.x_desc("time (s)")
+                    .label_style((FONT, 11))
+                    .x_labels(6)
+                    .y_labels(4);
             } else {
                 mesh.x_labels(0).y_labels(0);
             }
@@ -109,12 +116,27 @@ fn traces(title: &str, rows: &[(String, Vec<f64>)], fs: f64) -> anyhow::Result<V
 /// Window energies per class against window index, log scale (Fig. 5.7).
 fn energies(title: &str, series: &[(String, Vec<f64>)]) -> anyhow::Result<Vec<u8>> {
     let text = has_font();
-    let n = series.iter().map(|(_, v)| v.len()).max().unwrap_or(1).max(1);
-    let lo = series.iter().flat_map(|(_, v)| v.iter()).fold(f64::INFINITY, |a, &v| a.min(v)).max(1e-12);
-    let hi = series.iter().flat_map(|(_, v)| v.iter()).fold(0.0f64, |a, &v| a.max(v)).max(lo * 10.0);
+    let n = series
+        .iter()
+        .map(|(_, v)| v.len())
+        .max()
+        .unwrap_or(1)
+        .max(1);
+    let lo = series
+        .iter()
+        .flat_map(|(_, v)| v.iter())
+        .fold(f64::INFINITY, |a, &v| a.min(v))
+        .max(1e-12);
+    let hi = series
+        .iter()
+        .flat_map(|(_, v)| v.iter())
+        .fold(0.0f64, |a, &v| a.max(v))
+        .max(lo * 10.0);
     render(900, 520, |root| {
         let mut b = ChartBuilder::on(root);
-        b.margin(10).x_label_area_size(if text { 35 } else { 0 }).y_label_area_size(if text { 70 } else { 0 });
+        b.margin(10)
+            .x_label_area_size(if text { 35 } else { 0 })
+            .y_label_area_size(if text { 70 } else { 0 });
         if text {
             b.caption(title, (FONT, 18));
         }
@@ -123,7 +145,9 @@ fn energies(title: &str, series: &[(String, Vec<f64>)]) -> anyhow::Result<Vec<u8
             .map_err(e)?;
         let mut mesh = chart.configure_mesh();
         if text {
-            mesh.x_desc("window").y_desc("energy Σr²").label_style((FONT, 12));
+            mesh.x_desc("window")
+                .y_desc("energy Σr²")
+                .label_style((FONT, 12));
         } else {
             mesh.x_labels(0).y_labels(0);
         }
@@ -131,10 +155,15 @@ fn energies(title: &str, series: &[(String, Vec<f64>)]) -> anyhow::Result<Vec<u8
         for (i, (label, v)) in series.iter().enumerate() {
             let c = COLORS[i % COLORS.len()];
             let s = chart
-                .draw_series(v.iter().enumerate().map(|(k, &y)| Circle::new((k, y.max(lo)), 2, c.filled())))
+                .draw_series(
+                    v.iter()
+                        .enumerate()
+                        .map(|(k, &y)| Circle::new((k, y.max(lo)), 2, c.filled())),
+                )
                 .map_err(e)?;
             if text {
-                s.label(label.clone()).legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
+                s.label(label.clone())
+                    .legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
             }
         }
         if text {
@@ -151,7 +180,11 @@ fn energies(title: &str, series: &[(String, Vec<f64>)]) -> anyhow::Result<Vec<u8
 }
 
 /// Confusion matrices side by side (rows: true class, columns: predicted).
-fn confusions(title: &str, mats: &[(String, Vec<Vec<u64>>)], labels: &[String]) -> anyhow::Result<Vec<u8>> {
+fn confusions(
+    title: &str,
+    mats: &[(String, Vec<Vec<u64>>)],
+    labels: &[String],
+) -> anyhow::Result<Vec<u8>> {
     let text = has_font();
     let k = labels.len().max(1);
     let cell = if k > 4 { 44 } else { 64 };
@@ -159,35 +192,71 @@ fn confusions(title: &str, mats: &[(String, Vec<Vec<u64>>)], labels: &[String]) 
     let w = pw * mats.len() as u32 + 20;
     let h = (cell * k + 170) as u32;
     render(w, h, |root| {
-        let body = if text { root.titled(title, (FONT, 18)).map_err(e)? } else { root.clone() };
+        let body = if text {
+            root.titled(title, (FONT, 18)).map_err(e)?
+        } else {
+            root.clone()
+        };
         let panels = body.split_evenly((1, mats.len().max(1)));
         for ((sub, m), area) in mats.iter().zip(panels.iter()) {
             let x0 = 110i32;
             let y0 = 40i32;
             if text {
-                area.draw(&Text::new(sub.clone(), (x0, 8), (FONT, 14))).map_err(e)?;
+                area.draw(&Text::new(sub.clone(), (x0, 8), (FONT, 14)))
+                    .map_err(e)?;
             }
             for (i, row) in m.iter().enumerate() {
                 let tot: u64 = row.iter().sum::<u64>().max(1);
                 for (j, &v) in row.iter().enumerate() {
                     let f = v as f64 / tot as f64;
                     let shade = (255.0 * (1.0 - f)) as u8;
-                    let color = if i == j { RGBColor(shade, 255, shade) } else { RGBColor(255, shade, shade) };
+                    let color = if i == j {
+                        RGBColor(shade, 255, shade)
+                    } else {
+                        RGBColor(255, shade, shade)
+                    };
                     let (x, y) = (x0 + (j * cell) as i32, y0 + (i * cell) as i32);
-                    area.draw(&Rectangle::new([(x, y), (x + cell as i32, y + cell as i32)], color.filled())).map_err(e)?;
-                    area.draw(&Rectangle::new([(x, y), (x + cell as i32, y + cell as i32)], BLACK)).map_err(e)?;
+                    area.draw(&Rectangle::new(
+                        [(x, y), (x + cell as i32, y + cell as i32)],
+                        color.filled(),
+                    ))
+                    .map_err(e)?;
+                    area.draw(&Rectangle::new(
+                        [(x, y), (x + cell as i32, y + cell as i32)],
+                        BLACK,
+                    ))
+                    .map_err(e)?;
                     if text {
-                        area.draw(&Text::new(format!("{v}"), (x + 6, y + cell as i32 / 2 - 6), (FONT, 12))).map_err(e)?;
+                        area.draw(&Text::new(
+                            format!("{v}"),
+                            (x + 6, y + cell as i32 / 2 - 6),
+                            (FONT, 12),
+                        ))
+                        .map_err(e)?;
                     }
                 }
                 if text {
-                    area.draw(&Text::new(labels.get(i).cloned().unwrap_or_default(), (4, y0 + (i * cell) as i32 + cell as i32 / 2 - 6), (FONT, 12))).map_err(e)?;
+                    area.draw(&Text::new(
+                        labels.get(i).cloned().unwrap_or_default(),
+                        (4, y0 + (i * cell) as i32 + cell as i32 / 2 - 6),
+                        (FONT, 12),
+                    ))
+                    .map_err(e)?;
                 }
             }
             if text {
                 for (j, l) in labels.iter().enumerate() {
-                    let style = TextStyle::from((FONT, 11).into_font()).transform(FontTransform::Rotate90);
-                    area.draw(&Text::new(l.clone(), (x0 + (j * cell) as i32 + cell as i32 / 2 + 4, y0 + (k * cell) as i32 + 6), style)).map_err(e)?;
+                    let style =
+                        TextStyle::from((FONT, 11).into_font()).transform(FontTransform::Rotate90);
+                    area.draw(&Text::new(
+                        l.clone(),
+                        (
+                            x0 + (j * cell) as i32 + cell as i32 / 2 + 4,
+                            y0 + (k * cell) as i32 + 6,
+                        ),
+                        style,
+                    ))
+                    .map_err(e)?;
                 }
             }
         }
@@ -231,25 +300,53 @@ pub fn decision_tree(tree: &TreeDraw, labels: &[String]) -> anyhow::Result<Vec<u
                     let x = ((*next_leaf as f64 + 0.5) * leaf_w) as i32;
                     *next_leaf += 1;
                     let c = COLORS[*class % COLORS.len()];
-                    area.draw(&Rectangle::new([(x - 70, y), (x + 70, y + 40)], c.mix(0.35).filled())).map_err(e)?;
-                    area.draw(&Rectangle::new([(x - 70, y), (x + 70, y + 40)], BLACK)).map_err(e)?;
+                    area.draw(&Rectangle::new(
+                        [(x - 70, y), (x + 70, y + 40)],
+                        c.mix(0.35).filled(),
+                    ))
+                    .map_err(e)?;
+                    area.draw(&Rectangle::new([(x - 70, y), (x + 70, y + 40)], BLACK))
+                        .map_err(e)?;
                     if text {
-                        area.draw(&Text::new(labels.get(*class).cloned().unwrap_or_default(), (x - 60, y + 12), (FONT, 15))).map_err(e)?;
+                        area.draw(&Text::new(
+                            labels.get(*class).cloned().unwrap_or_default(),
+                            (x - 60, y + 12),
+                            (FONT, 15),
+                        ))
+                        .map_err(e)?;
                     }
                     Ok((x, y))
                 }
-                TreeDraw::Split { threshold, left, right } => {
+                TreeDraw::Split {
+                    threshold,
+                    left,
+                    right,
+                } => {
                     let (xl, yl) = draw(area, left, level + 1, next_leaf, labels, text, leaf_w)?;
                     let (xr, yr) = draw(area, right, level + 1, next_leaf, labels, text, leaf_w)?;
                     let x = (xl + xr) / 2;
-                    area.draw(&PathElement::new(vec![(x, y + 40), (xl, yl)], BLACK)).map_err(e)?;
-                    area.draw(&PathElement::new(vec![(x, y + 40), (xr, yr)], BLACK)).map_err(e)?;
-                    area.draw(&Rectangle::new([(x - 80, y), (x + 80, y + 40)], WHITE.filled())).map_err(e)?;
-                    area.draw(&Rectangle::new([(x - 80, y), (x + 80, y + 40)], BLACK)).map_err(e)?;
+                    area.draw(&PathElement::new(vec![(x, y + 40), (xl, yl)], BLACK))
+                        .map_err(e)?;
+                    area.draw(&PathElement::new(vec![(x, y + 40), (xr, yr)], BLACK))
+                        .map_err(e)?;
+                    area.draw(&Rectangle::new(
+                        [(x - 80, y), (x + 80, y + 40)],
+                        WHITE.filled(),
+                    ))
+                    .map_err(e)?;
+                    area.draw(&Rectangle::new([(x - 80, y), (x + 80, y + 40)], BLACK))
+                        .map_err(e)?;
                     if text {
-                        area.draw(&Text::new(format!("E ≤ {}", sig(*threshold)), (x - 72, y + 12), (FONT, 14))).map_err(e)?;
-                        area.draw(&Text::new("yes", ((x + xl) / 2 - 30, y + 60), (FONT, 12))).map_err(e)?;
-                        area.draw(&Text::new("no", ((x + xr) / 2 + 8, y + 60), (FONT, 12))).map_err(e)?;
+                        area.draw(&Text::new(
+                            format!("E ≤ {}", sig(*threshold)),
+                            (x - 72, y + 12),
+                            (FONT, 14),
+                        ))
+                        .map_err(e)?;
+                        area.draw(&Text::new("yes", ((x + xl) / 2 - 30, y + 60), (FONT, 12)))
+                            .map_err(e)?;
+                        area.draw(&Text::new("no", ((x + xr) / 2 + 8, y + 60), (FONT, 12)))
+                            .map_err(e)?;
                     }
                     Ok((x, y))
                 }
@@ -294,43 +391,81 @@ pub fn chapter_figures(
         _ => "fig5_4_to_5_6",
     };
     // Residual traces and energies on the first CWRU fixed-load table, largest crack.
-    if let Some(d) = diss.iter().find(|d| matches!(d.condition, Condition::FixedLoad { .. })) {
+    if let Some(d) = diss
+        .iter()
+        .find(|d| matches!(d.condition, Condition::FixedLoad { .. }))
+    {
         let load = match d.condition {
             Condition::FixedLoad { load_hp } => load_hp,
             _ => 0,
         };
         let ci = d.cracks.len() - 1;
-        let shown: Vec<Method> = if ch == 5 { methods.to_vec() } else { vec![methods[0]] };
+        let shown: Vec<Method> = if ch == 5 {
+            methods.to_vec()
+        } else {
+            vec![methods[0]]
+        };
         let mut rows = Vec::new();
         for m in &shown {
             for c in &d.classes {
                 let k = super::inputs::cwru_key(c, load, ci);
                 if let Some(tr) = traces_map.get(&(m.name().to_string(), k)) {
                     let n = tr.len().min(1200);
-                    rows.push((format!("{} residual, {} ({})", m.name(), class_label(c), cache.get(&k)?.id), tr[..n].to_vec()));
+                    rows.push((
+                        format!(
+                            "{} residual, {} ({})",
+                            m.name(),
+                            class_label(c),
+                            cache.get(&k)?.id
+                        ),
+                        tr[..n].to_vec(),
+                    ));
                 }
             }
         }
         out.push((
             format!("figures/{fig_residual}_residuals_cwru.png"),
-            traces(&format!("Residuals, CWRU {load} hp, {} in (first 0.1 s)", d.cracks[ci]), &rows, super::inputs::CWRU_FS)?,
+            traces(
+                &format!(
+                    "Residuals, CWRU {load} hp, {} in (first 0.1 s)",
+                    d.cracks[ci]
+                ),
+                &rows,
+                super::inputs::CWRU_FS,
+            )?,
         ));
         let series: Vec<(String, Vec<f64>)> = d
             .classes
             .iter()
             .filter_map(|c| {
                 let k = super::inputs::cwru_key(c, load, ci);
-                feats.get(&(methods[0].name().to_string(), k)).map(|v| (class_label(c), v.clone()))
+                feats
+                    .get(&(methods[0].name().to_string(), k))
+                    .map(|v| (class_label(c), v.clone()))
             })
             .collect();
-        let name = if ch == 5 { "fig5_7_energies_cwru.png".to_string() } else { format!("energies_ch{ch}_cwru.png") };
+        let name = if ch == 5 {
+            "fig5_7_energies_cwru.png".to_string()
+        } else {
+            format!("energies_ch{ch}_cwru.png")
+        };
         out.push((
             format!("figures/{name}"),
-            energies(&format!("{} residual window energies, CWRU {load} hp, {} in", methods[0].name(), d.cracks[ci]), &series)?,
+            energies(
+                &format!(
+                    "{} residual window energies, CWRU {load} hp, {} in",
+                    methods[0].name(),
+                    d.cracks[ci]
+                ),
+                &series,
+            )?,
         ));
     }
     // Multi-fault substitute: residual traces (Fig. 4.10) and energies.
-    if let Some(d) = diss.iter().find(|d| matches!(d.condition, Condition::FixedSpeed { .. })) {
+    if let Some(d) = diss
+        .iter()
+        .find(|d| matches!(d.condition, Condition::FixedSpeed { .. }))
+    {
         let rpm = match d.condition {
             Condition::FixedSpeed { rpm } => rpm,
             _ => 0,
@@ -341,44 +476,86 @@ pub fn chapter_figures(
             let k = super::inputs::multi_key(c, rpm, ci);
             if let Some(tr) = traces_map.get(&(methods[0].name().to_string(), k)) {
                 let n = tr.len().min(1200);
-                rows.push((format!("{} residual, {} (simulated)", methods[0].name(), class_label(c)), tr[..n].to_vec()));
+                rows.push((
+                    format!(
+                        "{} residual, {} (simulated)",
+                        methods[0].name(),
+                        class_label(c)
+                    ),
+                    tr[..n].to_vec(),
+                ));
             }
         }
-        let fname = if ch == 4 { "fig4_10_residuals_multi_simulated.png" } else { "residuals_multi_simulated.png" };
+        let fname = if ch == 4 {
+            "fig4_10_residuals_multi_simulated.png"
+        } else {
+            "residuals_multi_simulated.png"
+        };
         out.push((
             format!("figures/{fname}"),
-            traces(&format!("Residuals, SIMULATED multi-fault substitute, {rpm} rpm, {} mm", d.cracks[ci]), &rows, super::inputs::MULTI_FS)?,
+            traces(
+                &format!(
+                    "Residuals, SIMULATED multi-fault substitute, {rpm} rpm, {} mm",
+                    d.cracks[ci]
+                ),
+                &rows,
+                super::inputs::MULTI_FS,
+            )?,
         ));
         let series: Vec<(String, Vec<f64>)> = d
             .classes
             .iter()
             .filter_map(|c| {
                 let k = super::inputs::multi_key(c, rpm, ci);
-                feats.get(&(methods[0].name().to_string(), k)).map(|v| (class_label(c), v.clone()))
+                feats
+                    .get(&(methods[0].name().to_string(), k))
+                    .map(|v| (class_label(c), v.clone()))
             })
             .collect();
         out.push((
             "figures/energies_multi_simulated.png".to_string(),
-            energies(&format!("{} window energies, SIMULATED substitute {rpm} rpm, {} mm", methods[0].name(), d.cracks[ci]), &series)?,
+            energies(
+                &format!(
+                    "{} window energies, SIMULATED substitute {rpm} rpm, {} mm",
+                    methods[0].name(),
+                    d.cracks[ci]
+                ),
+                &series,
+            )?,
         ));
     }
     // Confusion matrices: proposed method, dissertation protocol, every table.
     for d in diss {
-        let Some(t) = tabs.iter().find(|t| t.table == d.id && t.protocol == Protocol::RandomWindows) else { continue };
+        let Some(t) = tabs
+            .iter()
+            .find(|t| t.table == d.id && t.protocol == Protocol::RandomWindows)
+        else {
+            continue;
+        };
         let Some(s) = t.sources.first() else { continue };
         let mats: Vec<(String, Vec<Vec<u64>>)> = s
             .cells
             .iter()
             .enumerate()
             .filter_map(|(ci, c)| match c {
-                Cell::Measured(o) => Some((format!("{} {}", d.cracks[ci], d.crack_unit), o.confusion.clone())),
+                Cell::Measured(o) => Some((
+                    format!("{} {}", d.cracks[ci], d.crack_unit),
+                    o.confusion.clone(),
+                )),
                 Cell::NotApplicable(_) => None,
             })
             .collect();
         let labels: Vec<String> = d.classes.iter().map(|c| class_label(c)).collect();
         out.push((
             format!("figures/confusion_table_{}.png", d.id.replace('.', "_")),
-            confusions(&format!("Table {}: {} confusion (random split, summed over seeds)", d.id, s.source), &mats, &labels)?,
+            confusions(
+                &format!(
+                    "Table {}: {} confusion (random split, summed over seeds)",
+                    d.id, s.source
+                ),
+                &mats,
+                &labels,
+            )?,
         ));
     }
     Ok(out)

@@ -7,8 +7,8 @@ use super::engine;
 use super::pipeline::Config;
 use crate::common::Context;
 use anyhow::Context as _;
-use bearing_model::FaultClass;
 use bearing_data::{FaultLocation, LoadOptions, OuterPosition, Query};
+use bearing_model::FaultClass;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -72,16 +72,28 @@ const MULTI_CRACKS_MM: [f64; 2] = [3.0, 6.0];
 pub fn cwru_key(class: &str, load: u8, crack: usize) -> RecKey {
     let c = CWRU_CLASSES.iter().position(|x| *x == class).unwrap_or(0) as u8;
     if c == 0 {
-        RecKey::Cwru { class: 0, load: 0, crack: 0 }
+        RecKey::Cwru {
+            class: 0,
+            load: 0,
+            crack: 0,
+        }
     } else {
-        RecKey::Cwru { class: c, load, crack: crack as u8 }
+        RecKey::Cwru {
+            class: c,
+            load,
+            crack: crack as u8,
+        }
     }
 }
 
 /// Key of a substitute table cell's recording.
 pub fn multi_key(class: &str, rpm: u32, crack: usize) -> RecKey {
     let c = MULTI_CLASSES.iter().position(|x| *x == class).unwrap_or(0) as u8;
-    RecKey::Multi { class: c, rpm, crack: if c == 0 { 0 } else { crack as u8 } }
+    RecKey::Multi {
+        class: c,
+        rpm,
+        crack: if c == 0 { 0 } else { crack as u8 },
+    }
 }
 
 /// A recording ready for the observers.
@@ -111,7 +123,10 @@ pub fn cwru_available(ctx: &Context) -> bool {
 fn data_dir(ctx: &Context) -> Option<PathBuf> {
     let loc = bearing_data::DataLocation::resolve(ctx.data_dir_flag.as_deref(), &ctx.root).ok()?;
     let p = loc.path()?.to_path_buf();
-    bearing_data::cwru_dir(&p).join("normal").is_dir().then_some(p)
+    bearing_data::cwru_dir(&p)
+        .join("normal")
+        .is_dir()
+        .then_some(p)
 }
 
 /// Recordings loaded or simulated so far (shared by all chapters of one run).
@@ -160,14 +175,18 @@ impl Cache {
 
     /// A loaded recording.
     pub fn get(&self, k: &RecKey) -> anyhow::Result<&Rec> {
-        self.recs.get(k).ok_or_else(|| anyhow::anyhow!("recording {k:?} was not loaded"))
+        self.recs
+            .get(k)
+            .ok_or_else(|| anyhow::anyhow!("recording {k:?} was not loaded"))
     }
 
     /// The fit segment of the healthy recording that serves `k`.
     pub fn healthy_for(&self, k: &RecKey) -> anyhow::Result<&[f64]> {
         let h = self.get(&healthy_key(k))?;
         let n = (FIT_SECONDS * h.fs) as usize;
-        h.signal.get(..n).ok_or_else(|| anyhow::anyhow!("healthy recording {} shorter than its fit segment", h.id))
+        h.signal.get(..n).ok_or_else(|| {
+            anyhow::anyhow!("healthy recording {} shorter than its fit segment", h.id)
+        })
     }
 
     /// Whether the CWRU recordings were simulated (data absent).
@@ -179,8 +198,16 @@ impl Cache {
 /// The healthy recording that serves `k` (its fit segment identifies the models).
 pub fn healthy_key(k: &RecKey) -> RecKey {
     match *k {
-        RecKey::Cwru { .. } => RecKey::Cwru { class: 0, load: 0, crack: 0 },
-        RecKey::Multi { rpm, .. } => RecKey::Multi { class: 0, rpm, crack: 0 },
+        RecKey::Cwru { .. } => RecKey::Cwru {
+            class: 0,
+            load: 0,
+            crack: 0,
+        },
+        RecKey::Multi { rpm, .. } => RecKey::Multi {
+            class: 0,
+            rpm,
+            crack: 0,
+        },
     }
 }
 
@@ -237,18 +264,43 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
                     };
                     sig.truncate(need);
                     let n_windows = ((sig.len().saturating_sub(start)) / wlen).min(nwin);
-                    Ok(Rec { id, fs: CWRU_FS, rpm, signal: sig, window_start: start, window_len: wlen, n_windows, })
+                    Ok(Rec {
+                        id,
+                        fs: CWRU_FS,
+                        rpm,
+                        signal: sig,
+                        window_start: start,
+                        window_len: wlen,
+                        n_windows,
+                    })
                 }
                 None => {
                     let rpm = [1797.0, 1772.0, 1750.0, 1730.0][load as usize % 4];
                     let fault = ["none", "ball", "outer", "inner"][class as usize];
-                    let fc = [FaultClass::None, FaultClass::Ball, FaultClass::Outer, FaultClass::Inner][class as usize];
+                    let fc = [
+                        FaultClass::None,
+                        FaultClass::Ball,
+                        FaultClass::Outer,
+                        FaultClass::Inner,
+                    ][class as usize];
                     let size_in = CWRU_CRACKS_IN[crack as usize];
-                    let seed = 1000 + u64::from(class) * 100 + u64::from(load) * 10 + u64::from(crack);
-                    let sig = engine::simulate(engine::SimKind::Cwru, fc, size_in, rpm, CWRU_FS, need, seed)
-                        .with_context(|| format!("simulating CWRU-like {fault} at {rpm} rpm"))?;
+                    let seed =
+                        1000 + u64::from(class) * 100 + u64::from(load) * 10 + u64::from(crack);
+                    let sig = engine::simulate(
+                        engine::SimKind::Cwru,
+                        fc,
+                        size_in,
+                        rpm,
+                        CWRU_FS,
+                        need,
+                        seed,
+                    )
+                    .with_context(|| format!("simulating CWRU-like {fault} at {rpm} rpm"))?;
                     Ok(Rec {
-                        id: format!("sim:{fault}:{load}hp:{:.3}in", CWRU_CRACKS_IN[crack as usize]),
+                        id: format!(
+                            "sim:{fault}:{load}hp:{:.3}in",
+                            CWRU_CRACKS_IN[crack as usize]
+                        ),
                         fs: CWRU_FS,
                         rpm,
                         signal: sig,
@@ -261,7 +313,11 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
         }
         RecKey::Multi { class, rpm, crack } => {
             let wlen = MULTI_WINDOW;
-            let nwin = if cfg.quick { cfg.windows_per_rec.min(MULTI_WINDOWS) } else { MULTI_WINDOWS };
+            let nwin = if cfg.quick {
+                cfg.windows_per_rec.min(MULTI_WINDOWS)
+            } else {
+                MULTI_WINDOWS
+            };
             let fit = (FIT_SECONDS * MULTI_FS) as usize;
             let start = if class == 0 { fit } else { WARMUP };
             let need = start + wlen * nwin;
@@ -287,8 +343,16 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
             ][class as usize];
             let size_mm = MULTI_CRACKS_MM[crack as usize];
             let seed = 2000 + u64::from(class) * 1000 + u64::from(rpm) + u64::from(crack) * 7;
-            let sig = engine::simulate(engine::SimKind::Shse, fc, size_mm, f64::from(rpm), MULTI_FS, need, seed)
-                .with_context(|| format!("simulating substitute {fault} {size_mm} mm at {rpm} rpm"))?;
+            let sig = engine::simulate(
+                engine::SimKind::Shse,
+                fc,
+                size_mm,
+                f64::from(rpm),
+                MULTI_FS,
+                need,
+                seed,
+            )
+            .with_context(|| format!("simulating substitute {fault} {size_mm} mm at {rpm} rpm"))?;
             Ok(Rec {
                 id: if class == 0 {
                     format!("sim:normal:{rpm}rpm")

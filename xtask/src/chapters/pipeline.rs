@@ -152,7 +152,10 @@ pub fn run_chapter(
     let t0 = std::time::Instant::now();
     let stage = |what: &str| {
         if cfg.progress {
-            eprintln!("chapter {ch}: {what} done at {:.1} s", t0.elapsed().as_secs_f64());
+            eprintln!(
+                "chapter {ch}: {what} done at {:.1} s",
+                t0.elapsed().as_secs_f64()
+            );
         }
     };
     let pb = progress(cfg, keys.len() as u64, format!("chapter {ch}: recordings"));
@@ -164,25 +167,55 @@ pub fn run_chapter(
     let mut healthy: Vec<RecKey> = keys.iter().map(inputs::healthy_key).collect();
     healthy.sort();
     healthy.dedup();
+    let fuzzy = methods
+        .iter()
+        .any(|m| matches!(m, Method::Afsmo | Method::Asmo | Method::SmoFuzzy));
     let prepared: BTreeMap<RecKey, engine::Prepared> = healthy
         .par_iter()
         .map(|h| {
             let rec = cache.get(h)?;
-            let p = engine::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm)
+            let p = engine::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, fuzzy)
                 .with_context(|| format!("model identification on {}", rec.id))?;
             Ok((*h, p))
         })
         .collect::<anyhow::Result<_>>()?;
 
-    if let Some(p) = prepared.values().next() {
-        let fb: Vec<&str> = methods.iter().filter(|m| engine::needs_fallback(**m, p)).map(|m| m.name()).collect();
-        if !fb.is_empty() {
+    for (h, p) in &prepared {
+        if methods.iter().any(|m| {
+            !matches!(
+                m,
+                Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
+            )
+        }) {
             notes.push(format!(
-                "Observer fallback: `observers::build_observer` rejected the linear design of {} on the physics mode (a negative Kalman-gain entry); these observers were assembled from the crate's public parts with the negative linear gains set to zero (see docs/equations/xtask-chapters.md).",
-                fb.join(", ")
+                "{} model (AR form, N_a = {}) identified on the first {} s of {}: pole ζ_a = {:.4}.",
+                if fuzzy { "Fuzzy ARX-Laguerre (eq. 5.19, Table 5.1 rules, N_f = 2, ±3σ universes; its ARX-Laguerre part)" } else { "ARX-Laguerre" },
+                engine::N_A,
+                inputs::FIT_SECONDS,
+                cache.get(h)?.id,
+                p.zeta_a
             ));
         }
     }
+
+    // 2b. Gains tuned per (method, healthy recording) on the fit segment only.
+    let tune_jobs: Vec<(Method, RecKey)> = methods
+        .iter()
+        .flat_map(|m| healthy.iter().map(move |h| (*m, *h)))
+        .collect();
+    let tunings: BTreeMap<(Method, RecKey), engine::Tuning> = tune_jobs
+        .par_iter()
+        .map(|(m, h)| {
+            let p = prepared
+                .get(h)
+                .ok_or_else(|| anyhow::anyhow!("no model"))?;
+            let t = p
+                .tune(*m)
+                .with_context(|| format!("tuning {} on {}", m.name(), cache.get(h).map(|r| r.id.as_str()).unwrap_or("?")))?;
+            Ok(((*m, *h), t))
+        })
+        .collect::<anyhow::Result<_>>()?;
+    stage("models and tuning");
 
     // 3. Residual features for every (source, recording), in parallel, collected in order.
     let mut sources: Vec<Option<Method>> = methods.iter().copied().map(Some).collect();
@@ -192,44 +225,58 @@ pub fn run_chapter(
         .flat_map(|s| keys.iter().map(move |k| (*s, *k)))
         .collect();
     let pb = progress(cfg, jobs.len() as u64, format!("chapter {ch}: observers"));
-    let results: Vec<anyhow::Result<(Vec<f64>, Vec<f64>)>> = jobs
+    let results: Vec<anyhow::Result<(Vec<f64>, Vec<f64>, f64)>> = jobs
         .par_iter()
         .map(|(src, key)| {
             let rec = cache.get(key)?;
+            let hk = inputs::healthy_key(key);
             let prep = prepared
-                .get(&inputs::healthy_key(key))
+                .get(&hk)
                 .ok_or_else(|| anyhow::anyhow!("no model for {}", rec.id))?;
             let full = match src {
-                Some(m) => engine::residual(*m, prep, rec)
-                    .with_context(|| format!("{} on recording {}", m.name(), rec.id))?,
+                Some(m) => {
+                    let t = tunings
+                        .get(&(*m, hk))
+                        .ok_or_else(|| anyhow::anyhow!("no tuning for {}", rec.id))?;
+                    engine::residual(*m, prep, t, rec)
+                        .with_context(|| format!("{} on recording {}", m.name(), rec.id))?
+                }
                 None => rec.signal.clone(),
             };
             let residual = full.get(rec.window_start..).unwrap_or(&[]);
-            let e = engine::window_energies(residual, rec.window_len, rec.n_windows)
-                .with_context(|| {
-                    format!("energy windows of {} on {}", source_name(*src), rec.id)
-                })?;
+            let scored = rec.window_len * rec.n_windows;
+            let ratio = engine::rms_ratio(
+                &residual[..scored.min(residual.len())],
+                &rec.signal[rec.window_start.min(rec.signal.len())..][..scored.min(residual.len())],
+            );
+            let e = engine::window_energies(residual, rec.window_len, rec.n_windows).with_context(
+                || format!("energy windows of {} on {}", source_name(*src), rec.id),
+            )?;
             pb.inc(1);
             // Keep a short trace for the figures.
             let trace_len = residual.len().min(rec.fs as usize / 10);
-            Ok((e, residual[..trace_len].to_vec()))
+            Ok((e, residual[..trace_len].to_vec(), ratio))
         })
         .collect();
     pb.finish_and_clear();
     stage("observers");
     let mut feats = FeatMap::new();
     let mut traces: BTreeMap<(String, RecKey), Vec<f64>> = BTreeMap::new();
+    let mut ratios: BTreeMap<(String, RecKey), f64> = BTreeMap::new();
     for ((src, key), r) in jobs.iter().zip(results) {
-        let (e, tr) = r?;
+        let (e, tr, ratio) = r?;
         feats.insert((source_name(*src), *key), e);
         traces.insert((source_name(*src), *key), tr);
+        if src.is_some() {
+            ratios.insert((source_name(*src), *key), ratio);
+        }
     }
 
     // 3. Tables.
     let mut report_tables = Vec::new();
     let mut data_notes = Vec::new();
     let mut figures = Vec::new();
-    let mut extras = Vec::new();
+    let mut extras = vec![tuning_section(&methods, &tunings, &ratios, cache)?];
     let pb = progress(cfg, 1, format!("chapter {ch}: classifiers"));
     for d in &diss {
         data_notes.push(data_note(cfg, cache, d, &feats, &methods)?);
@@ -265,10 +312,16 @@ pub fn run_chapter(
             for src in &sources {
                 let mut cs = Vec::new();
                 for _ in 0..d.cracks.len() {
-                    let (_, c) = it.next().ok_or_else(|| anyhow::anyhow!("cell bookkeeping"))?;
+                    let (_, c) = it
+                        .next()
+                        .ok_or_else(|| anyhow::anyhow!("cell bookkeeping"))?;
                     cs.push(c?);
                 }
-                cols.push(SourceColumns { source: source_name(*src), in_dissertation: src.is_some(), cells: cs });
+                cols.push(SourceColumns {
+                    source: source_name(*src),
+                    in_dissertation: src.is_some(),
+                    cells: cs,
+                });
             }
             report_tables.push(OurTable {
                 table: d.id.clone(),
@@ -289,7 +342,7 @@ pub fn run_chapter(
                 && matches!(d.condition, Condition::FixedLoad { load_hp } if load_hp == *cfg.loads.last().unwrap_or(&3))
         }) {
             let ci = d.cracks.len() - 1;
-            let wins = cell_windows(cfg, cache, d, &feats, &methods[0].name().to_string(), ci)?;
+            let wins = cell_windows(cfg, cache, d, &feats, methods[0].name(), ci)?;
             let x: Vec<f64> = wins.iter().map(|w| w.energy).collect();
             let y: Vec<usize> = wins.iter().map(|w| w.class).collect();
             let labels: Vec<String> = d.classes.iter().map(|c| class_label(c)).collect();
@@ -332,7 +385,11 @@ pub fn run_chapter(
 
     // 6. Headline.
     let headline = headline(ch, &diss, &report_tables, &methods);
-    notes.push(format!("Headline (average of the per-cell average accuracies, proposed method {}):\n{}", methods[0].name(), indent(&headline)));
+    notes.push(format!(
+        "Headline (average of the per-cell average accuracies, proposed method {}):\n{}",
+        methods[0].name(),
+        indent(&headline)
+    ));
 
     Ok(ChapterOutput {
         report: ChapterReport {
@@ -352,7 +409,10 @@ pub fn run_chapter(
 }
 
 fn indent(s: &str) -> String {
-    s.lines().map(|l| format!("    {l}")).collect::<Vec<_>>().join("\n")
+    s.lines()
+        .map(|l| format!("    {l}"))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 fn source_name(s: Option<Method>) -> String {
@@ -365,7 +425,11 @@ fn source_name(s: Option<Method>) -> String {
 fn progress(cfg: &Config, n: u64, msg: String) -> ProgressBar {
     let pb = ProgressBar::with_draw_target(
         Some(n),
-        if cfg.progress { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() },
+        if cfg.progress {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
     );
     if let Ok(style) = ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed}") {
         pb.set_style(style.progress_chars("=> "));
@@ -437,7 +501,7 @@ fn windows_for(
     // so a class has as many windows as in a single cell (the SVM's cost grows with n²).
     let stride = conds.len().max(1);
     let mut wins = Vec::new();
-        for (class_idx, class) in d.classes.iter().enumerate() {
+    for (class_idx, class) in d.classes.iter().enumerate() {
         if class == "normal" {
             // One normal recording (or one per speed for the substitute) serves every crack
             // size; when several conditions are pooled and they share one recording (CWRU 97),
@@ -445,23 +509,42 @@ fn windows_for(
             let k0 = key_for(d, class, conds[0], 0);
             let shared = conds.iter().all(|&c| key_for(d, class, c, 0) == k0);
             if shared {
-                let e = feats
-                    .get(&(source.to_string(), k0))
-                    .ok_or_else(|| anyhow::anyhow!("no features for {}", cache.get(&k0).map(|r| r.id.clone()).unwrap_or_default()))?;
+                let e = feats.get(&(source.to_string(), k0)).ok_or_else(|| {
+                    anyhow::anyhow!(
+                        "no features for {}",
+                        cache.get(&k0).map(|r| r.id.clone()).unwrap_or_default()
+                    )
+                })?;
                 let nseg = conds.len();
                 let per = e.len() / nseg;
                 for (si, _) in conds.iter().enumerate() {
                     let seg = &e[si * per..(si + 1) * per];
                     for (p, &en) in seg.iter().enumerate() {
-                        wins.push(Win { class: class_idx, pos: p, count: seg.len(), cond: si, crack: None, energy: en });
+                        wins.push(Win {
+                            class: class_idx,
+                            pos: p,
+                            count: seg.len(),
+                            cond: si,
+                            crack: None,
+                            energy: en,
+                        });
                     }
                 }
             } else {
                 for (si, &c) in conds.iter().enumerate() {
                     let k = key_for(d, class, c, 0);
-                    let e = feats.get(&(source.to_string(), k)).ok_or_else(|| anyhow::anyhow!("missing features"))?;
+                    let e = feats
+                        .get(&(source.to_string(), k))
+                        .ok_or_else(|| anyhow::anyhow!("missing features"))?;
                     for (p, &en) in e.iter().enumerate().filter(|(p, _)| p % stride == 0) {
-                        wins.push(Win { class: class_idx, pos: p, count: e.len(), cond: si, crack: None, energy: en });
+                        wins.push(Win {
+                            class: class_idx,
+                            pos: p,
+                            count: e.len(),
+                            cond: si,
+                            crack: None,
+                            energy: en,
+                        });
                     }
                 }
             }
@@ -469,9 +552,18 @@ fn windows_for(
             for &ci in cracks {
                 for (si, &c) in conds.iter().enumerate() {
                     let k = key_for(d, class, c, ci);
-                    let e = feats.get(&(source.to_string(), k)).ok_or_else(|| anyhow::anyhow!("missing features"))?;
+                    let e = feats
+                        .get(&(source.to_string(), k))
+                        .ok_or_else(|| anyhow::anyhow!("missing features"))?;
                     for (p, &en) in e.iter().enumerate().filter(|(p, _)| p % stride == 0) {
-                        wins.push(Win { class: class_idx, pos: p, count: e.len(), cond: si, crack: Some(ci), energy: en });
+                        wins.push(Win {
+                            class: class_idx,
+                            pos: p,
+                            count: e.len(),
+                            cond: si,
+                            crack: Some(ci),
+                            energy: en,
+                        });
                     }
                 }
             }
@@ -511,7 +603,10 @@ fn protocols_for(d: &DissTable) -> Vec<Protocol> {
 
 fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
     let cond = if is_cwru(d) { "load" } else { "speed" };
-    let pooled = matches!(d.condition, Condition::LoadVariant | Condition::SpeedVariant);
+    let pooled = matches!(
+        d.condition,
+        Condition::LoadVariant | Condition::SpeedVariant
+    );
     match p {
         Protocol::RandomWindows => format!(
             "Windows of all recordings of the cell pooled, stratified random split 75 % train / 25 % test per class, repeated over {} seeds; per-class accuracy from the confusion matrix summed over seeds. Neighbouring windows of one recording land on both sides, so this protocol measures recognition of recordings seen in training.",
@@ -557,7 +652,10 @@ fn run_cell(
     protocol: Protocol,
     clf: ClassifierKind,
 ) -> anyhow::Result<Cell> {
-    let pooled = matches!(d.condition, Condition::LoadVariant | Condition::SpeedVariant);
+    let pooled = matches!(
+        d.condition,
+        Condition::LoadVariant | Condition::SpeedVariant
+    );
     let nclass = d.classes.len();
     let mut folds: Vec<(Vec<Win>, Vec<Win>)> = Vec::new();
     match protocol {
@@ -578,7 +676,11 @@ fn run_cell(
             for w in wins {
                 match w.crack {
                     None => {
-                        if w.pos * 4 < w.count * 3 { train.push(w) } else { test.push(w) }
+                        if w.pos * 4 < w.count * 3 {
+                            train.push(w)
+                        } else {
+                            test.push(w)
+                        }
                     }
                     Some(c) if c == ci => test.push(w),
                     Some(_) => train.push(w),
@@ -628,7 +730,11 @@ fn random_split(wins: &[Win], nclass: usize, seed: u64) -> (Vec<Win>, Vec<Win>) 
         }
         let ntrain = (idx.len() * 3).div_ceil(4);
         for (k, &i) in idx.iter().enumerate() {
-            if k < ntrain { train.push(wins[i]) } else { test.push(wins[i]) }
+            if k < ntrain {
+                train.push(wins[i])
+            } else {
+                test.push(wins[i])
+            }
         }
     }
     (train, test)
@@ -640,7 +746,11 @@ fn time_split(wins: &[Win]) -> (Vec<Win>, Vec<Win>) {
 }
 
 /// Train and test each fold; sum the confusions.
-fn evaluate(folds: &[(Vec<Win>, Vec<Win>)], nclass: usize, clf: ClassifierKind) -> anyhow::Result<CellOutcome> {
+fn evaluate(
+    folds: &[(Vec<Win>, Vec<Win>)],
+    nclass: usize,
+    clf: ClassifierKind,
+) -> anyhow::Result<CellOutcome> {
     let mut conf = vec![vec![0u64; nclass]; nclass];
     let mut accs = Vec::new();
     let (mut n_train, mut n_test) = (0, 0);
@@ -675,7 +785,14 @@ fn evaluate(folds: &[(Vec<Win>, Vec<Win>)], nclass: usize, clf: ClassifierKind) 
         let m = accs.iter().sum::<f64>() / accs.len() as f64;
         (accs.iter().map(|a| (a - m).powi(2)).sum::<f64>() / (accs.len() - 1) as f64).sqrt()
     });
-    Ok(CellOutcome { per_class, average, spread, confusion: conf, n_train, n_test })
+    Ok(CellOutcome {
+        per_class,
+        average,
+        spread,
+        confusion: conf,
+        n_train,
+        n_test,
+    })
 }
 
 fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<String> {
@@ -707,7 +824,10 @@ fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<
         inputs::FIT_SECONDS
     ));
     n.push("Pooled (load- or speed-variant) tables keep every n-th window of each fault recording (n = number of pooled conditions), so every class has about as many windows as in a single-condition cell; the normal recording, shared by all conditions, keeps all its windows, cut into one contiguous segment per condition.".to_string());
-    n.push(format!("Dissertation values: {}.", tables::transcription().source));
+    n.push(format!(
+        "Dissertation values: {}.",
+        tables::transcription().source
+    ));
     if ch >= 4 {
         n.push(format!("Multi-fault substitute windows: {} samples at {} Hz ({} ms), at most {} per recording (simulation cost).", inputs::MULTI_WINDOW, inputs::MULTI_FS, inputs::MULTI_WINDOW as f64 / inputs::MULTI_FS * 1000.0, if cfg.quick { cfg.windows_per_rec.min(inputs::MULTI_WINDOWS) } else { inputs::MULTI_WINDOWS }));
         n.push("Multi-fault tables (4.7–4.11, 5.7–5.11): the SHSE Lab data is not public. These tables run on a SIMULATED substitute from `bearing-model` (eight classes: normal, IR, OR, ball, IR-OR, IR-ball, OR-ball, IR-OR-ball; 300/400/450/500 rpm; 3 and 6 mm faults; with slip and noise). They are labelled as simulated everywhere and are not measurements.".to_string());
@@ -726,7 +846,11 @@ fn data_note(
     let mut recs = Vec::new();
     let conds = conditions(cfg, d);
     for c in &d.classes {
-        let cracks: Vec<usize> = if c == "normal" { vec![0] } else { (0..d.cracks.len()).collect() };
+        let cracks: Vec<usize> = if c == "normal" {
+            vec![0]
+        } else {
+            (0..d.cracks.len()).collect()
+        };
         for ci in cracks {
             let ids: Vec<String> = conds
                 .iter()
@@ -738,7 +862,11 @@ fn data_note(
                     ids2.push(i);
                 }
             }
-            let crack = if c == "normal" { "all".to_string() } else { d.cracks[ci].clone() };
+            let crack = if c == "normal" {
+                "all".to_string()
+            } else {
+                d.cracks[ci].clone()
+            };
             recs.push((c.clone(), crack, ids2));
         }
     }
@@ -751,15 +879,26 @@ fn data_note(
         let sim = cache.cwru_simulated();
         format!(
             "{}CWRU 12 kHz drive-end, {}. Windows per class (first crack size): {}. Normal = 97.mat (0 hp, 48 kHz → 12 kHz by 4){}.",
-            if sim { "SIMULATED CWRU-like recordings (data absent), " } else { "" },
+            if sim {
+                "SIMULATED CWRU-like recordings (data absent), "
+            } else {
+                ""
+            },
             match d.condition {
                 Condition::FixedLoad { load_hp } => format!("{load_hp} hp"),
                 _ => format!("loads {:?} hp pooled", cfg.loads),
             },
-            d.classes.iter().zip(&per).map(|(c, n)| format!("{} {n}", class_label(c))).collect::<Vec<_>>().join(", "),
+            d.classes
+                .iter()
+                .zip(&per)
+                .map(|(c, n)| format!("{} {n}", class_label(c)))
+                .collect::<Vec<_>>()
+                .join(", "),
             match d.condition {
-                Condition::FixedLoad { load_hp } if load_hp > 0 => ", reused at this load (no normal recording at 1–3 hp in the shared data)",
-                Condition::LoadVariant => ", reused for every load as one contiguous segment per load",
+                Condition::FixedLoad { load_hp } if load_hp > 0 =>
+                    ", reused at this load (no normal recording at 1–3 hp in the shared data)",
+                Condition::LoadVariant =>
+                    ", reused for every load as one contiguous segment per load",
                 _ => "",
             }
         )
@@ -771,10 +910,21 @@ fn data_note(
                 _ => format!("speeds {:?} rpm pooled", cfg.rpms),
             },
             inputs::MULTI_FS,
-            d.classes.iter().zip(&per).map(|(c, n)| format!("{} {n}", class_label(c))).collect::<Vec<_>>().join(", "),
+            d.classes
+                .iter()
+                .zip(&per)
+                .map(|(c, n)| format!("{} {n}", class_label(c)))
+                .collect::<Vec<_>>()
+                .join(", "),
         )
     };
-    Ok(DataNote { table: d.id.clone(), text, recordings: recs, windows_per_class: per, window_len: cfg.window_len })
+    Ok(DataNote {
+        table: d.id.clone(),
+        text,
+        recordings: recs,
+        windows_per_class: per,
+        window_len: cfg.window_len,
+    })
 }
 
 /// Mean over tables' cells of the proposed method's average accuracy, per protocol, beside the
@@ -786,12 +936,24 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
         if ds.is_empty() {
             continue;
         }
-        let label = if dataset == "cwru" { "CWRU" } else { "simulated multi-fault substitute" };
-        for m in methods.iter().map(|m| m.name().to_string()).chain(["raw signal".to_string()]) {
+        let label = if dataset == "cwru" {
+            "CWRU"
+        } else {
+            "simulated multi-fault substitute"
+        };
+        for m in methods
+            .iter()
+            .map(|m| m.name().to_string())
+            .chain(["raw signal".to_string()])
+        {
             let mut parts = Vec::new();
             let diss_vals: Vec<f64> = ds
                 .iter()
-                .flat_map(|d| (0..d.cracks.len()).filter_map(|ci| d.avg(&m, ci)).collect::<Vec<_>>())
+                .flat_map(|d| {
+                    (0..d.cracks.len())
+                        .filter_map(|ci| d.avg(&m, ci))
+                        .collect::<Vec<_>>()
+                })
                 .collect();
             if !diss_vals.is_empty() {
                 parts.push(format!(
@@ -799,7 +961,12 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                     pct(diss_vals.iter().sum::<f64>() / diss_vals.len() as f64)
                 ));
             }
-            for p in [Protocol::RandomWindows, Protocol::TimeBlocked, Protocol::LeaveOneSizeOut, Protocol::LeaveOneConditionOut] {
+            for p in [
+                Protocol::RandomWindows,
+                Protocol::TimeBlocked,
+                Protocol::LeaveOneSizeOut,
+                Protocol::LeaveOneConditionOut,
+            ] {
                 let vals: Vec<f64> = tabs
                     .iter()
                     .filter(|t| t.protocol == p && ds.iter().any(|d| d.id == t.table))
@@ -811,11 +978,119 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                     })
                     .collect();
                 if !vals.is_empty() {
-                    parts.push(format!("{} {}", p.key(), pct(vals.iter().sum::<f64>() / vals.len() as f64)));
+                    parts.push(format!(
+                        "{} {}",
+                        p.key(),
+                        pct(vals.iter().sum::<f64>() / vals.len() as f64)
+                    ));
                 }
             }
             s.push_str(&format!("  ch{ch} {label}, {m}: {}\n", parts.join(", ")));
         }
     }
     s
+}
+
+/// Class index and label of a recording, with its dataset.
+fn rec_class(k: &RecKey) -> (&'static str, usize, &'static str) {
+    match *k {
+        RecKey::Cwru { class, .. } => (
+            "CWRU",
+            usize::from(class),
+            ["Normal", "Ball", "OR", "IR"][usize::from(class).min(3)],
+        ),
+        RecKey::Multi { class, .. } => (
+            "multi-fault substitute (simulated)",
+            usize::from(class),
+            [
+                "Normal", "IR", "OR", "Ball", "IR-Ball", "OR-Ball", "IR-OR", "IR-OR-Ball",
+            ][usize::from(class).min(7)],
+        ),
+    }
+}
+
+/// The gains each observer got from the fit segment, and what its residual does per class:
+/// RMS(residual) / RMS(signal) over the scored windows, mean over the recordings of the class.
+fn tuning_section(
+    methods: &[Method],
+    tunings: &BTreeMap<(Method, RecKey), engine::Tuning>,
+    ratios: &BTreeMap<(String, RecKey), f64>,
+    cache: &Cache,
+) -> anyhow::Result<(String, String)> {
+    use std::fmt::Write as _;
+    let mut b = String::new();
+    let _ = writeln!(
+        b,
+        "Gains are chosen on the healthy fit segment only (rule: docs/equations/xtask-chapters.md): Γ = c·RMS(Δᵐy) with c from {:?} (m = 3 for Levant laws, 2 otherwise; linear laws have no Γ) and the linear design default or `for_recordings`, whichever gives the smallest residual RMS on the segment's second half without growing. No test window and no label is used.\n",
+        engine::GAMMA_MULTIPLES
+    );
+    let _ = writeln!(
+        b,
+        "| Observer | Healthy fit segment | c (Γ = c·RMS(Δᵐy)) | m | Linear design | Fit-segment RMS(r)/RMS(y) | Growth (last/2nd quarter) |"
+    );
+    let _ = writeln!(b, "|---|---|---|---|---|---|---|");
+    for m in methods {
+        for ((tm, h), t) in tunings.iter().filter(|((tm, _), _)| tm == m) {
+            let _ = writeln!(
+                b,
+                "| {} | {} | {} | {} | {} | {:.3} | {:.2} |",
+                tm.name(),
+                cache.get(h)?.id,
+                t.multiple.map_or("—".to_string(), |c| format!("{c:e}")),
+                if t.multiple.is_some() { t.order.to_string() } else { "—".into() },
+                if t.for_recordings { "for_recordings" } else { "default" },
+                t.fit_ratio,
+                t.growth
+            );
+        }
+    }
+    let mut datasets: Vec<&str> = Vec::new();
+    for (_, k) in ratios.keys() {
+        let (ds, _, _) = rec_class(k);
+        if !datasets.contains(&ds) {
+            datasets.push(ds);
+        }
+    }
+    for ds in datasets {
+        let mut labels: Vec<(usize, &str)> = ratios
+            .keys()
+            .map(|(_, k)| rec_class(k))
+            .filter(|(d, _, _)| *d == ds)
+            .map(|(_, i, l)| (i, l))
+            .collect();
+        labels.sort();
+        labels.dedup();
+        let _ = writeln!(
+            b,
+            "\nRMS(residual) / RMS(signal) over the scored windows, {ds}, mean over the recordings of each class (1 = the observer predicts nothing; a residual ≈ the signal makes the observer's energy feature the raw signal's):\n"
+        );
+        let _ = writeln!(
+            b,
+            "| Observer | {} |",
+            labels.iter().map(|(_, l)| *l).collect::<Vec<_>>().join(" | ")
+        );
+        let _ = writeln!(b, "|---|{}", "---|".repeat(labels.len()));
+        for m in methods {
+            let mut row = Vec::new();
+            for (ci, _) in &labels {
+                let v: Vec<f64> = ratios
+                    .iter()
+                    .filter(|((s, k), _)| {
+                        s == m.name() && rec_class(k).0 == ds && rec_class(k).1 == *ci
+                    })
+                    .map(|(_, r)| *r)
+                    .collect();
+                row.push(if v.is_empty() {
+                    "—".to_string()
+                } else {
+                    format!("{:.3}", v.iter().sum::<f64>() / v.len() as f64)
+                });
+            }
+            let _ = writeln!(b, "| {} | {} |", m.name(), row.join(" | "));
+        }
+    }
+    Ok((
+        "Observer gains and residual size (what each observer does)".to_string(),
+        b,
+    ))
 }

@@ -78,7 +78,10 @@ impl DissTable {
     /// The printed value for (class row, method, crack index), if the method is in the table.
     pub fn value(&self, row: usize, method: &str, crack: usize) -> Option<f64> {
         let m = self.methods.iter().position(|x| x == method)?;
-        self.values.get(row)?.get(m * self.cracks.len() + crack).copied()
+        self.values
+            .get(row)?
+            .get(m * self.cracks.len() + crack)
+            .copied()
     }
     /// The printed average for (method, crack index).
     pub fn avg(&self, method: &str, crack: usize) -> Option<f64> {
@@ -91,13 +94,18 @@ impl DissTable {
 pub fn transcription() -> &'static Transcription {
     static T: OnceLock<Transcription> = OnceLock::new();
     T.get_or_init(|| {
-        serde_json::from_str(TABLES_JSON).expect("embedded dissertation_tables.json is valid (tested)")
+        serde_json::from_str(TABLES_JSON)
+            .expect("embedded dissertation_tables.json is valid (tested)")
     })
 }
 
 /// The tables of one chapter, in dissertation order.
 pub fn chapter_tables(chapter: u8) -> Vec<&'static DissTable> {
-    transcription().tables.iter().filter(|t| t.chapter == chapter).collect()
+    transcription()
+        .tables
+        .iter()
+        .filter(|t| t.chapter == chapter)
+        .collect()
 }
 
 #[cfg(test)]
@@ -122,7 +130,9 @@ mod tests {
                     tab.values.iter().map(|r| r[c]).sum::<f64>() / tab.values.len() as f64;
                 if (mean - tab.average[c]).abs() > 0.01 {
                     assert!(
-                        tab.notes.iter().any(|n| n.contains(&format!("{}", tab.average[c]))),
+                        tab.notes
+                            .iter()
+                            .any(|n| n.contains(&format!("{}", tab.average[c]))),
                         "table {} column {c}: average {} vs mean {mean} undocumented",
                         tab.id,
                         tab.average[c]
