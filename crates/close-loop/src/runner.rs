@@ -640,7 +640,8 @@ fn housing_candidate(ctx: &Ctx<'_>, st: &State, fitted: &Mode) -> Option<Evaluat
     let f0 = fitted.frequency_hz.min(nyq);
     // one simulation first: refine only a move that already lowers the fitting error
     let (_, lsd0, _) = eval(f0)?;
-    if !(lsd0 < ctx.calibrate(st.clone(), false).1) {
+    let current = ctx.calibrate(st.clone(), false).1;
+    if lsd0.is_nan() || lsd0 >= current {
         return None;
     }
     let (lf, _) = golden_min(

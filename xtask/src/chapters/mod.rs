@@ -207,10 +207,7 @@ mod tests {
             quiet: true,
             ..Args::default()
         };
-        // Chapter 5 is left out: its Gini-tree results differ between processes (observed
-        // in the last digit of a few cells; likely a tie broken by hash order inside the tree
-        // fit, see the classify crate). Put 5 back once that is fixed.
-        run(&ctx, &[2, 3, 4], args).expect("quick results differ from fixtures/chapters-quick");
+        run(&ctx, &[2, 3, 4, 5], args).expect("quick results differ from fixtures/chapters-quick");
     }
 
     #[test]
