@@ -536,41 +536,30 @@ fn windows_for(
                         });
                     }
                 }
-            } else {
-                for (si, &c) in conds.iter().enumerate() {
-                    let k = key_for(d, class, c, 0);
-                    let e = feats
-                        .get(&(source.to_string(), k))
-                        .ok_or_else(|| anyhow::anyhow!("missing features"))?;
-                    for (p, &en) in e.iter().enumerate().filter(|(p, _)| p % stride == 0) {
-                        wins.push(Win {
-                            class: class_idx,
-                            pos: p,
-                            count: e.len(),
-                            cond: si,
-                            crack: None,
-                            energy: en,
-                        });
-                    }
-                }
+                continue;
             }
+        }
+        // Every other recording: one per (crack, condition), every `stride`-th window.
+        let crack_list: Vec<Option<usize>> = if class == "normal" {
+            vec![None]
         } else {
-            for &ci in cracks {
-                for (si, &c) in conds.iter().enumerate() {
-                    let k = key_for(d, class, c, ci);
-                    let e = feats
-                        .get(&(source.to_string(), k))
-                        .ok_or_else(|| anyhow::anyhow!("missing features"))?;
-                    for (p, &en) in e.iter().enumerate().filter(|(p, _)| p % stride == 0) {
-                        wins.push(Win {
-                            class: class_idx,
-                            pos: p,
-                            count: e.len(),
-                            cond: si,
-                            crack: Some(ci),
-                            energy: en,
-                        });
-                    }
+            cracks.iter().map(|&ci| Some(ci)).collect()
+        };
+        for crack in crack_list {
+            for (si, &c) in conds.iter().enumerate() {
+                let k = key_for(d, class, c, crack.unwrap_or(0));
+                let e = feats
+                    .get(&(source.to_string(), k))
+                    .ok_or_else(|| anyhow::anyhow!("missing features"))?;
+                for (p, &en) in e.iter().enumerate().filter(|(p, _)| p % stride == 0) {
+                    wins.push(Win {
+                        class: class_idx,
+                        pos: p,
+                        count: e.len(),
+                        cond: si,
+                        crack,
+                        energy: en,
+                    });
                 }
             }
         }
