@@ -6,11 +6,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context as _, bail};
+use close_loop::machine::MachineModel;
 use close_loop::observe::ArxLaguerreDeclared;
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::PhenomenologicalModel;
 use close_loop::{
-    BearingRates, DeclaredFault, DeclaredModel, LoopConfig, OperatingPoint, Outcome, close_loop,
+    BearingRates, DeclaredModel, LoopConfig, OperatingPoint, Outcome, close_loop_from, parse_fault,
 };
 
 use crate::common::Context;
@@ -18,7 +19,8 @@ use crate::common::Context;
 /// Flags of this task.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Recording: a CWRU `.mat` file (named by its number, e.g. `105.mat`) or a one-column `.csv`.
+    /// Recording: a CWRU `.mat` file (named by its number, e.g. `105.mat`), a one-column `.csv`,
+    /// or `cargo xtask simulate`'s CSV (its `accel` column is read, fs from `time_s`).
     #[arg(long, required_unless_present = "all_real")]
     pub input: Option<PathBuf>,
     /// Channel of a `.mat` file: DE, FE or BA.
@@ -52,21 +54,130 @@ pub struct Args {
     /// JSON report path (Markdown and PNG are written beside it).
     #[arg(long, required_unless_present = "all_real")]
     pub report: Option<PathBuf>,
-    /// Run the CWRU batch (97, 105, 209, 130, 234, 222, 3005) into `results/close-loop/`.
+    /// Start from a calibrated machine model (`cargo xtask calibrate`) instead of the bare
+    /// declared model.
+    #[arg(long)]
+    pub machine: Option<PathBuf>,
+    /// Units of the recording: g, m/s^2 or unknown (default: g for CWRU .mat files, m/s^2 for
+    /// `simulate`'s CSV, unknown otherwise).
+    #[arg(long)]
+    pub units: Option<String>,
+    /// Decimate the recording by this integer factor first (anti-aliased), e.g. 4 for 48 → 12 kHz.
+    #[arg(long, default_value_t = 1)]
+    pub decimate: usize,
+    /// Spall width of the declared fault, inches (CWRU sizes 0.007 / 0.014 / 0.021 / 0.028;
+    /// a CWRU record's own when omitted).
+    #[arg(long)]
+    pub fault_size_in: Option<f64>,
+    /// Run every recording of the shared data into `results/close-loop/`: 97 calibrated as the
+    /// rig's machine model (at 48 kHz and decimated to 12 kHz), every fault record from it.
     #[arg(long)]
     pub all_real: bool,
 }
 
-/// The batch: normal baseline and Y-graded (Smith & Randall 2015) faults of each type.
-const BATCH: &[(u32, &str)] = &[
-    (97, "none"),
-    (105, "inner"),
-    (209, "inner"),
-    (130, "outer"),
-    (234, "outer"),
-    (222, "ball"),
-    (3005, "ball"),
-];
+/// Flags of `cargo xtask calibrate`.
+#[derive(clap::Args, Debug)]
+pub struct CalibrateArgs {
+    /// Healthy recording (`.mat` or `.csv`).
+    #[arg(long)]
+    pub input: PathBuf,
+    /// Channel of a `.mat` file: DE, FE or BA.
+    #[arg(long, default_value = "DE")]
+    pub channel: String,
+    /// Sampling rate, Hz (required for a plain CSV).
+    #[arg(long)]
+    pub fs: Option<f64>,
+    /// Declared shaft speed, rpm (a CWRU file's stored speed when omitted).
+    #[arg(long)]
+    pub rpm: Option<f64>,
+    /// Bearing designation.
+    #[arg(long, default_value = "6205")]
+    pub bearing: String,
+    /// Units of the recording (as `close-loop --units`).
+    #[arg(long)]
+    pub units: Option<String>,
+    /// Decimate by this integer factor first (4: 48 kHz → 12 kHz).
+    #[arg(long, default_value_t = 1)]
+    pub decimate: usize,
+    /// Mains frequency of the rig; 0 = unknown.
+    #[arg(long, default_value_t = 60.0)]
+    pub line_frequency: f64,
+    /// Maximum number of effects.
+    #[arg(long, default_value_t = 16)]
+    pub max_effects: usize,
+    /// Machine model JSON to write (the loop's ledger, Markdown and figure go beside it as
+    /// `<out>.report.json|md|png`).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `cargo xtask calibrate`: the loop on a healthy recording, its result saved as a machine model.
+pub fn calibrate(_ctx: &Context, a: CalibrateArgs) -> anyhow::Result<()> {
+    let t = Instant::now();
+    let args = Args {
+        input: Some(a.input.clone()),
+        channel: a.channel,
+        fs: a.fs,
+        rpm: a.rpm,
+        bearing: a.bearing,
+        fault: "none".into(),
+        model: "physics".into(),
+        line_frequency: a.line_frequency,
+        seconds: None,
+        max_effects: a.max_effects,
+        report: Some(report_beside(&a.out)),
+        machine: None,
+        units: a.units,
+        decimate: a.decimate,
+        fault_size_in: None,
+        all_real: false,
+    };
+    let (o, _, _) = run_one(&args, None)?;
+    write_machine(&o, &a.out)?;
+    println!(
+        "{}: machine model with {} structural mode(s), {} line(s), speed ratio {:.5}; held-out {} {:.3} -> {:.3} dB; {:.2} s -> {}",
+        a.input.display(),
+        o.machine
+            .structural_modes
+            .iter()
+            .filter(|m| m.frequency_hz > 0.0)
+            .count(),
+        o.machine.lines.len(),
+        o.machine.speed_ratio,
+        o.ledger.error_metric,
+        o.ledger.error_before,
+        o.ledger.error_after,
+        t.elapsed().as_secs_f64(),
+        a.out.display()
+    );
+    Ok(())
+}
+
+/// `rig.json` → `rig.report.json`.
+fn report_beside(out: &Path) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("machine");
+    out.with_file_name(format!("{stem}.report.json"))
+}
+
+fn write_machine(o: &Outcome, out: &Path) -> anyhow::Result<()> {
+    if let Some(parent) = out.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent)?;
+    }
+    std::fs::write(out, o.machine.to_json()? + "\n")?;
+    Ok(())
+}
+
+/// Load and validate a machine model file.
+pub fn load_machine(path: &Path) -> anyhow::Result<MachineModel> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    Ok(MachineModel::from_json(&text)?)
+}
 
 /// Run the task.
 pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
@@ -75,75 +186,13 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
             println!("close-loop: no data directory found; skipping the real-data batch");
             return Ok(());
         };
-        let out_dir = ctx.root.join("results/close-loop");
-        std::fs::create_dir_all(&out_dir)?;
-        let mut summary = String::from(
-            "# Closed loop on CWRU recordings\n\nGenerated by `cargo xtask close-loop --all-real`; do not edit.\n\n\
-             Held-out errors: log-spectral distance (dB) and observer-residual RMS (see each record's \
-             Markdown for the observer). Placement: P = physics (re-simulated), M = measurement channel.\n\n\
-             | record | fault | rpm | fs (Hz) | LSD before (dB) | LSD after (dB) | residual RMS before | residual RMS after | effects (in order) |\n|---|---|---|---|---|---|---|---|---|\n",
-        );
-        for &(number, fault) in BATCH {
-            let path = bearing_data::record_path(dir, number)?;
-            let a = Args {
-                input: Some(path),
-                fault: fault.to_string(),
-                report: Some(out_dir.join(format!("{number}.json"))),
-                all_real: false,
-                rpm: None,
-                fs: None,
-                channel: args.channel.clone(),
-                bearing: args.bearing.clone(),
-                model: args.model.clone(),
-                line_frequency: args.line_frequency,
-                seconds: args.seconds,
-                max_effects: args.max_effects,
-            };
-            let t = Instant::now();
-            let (o, rpm, fs) = run_one(&a)?;
-            let l = &o.ledger;
-            let eff: Vec<String> = l
-                .effects
-                .iter()
-                .map(|e| {
-                    let p = match e.placement {
-                        close_loop::Placement::Physics => "P",
-                        close_loop::Placement::Measurement => "M",
-                    };
-                    match e.frequency_hz {
-                        Some(f) => format!("{} {:.1} Hz ({p})", e.kind.as_str(), f),
-                        None => format!(
-                            "{} ×{:.4} ({p})",
-                            e.kind.as_str(),
-                            e.parameters.get("ratio").copied().unwrap_or(f64::NAN)
-                        ),
-                    }
-                })
-                .collect();
-            let opt = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.4e}"));
-            summary.push_str(&format!(
-                "| {number} | {fault} | {rpm:.0} | {fs:.0} | {:.3} | {:.3} | {} | {} | {} |\n",
-                l.error_before,
-                l.error_after,
-                opt(l.residual_rms_before),
-                opt(l.residual_rms_after),
-                if eff.is_empty() {
-                    "–".to_string()
-                } else {
-                    eff.join("; ")
-                },
-            ));
-            // timing goes to the console only, so the written results are deterministic
-            println!("{number}: {:.1} s", t.elapsed().as_secs_f64());
-        }
-        std::fs::write(out_dir.join("README.md"), summary)?;
-        println!("wrote {}", out_dir.display());
-        return Ok(());
+        return all_real(ctx, dir, &args);
     }
+    let prior = args.machine.as_deref().map(load_machine).transpose()?;
     let t = Instant::now();
-    let (o, _, _) = run_one(&args)?;
+    let (o, _, _) = run_one(&args, prior.as_ref())?;
     println!(
-        "{}: {} {:.3} dB -> {:.3} dB, {} effect(s), {:.2} s",
+        "{}: {} {:.3} dB -> {:.3} dB, {} effect(s): {}; {:.2} s",
         args.input
             .as_deref()
             .map(Path::display)
@@ -153,17 +202,202 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         o.ledger.error_before,
         o.ledger.error_after,
         o.ledger.effects.len(),
+        effect_list(&o),
         t.elapsed().as_secs_f64()
     );
     Ok(())
 }
 
-/// Load the signal: (samples, fs, stored rpm if any).
-fn load(
-    path: &Path,
-    channel: &str,
-    fs: Option<f64>,
-) -> anyhow::Result<(Vec<f64>, f64, Option<f64>)> {
+fn effect_list(o: &Outcome) -> String {
+    let eff: Vec<String> = o
+        .ledger
+        .effects
+        .iter()
+        .map(|e| {
+            let p = match e.placement {
+                close_loop::Placement::Physics => "P",
+                close_loop::Placement::Measurement => "M",
+            };
+            let order = e
+                .parameters
+                .get("order")
+                .map_or(String::new(), |k| format!(" {k}x"));
+            match e.frequency_hz {
+                Some(f) => format!("{}{order} {:.1} Hz ({p})", e.kind.as_str(), f),
+                None => format!(
+                    "{} x{:.4} ({p})",
+                    e.kind.as_str(),
+                    e.parameters.get("ratio").copied().unwrap_or(f64::NAN)
+                ),
+            }
+        })
+        .collect();
+    if eff.is_empty() {
+        "–".to_string()
+    } else {
+        eff.join("; ")
+    }
+}
+
+/// Smith & Randall (2015) grade of a record from `cwru/smith_randall_grades.csv`, if present.
+fn grades(dir: &Path) -> std::collections::BTreeMap<u32, String> {
+    let mut m = std::collections::BTreeMap::new();
+    if let Ok(text) = std::fs::read_to_string(dir.join("cwru/smith_randall_grades.csv")) {
+        for line in text.lines().skip(1) {
+            let f: Vec<&str> = line.split(',').collect();
+            if let (Some(n), Some(g)) = (f.first().and_then(|n| n.parse().ok()), f.last()) {
+                m.insert(n, g.trim().to_string());
+            }
+        }
+    }
+    m
+}
+
+/// Every recording of the shared data: 97 calibrated into the rig's machine model (48 kHz, and
+/// decimated by 4 for the 12 kHz records), every fault record from the model of its rate.
+fn all_real(ctx: &Context, dir: &Path, args: &Args) -> anyhow::Result<()> {
+    use rayon::prelude::*;
+    let out_dir = ctx.root.join("results/close-loop");
+    std::fs::create_dir_all(&out_dir)?;
+    let grades = grades(dir);
+    let base = |input: PathBuf, report: PathBuf| Args {
+        input: Some(input),
+        channel: args.channel.clone(),
+        fs: None,
+        rpm: None,
+        bearing: args.bearing.clone(),
+        fault: "none".into(),
+        model: args.model.clone(),
+        line_frequency: args.line_frequency,
+        seconds: args.seconds,
+        max_effects: args.max_effects,
+        report: Some(report),
+        machine: None,
+        units: None,
+        decimate: 1,
+        fault_size_in: None,
+        all_real: false,
+    };
+    // the rig, calibrated on the healthy record at both rates
+    let normal = bearing_data::record_path(dir, 97)?;
+    let mut rigs: Vec<(f64, MachineModel)> = Vec::new();
+    let mut rows: Vec<(u32, String, String, f64, f64, Outcome)> = Vec::new();
+    for (dec, name) in [(4usize, "rig-12k"), (1, "rig-48k")] {
+        let t = Instant::now();
+        let mut a = base(normal.clone(), out_dir.join(format!("{name}.report.json")));
+        a.decimate = dec;
+        a.max_effects = args.max_effects.max(16);
+        let (o, rpm, fs) = run_one(&a, None)?;
+        let mut m = o.machine.clone();
+        m.provenance.recording = format!(
+            "97.mat (DE{})",
+            if dec > 1 { ", decimated by 4" } else { "" }
+        );
+        std::fs::write(out_dir.join(format!("{name}.json")), m.to_json()? + "\n")?;
+        println!(
+            "97 -> {name}: {:.3} -> {:.3} dB, {:.1} s",
+            o.ledger.error_before,
+            o.ledger.error_after,
+            t.elapsed().as_secs_f64()
+        );
+        rigs.push((fs, m));
+        rows.push((97, format!("normal ({name})"), "–".into(), rpm, fs, o));
+    }
+    let records: Vec<&bearing_data::CatalogEntry> = bearing_data::catalog()
+        .filter(|e| e.number != 97 && e.fault_end() == Some(bearing_data::SensorEnd::DriveEnd))
+        .filter(|e| bearing_data::record_path(dir, e.number).is_ok())
+        .collect();
+    let bar = indicatif::ProgressBar::new(records.len() as u64);
+    let done: Vec<anyhow::Result<(u32, String, String, f64, f64, Outcome)>> = records
+        .par_iter()
+        .map(|e| {
+            let fault = match e.fault {
+                bearing_data::FaultLocation::InnerRace => "inner",
+                bearing_data::FaultLocation::OuterRace => "outer",
+                bearing_data::FaultLocation::Ball => "ball",
+                bearing_data::FaultLocation::Normal => "none",
+            };
+            let mut a = base(
+                bearing_data::record_path(dir, e.number)?,
+                out_dir.join(format!("{}.json", e.number)),
+            );
+            a.fault = fault.into();
+            let prior = rigs
+                .iter()
+                .find(|(fs, _)| (*fs - e.fs()).abs() < 1.0)
+                .map(|r| &r.1);
+            let (o, rpm, fs) = run_one(&a, prior)?;
+            bar.inc(1);
+            Ok((
+                e.number,
+                e.class_name(),
+                grades.get(&e.number).cloned().unwrap_or_else(|| "–".into()),
+                rpm,
+                fs,
+                o,
+            ))
+        })
+        .collect();
+    bar.finish_and_clear();
+    for r in done {
+        rows.push(r?);
+    }
+    rows[2..].sort_by_key(|r| (r.4 as u64, r.0));
+    let mut md = String::from(
+        "# Closed loop on every CWRU recording of the shared data\n\n\
+         Generated by `cargo xtask close-loop --all-real`; do not edit.\n\n\
+         97.mat (healthy, 0 hp, 48 kHz) is calibrated into the rig's machine model twice: decimated by 4 \
+         for the 12 kHz records (`rig-12k.json`) and at 48 kHz (`rig-48k.json`). Every fault record starts \
+         from the machine model of its rate with its catalogued fault declared, and the loop adds what the \
+         record holds beyond it. Error: held-out floor-regularised log-spectral distance (dB; second half \
+         of each record; see `docs/equations/close-loop.md`). Placement: P = physics, M = measurement \
+         channel. Units: g as CWRU stores them. Grade: Smith & Randall (2015) Y/P/N.\n\n\
+         | record | class | grade | rpm | fs (Hz) | error before (dB) | error after (dB) | after/before | effects (in order) |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut csv =
+        String::from("record,class,grade,rpm,fs_hz,error_before_db,error_after_db,effects\n");
+    for (n, class, grade, rpm, fs, o) in &rows {
+        let l = &o.ledger;
+        let eff = effect_list(o);
+        md.push_str(&format!(
+            "| {n} | {class} | {grade} | {rpm:.0} | {fs:.0} | {:.3} | {:.3} | {:.2} | {eff} |\n",
+            l.error_before,
+            l.error_after,
+            l.error_after / l.error_before.max(1e-12)
+        ));
+        csv.push_str(&format!(
+            "{n},{class},{grade},{rpm:.0},{fs:.0},{:.4},{:.4},\"{}\"\n",
+            l.error_before, l.error_after, eff
+        ));
+    }
+    let y: Vec<_> = rows.iter().filter(|r| r.2 == "Y").collect();
+    let halved = y
+        .iter()
+        .filter(|r| r.5.ledger.error_after <= 0.5 * r.5.ledger.error_before)
+        .count();
+    md.push_str(&format!(
+        "\nGrade-Y records with the error at least halved: {halved} of {}.\n",
+        y.len()
+    ));
+    std::fs::write(out_dir.join("README.md"), md)?;
+    std::fs::write(out_dir.join("summary.csv"), csv)?;
+    println!("wrote {} ({} records)", out_dir.display(), rows.len());
+    Ok(())
+}
+
+/// A loaded recording.
+struct Loaded {
+    samples: Vec<f64>,
+    fs: f64,
+    rpm: Option<f64>,
+    units: &'static str,
+    /// CWRU fault diameter, inches, when the file is a catalogued record.
+    fault_size_in: Option<f64>,
+}
+
+/// Load the signal.
+fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loaded> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -190,7 +424,13 @@ fn load(
                     .channel(end)
                     .with_context(|| format!("{} has no {channel} channel", path.display()))?
                     .to_vec();
-                return Ok((x, fs.unwrap_or(rec.fs_hz()), Some(rec.rpm().value)));
+                return Ok(Loaded {
+                    samples: x,
+                    fs: fs.unwrap_or(rec.fs_hz()),
+                    rpm: Some(rec.rpm().value),
+                    units: "g",
+                    fault_size_in: bearing_data::entry(number).and_then(|e| e.fault_diameter_in()),
+                });
             }
             let set = bearing_data::select_set(bearing_data::read_variable_sets(&bytes)?, None)?;
             let x = set
@@ -198,34 +438,91 @@ fn load(
                 .with_context(|| format!("{} has no {channel} channel", path.display()))?
                 .to_vec();
             let fs = fs.context("--fs is required for a .mat file that is not a CWRU record")?;
-            Ok((x, fs, set.rpm))
+            Ok(Loaded {
+                samples: x,
+                fs,
+                rpm: set.rpm,
+                units: "unknown",
+                fault_size_in: None,
+            })
         }
         "csv" | "txt" => {
-            let fs = fs.context("--fs is required for a CSV recording")?;
-            let sig = bearing_data::read_csv_file(
-                path,
-                &bearing_data::CsvOptions::new(fs, bearing_data::Column::Single),
-            )?;
-            Ok((sig.into_samples(), fs, None))
+            // `cargo xtask simulate` writes `time_s,accel` (m/s²): take `accel`, and fs from time
+            let head = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            let mut lines = head.lines();
+            let header: Vec<String> = lines
+                .next()
+                .unwrap_or("")
+                .split(',')
+                .map(|h| h.trim().to_ascii_lowercase())
+                .collect();
+            let has_accel = header.iter().any(|h| h == "accel");
+            let fs = match fs {
+                Some(f) => f,
+                None if header.first().map(String::as_str) == Some("time_s") => {
+                    let t: Vec<f64> = lines
+                        .take(2)
+                        .filter_map(|l| l.split(',').next()?.trim().parse().ok())
+                        .collect();
+                    match t.as_slice() {
+                        [a, b] if b > a => 1.0 / (b - a),
+                        _ => bail!("cannot infer fs from the `time_s` column; give --fs"),
+                    }
+                }
+                None => bail!("--fs is required for a CSV recording without a `time_s` column"),
+            };
+            let column = if has_accel {
+                bearing_data::Column::Name("accel".into())
+            } else {
+                bearing_data::Column::Single
+            };
+            let sig =
+                bearing_data::read_csv_file(path, &bearing_data::CsvOptions::new(fs, column))?;
+            Ok(Loaded {
+                samples: sig.into_samples(),
+                fs,
+                rpm: None,
+                units: if has_accel { "m/s^2" } else { "unknown" },
+                fault_size_in: None,
+            })
         }
         other => bail!("unsupported input extension `{other}` (.mat or .csv)"),
     }
 }
 
-fn run_one(args: &Args) -> anyhow::Result<(Outcome, f64, f64)> {
+fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Outcome, f64, f64)> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
-    let (mut y, fs, stored_rpm) = load(input, &args.channel, args.fs)?;
+    let loaded = load(input, &args.channel, args.fs)?;
+    let units = args
+        .units
+        .clone()
+        .unwrap_or_else(|| loaded.units.to_string());
+    if !matches!(units.as_str(), "g" | "m/s^2" | "unknown") {
+        bail!("unknown units `{units}` (g, m/s^2 or unknown)");
+    }
+    let (mut y, mut fs) = (loaded.samples, loaded.fs);
+    if args.decimate > 1 {
+        y = bearing_data::decimate(&y, args.decimate)?;
+        fs /= args.decimate as f64;
+    } else if args.decimate == 0 {
+        bail!("--decimate must be >= 1");
+    }
     if let Some(s) = args.seconds {
         y.truncate((s * fs).round() as usize);
     }
     let rpm = args
         .rpm
-        .or(stored_rpm)
+        .or(loaded.rpm)
         .context("--rpm is required (the file stores no speed)")?;
     let bearing = BearingRates::from_name(&args.bearing)?;
-    let fault = DeclaredFault::parse(&args.fault)?;
+    let fault = parse_fault(&args.fault)?;
     let op = OperatingPoint::new(rpm, bearing, fault)?;
+    if let Some(m) = prior {
+        m.check_compatible(fs, bearing.name)?;
+        m.check_units(&units)?;
+    }
     let cfg = LoopConfig {
         max_effects: args.max_effects,
         line_frequency_hz: (args.line_frequency > 0.0).then_some(args.line_frequency),
@@ -238,8 +535,13 @@ fn run_one(args: &Args) -> anyhow::Result<(Outcome, f64, f64)> {
                 "6203" => bearing_model::Bearing::Skf6203,
                 _ => bearing_model::Bearing::Skf6205,
             };
+            let size = args
+                .fault_size_in
+                .or(loaded.fault_size_in)
+                .unwrap_or(PhysicsModel::default().fault_size_in);
             Box::new(PhysicsModel {
                 bearing: b,
+                fault_size_in: size,
                 ..PhysicsModel::default()
             })
         }
@@ -254,7 +556,13 @@ fn run_one(args: &Args) -> anyhow::Result<(Outcome, f64, f64)> {
         }
         other => bail!("unknown model `{other}` (physics, arx-laguerre, phenomenological)"),
     };
-    let out = close_loop(model.as_ref(), &y, fs, &op, &cfg)?;
+    let mut out = close_loop_from(model.as_ref(), prior, &y, fs, &op, &cfg)?;
+    out.machine.units = units;
+    out.machine.provenance.recording = input
+        .file_name()
+        .and_then(|s| s.to_str())
+        .unwrap_or("recording")
+        .to_string();
     if let Some(parent) = report.parent()
         && !parent.as_os_str().is_empty()
     {

@@ -42,6 +42,8 @@ enum Task {
     All(chapters::Args),
     /// Close the loop: residual -> missing effect -> augmented model, error before and after.
     CloseLoop(close_loop::Args),
+    /// Calibrate a machine model on a healthy recording (the loop's result, saved as JSON).
+    Calibrate(close_loop::CalibrateArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -67,5 +69,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Task::Chapter5(a) => chapters::run(&ctx, &[5], a),
         Task::All(a) => chapters::run(&ctx, &[2, 3, 4, 5], a),
         Task::CloseLoop(a) => close_loop::run(&ctx, a),
+        Task::Calibrate(a) => close_loop::calibrate(&ctx, a),
     }
 }

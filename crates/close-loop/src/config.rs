@@ -41,27 +41,41 @@ pub struct LoopConfig {
     pub line_frequency_hz: Option<f64>,
     /// At most this many line candidates are evaluated per round.
     pub max_line_candidates: usize,
+    /// Floor of the regularised log-spectral distance, dB relative to the measurement's mean PSD
+    /// over the scored band (see [`crate::metric::regularised_lsd`]).
+    pub floor_db: f64,
+    /// The loop stops once the held-out error is within this factor of the error a correct
+    /// model would show from estimation variance alone ([`crate::metric::estimation_lsd`]).
+    pub noise_stop_factor: f64,
+    /// An effect must also lower the held-out error by at least this much, dB.
+    pub min_improvement_db: f64,
+    /// Highest AR order tried for the structural path.
+    pub max_path_order: usize,
 }
 
 impl Default for LoopConfig {
     fn default() -> Self {
         Self {
             fit_fraction: 0.5,
-            resolution_hz: 3.0,
+            resolution_hz: 12.0,
             min_segments: 8,
             band_low_hz: 5.0,
             band_high_fraction: 0.45,
-            margin: 0.01,
+            margin: 0.02,
             max_effects: 8,
             line_threshold_db: 6.0,
             broadband_threshold_db: 3.0,
             envelope_threshold_db: 8.0,
             max_speed_offset: 0.02,
-            min_speed_step: 3e-4,
+            min_speed_step: 1e-3,
             harmonic_tolerance: 0.004,
             max_harmonic_order: 20,
             line_frequency_hz: None,
-            max_line_candidates: 6,
+            max_line_candidates: 8,
+            floor_db: -30.0,
+            noise_stop_factor: 1.25,
+            min_improvement_db: 0.03,
+            max_path_order: 64,
         }
     }
 }
@@ -139,6 +153,10 @@ impl LoopConfig {
             0.0,
             100.0,
         )?;
+        range("floor_db", self.floor_db, -200.0, 0.0)?;
+        range("noise_stop_factor", self.noise_stop_factor, 0.0, 10.0)?;
+        range("min_improvement_db", self.min_improvement_db, 0.0, 10.0)?;
+        range("max_path_order", self.max_path_order as f64, 2.0, 256.0)?;
         Ok(CheckedConfig(self))
     }
 }

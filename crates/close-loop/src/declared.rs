@@ -2,7 +2,7 @@
 //! runs against the measurement.
 
 use crate::CloseLoopError;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 /// Characteristic defect frequencies of a rolling bearing as multiples of the shaft rate fr
 /// (eqs. for BPFO = n/2·(1 − r), BPFI = n/2·(1 + r), FTF = ½(1 − r), BSF = (D/d)(1 − r²),
@@ -99,46 +99,35 @@ impl BearingRates {
     }
 }
 
-/// The fault the model is told about.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DeclaredFault {
-    /// Healthy bearing.
-    None,
-    /// Outer-race defect (impacts at BPFO).
-    Outer,
-    /// Inner-race defect (impacts at BPFI, load-zone modulated at fr).
-    Inner,
-    /// Ball defect (impacts at BSF, modulated at the cage rate FTF).
-    Ball,
+/// The fault the model is told about: bearing-model's [`bearing_model::FaultClass`] (healthy,
+/// inner, outer, ball or any combination) — one fault vocabulary for the workspace.
+pub type DeclaredFault = bearing_model::FaultClass;
+
+/// Impact rates of the declared fault(s) as multiples of fr (empty when healthy): BPFI for an
+/// inner-race spall, BPFO for an outer-race spall, the ball-defect rate for a ball spall.
+pub fn impact_orders(fault: DeclaredFault, rates: &BearingRates) -> Vec<f64> {
+    let mut v = Vec::new();
+    if fault.has_inner() {
+        v.push(rates.bpfi);
+    }
+    if fault.has_outer() {
+        v.push(rates.bpfo);
+    }
+    if fault.has_ball() {
+        v.push(rates.bsf);
+    }
+    v
 }
 
-impl DeclaredFault {
-    /// Impact rate as a multiple of fr, `None` when healthy.
-    pub fn impact_order(self, rates: &BearingRates) -> Option<f64> {
-        match self {
-            Self::None => None,
-            Self::Outer => Some(rates.bpfo),
-            Self::Inner => Some(rates.bpfi),
-            Self::Ball => Some(rates.bsf),
-        }
-    }
-
-    /// Parse "none|normal|outer|inner|ball" (also "or", "ir", "b").
-    ///
-    /// # Errors
-    /// [`CloseLoopError::UnknownFault`] for any other name.
-    pub fn parse(s: &str) -> Result<Self, CloseLoopError> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "none" | "normal" | "healthy" => Ok(Self::None),
-            "outer" | "or" => Ok(Self::Outer),
-            "inner" | "ir" => Ok(Self::Inner),
-            "ball" | "b" => Ok(Self::Ball),
-            _ => Err(CloseLoopError::UnknownFault {
-                name: s.to_string(),
-            }),
-        }
-    }
+/// Parse "none|normal|healthy" or any `+`-joined set of "inner|ir", "outer|or", "ball|b".
+///
+/// # Errors
+/// [`CloseLoopError::UnknownFault`] for anything else.
+pub fn parse_fault(s: &str) -> Result<DeclaredFault, CloseLoopError> {
+    s.parse::<DeclaredFault>()
+        .map_err(|_| CloseLoopError::UnknownFault {
+            name: s.to_string(),
+        })
 }
 
 /// What the model is told: speed, bearing and fault.

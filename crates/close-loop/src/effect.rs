@@ -19,6 +19,13 @@ pub enum EffectKind {
     SpeedOffset,
     /// The impact train is amplitude-modulated at a rate such as fr or the cage rate.
     Modulation,
+    /// The structural path from bearing to sensor (its modes), identified from the data: the
+    /// broadband response the declared model lacked.
+    StructuralPath,
+    /// Many shaft orders at once: the shaft-synchronous vibration (coupling, gears, looseness).
+    ShaftComb,
+    /// An equally spaced comb of lines not tied to the shaft (electrical interference, mains).
+    LineComb,
 }
 
 impl EffectKind {
@@ -30,6 +37,9 @@ impl EffectKind {
             Self::Resonance => "resonance",
             Self::SpeedOffset => "speed_offset",
             Self::Modulation => "modulation",
+            Self::StructuralPath => "structural_path",
+            Self::ShaftComb => "shaft_comb",
+            Self::LineComb => "line_comb",
         }
     }
 }
@@ -157,8 +167,8 @@ pub enum Effect {
     },
     /// A line at k × fr, read as a shaft force (unbalance, misalignment) seen through the structure.
     ShaftHarmonic {
-        /// Order k.
-        order: u32,
+        /// Order k (a half order k + ½ for looseness).
+        order: f64,
         /// The fitted line at the sensor.
         line: Line,
         /// fr used to name the order, Hz.
@@ -192,9 +202,47 @@ pub enum Effect {
         /// Named rate: "shaft", "2x_shaft", "cage" or "other".
         rate: &'static str,
     },
+    /// Shaft-synchronous lines at several orders of the refined shaft rate.
+    ShaftComb {
+        /// Refined shaft rate, Hz.
+        shaft_hz: f64,
+        /// Declared shaft rate, Hz.
+        declared_shaft_hz: f64,
+        /// The orders present.
+        orders: Vec<f64>,
+        /// The fitted lines.
+        lines: Vec<Line>,
+    },
+    /// Equally spaced lines not tied to the shaft.
+    LineComb {
+        /// Spacing, Hz.
+        spacing_hz: f64,
+        /// The fitted lines.
+        lines: Vec<Line>,
+    },
+    /// The structural path (AR model of the broadband response) identified from the data.
+    StructuralPath {
+        /// AR order chosen.
+        order: usize,
+        /// Its modes.
+        modes: Vec<crate::path::PathMode>,
+    },
 }
 
 impl Effect {
+    /// An effect on narrow lines (tone, shaft harmonic, comb, or a speed offset that moves the
+    /// kinematic lines), detected by a test of its own that does not rest on the broadband level.
+    pub fn is_line(&self) -> bool {
+        matches!(
+            self,
+            Self::Tone { .. }
+                | Self::ShaftHarmonic { .. }
+                | Self::ShaftComb { .. }
+                | Self::LineComb { .. }
+                | Self::SpeedOffset { .. }
+        )
+    }
+
     /// Its kind.
     pub fn kind(&self) -> EffectKind {
         match self {
@@ -203,6 +251,9 @@ impl Effect {
             Self::Resonance { .. } => EffectKind::Resonance,
             Self::SpeedOffset { .. } => EffectKind::SpeedOffset,
             Self::Modulation { .. } => EffectKind::Modulation,
+            Self::StructuralPath { .. } => EffectKind::StructuralPath,
+            Self::ShaftComb { .. } => EffectKind::ShaftComb,
+            Self::LineComb { .. } => EffectKind::LineComb,
         }
     }
 
@@ -211,7 +262,8 @@ impl Effect {
         match self {
             Self::SpeedOffset { .. }
             | Self::ShaftHarmonic { force: Some(_), .. }
-            | Self::Resonance { housing: true, .. } => Placement::Physics,
+            | Self::Resonance { housing: true, .. }
+            | Self::StructuralPath { .. } => Placement::Physics,
             _ => Placement::Measurement,
         }
     }
@@ -224,6 +276,9 @@ impl Effect {
             Self::Resonance { mode, .. } => Some(mode.frequency_hz),
             Self::SpeedOffset { .. } => None,
             Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
+            Self::StructuralPath { modes, .. } => dominant(modes).map(|m| m.frequency_hz),
+            Self::ShaftComb { shaft_hz, .. } => Some(*shaft_hz),
+            Self::LineComb { lines, .. } => strongest(lines).map(|l| l.frequency_hz),
         }
     }
 
@@ -241,7 +296,7 @@ impl Effect {
                 shaft_hz,
                 force,
             } => {
-                m.insert("order".into(), f64::from(*order));
+                m.insert("order".into(), *order);
                 if let Some((a, p)) = force {
                     m.insert("force_amplitude_n".into(), *a);
                     m.insert("force_phase_rad".into(), *p);
@@ -250,7 +305,7 @@ impl Effect {
                 m.insert("phase_rad".into(), line.phase());
                 m.insert(
                     "implied_speed_ratio".into(),
-                    line.frequency_hz / (f64::from(*order) * shaft_hz),
+                    line.frequency_hz / (order * shaft_hz),
                 );
             }
             Self::Resonance { mode, housing } => {
@@ -273,6 +328,58 @@ impl Effect {
             } => {
                 m.insert("depth".into(), modulation.depth);
                 m.insert("shaft_order".into(), *shaft_order);
+            }
+            Self::ShaftComb {
+                shaft_hz,
+                declared_shaft_hz,
+                orders,
+                lines,
+            } => {
+                m.insert("orders".into(), orders.len() as f64);
+                m.insert(
+                    "lowest_order".into(),
+                    orders.first().copied().unwrap_or(0.0),
+                );
+                m.insert(
+                    "highest_order".into(),
+                    orders.last().copied().unwrap_or(0.0),
+                );
+                m.insert("implied_speed_ratio".into(), shaft_hz / declared_shaft_hz);
+                m.insert(
+                    "rms".into(),
+                    (lines
+                        .iter()
+                        .map(|l| l.amplitude().powi(2) / 2.0)
+                        .sum::<f64>())
+                    .sqrt(),
+                );
+                if let Some(l) = strongest(lines) {
+                    m.insert("strongest_order".into(), l.frequency_hz / shaft_hz);
+                    m.insert("strongest_amplitude".into(), l.amplitude());
+                }
+            }
+            Self::LineComb { spacing_hz, lines } => {
+                m.insert("spacing_hz".into(), *spacing_hz);
+                m.insert("lines".into(), lines.len() as f64);
+                let lo = lines
+                    .iter()
+                    .map(|l| l.frequency_hz)
+                    .fold(f64::INFINITY, f64::min);
+                let hi = lines.iter().map(|l| l.frequency_hz).fold(0.0, f64::max);
+                m.insert("lowest_hz".into(), lo);
+                m.insert("highest_hz".into(), hi);
+                if let Some(l) = strongest(lines) {
+                    m.insert("amplitude".into(), l.amplitude());
+                }
+            }
+            Self::StructuralPath { order, modes } => {
+                m.insert("ar_order".into(), *order as f64);
+                let resonant: Vec<_> = modes.iter().filter(|m| m.frequency_hz > 0.0).collect();
+                m.insert("modes".into(), resonant.len() as f64);
+                if let Some(d) = dominant(modes) {
+                    m.insert("damping_ratio".into(), d.damping_ratio);
+                    m.insert("gain".into(), d.gain);
+                }
             }
         }
         m
@@ -316,6 +423,48 @@ impl Effect {
                 "modulation at {:.3} Hz ({rate}, {shaft_order:.4} x fr), depth {:.3}",
                 modulation.frequency_hz, modulation.depth
             ),
+            Self::ShaftComb {
+                shaft_hz, orders, ..
+            } => {
+                let o: Vec<String> = orders.iter().map(|k| format!("{k}")).collect();
+                format!(
+                    "shaft-synchronous comb at fr = {shaft_hz:.4} Hz, orders {}",
+                    o.join(", ")
+                )
+            }
+            Self::LineComb { spacing_hz, lines } => {
+                let f: Vec<String> = lines
+                    .iter()
+                    .map(|l| format!("{:.1}", l.frequency_hz))
+                    .collect();
+                format!("line comb, spacing {spacing_hz:.3} Hz: {} Hz", f.join(", "))
+            }
+            Self::StructuralPath { order, modes } => {
+                let list: Vec<String> = modes
+                    .iter()
+                    .filter(|m| m.frequency_hz > 0.0)
+                    .map(|m| format!("{:.0} Hz/{:.3}", m.frequency_hz, m.damping_ratio))
+                    .collect();
+                format!(
+                    "structural path, AR order {order}, modes (Hz/zeta): {}",
+                    list.join(", ")
+                )
+            }
         }
     }
+}
+
+/// The line with the largest amplitude.
+fn strongest(lines: &[Line]) -> Option<&Line> {
+    lines
+        .iter()
+        .max_by(|a, b| a.amplitude().total_cmp(&b.amplitude()))
+}
+
+/// The resonant mode with the highest PSD peak.
+fn dominant(modes: &[crate::path::PathMode]) -> Option<&crate::path::PathMode> {
+    modes
+        .iter()
+        .filter(|m| m.frequency_hz > 0.0)
+        .max_by(|a, b| a.peak_psd.total_cmp(&b.peak_psd))
 }

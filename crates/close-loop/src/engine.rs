@@ -3,7 +3,8 @@
 //! lines, and the two error metrics on a segment.
 
 use crate::effect::{Line, Mode, Modulation};
-use crate::metric::{log_spectral_distance, rms};
+use crate::metric::{regularised_lsd, rms};
+use crate::path::{PathMode, StructuralPath};
 use crate::spectrum::Welch;
 use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
 use std::ops::Range;
@@ -40,10 +41,34 @@ pub(crate) struct State {
     pub modes: Vec<Mode>,
     pub mods: Vec<Modulation>,
     pub lines: Vec<Line>,
+    /// The structural path the broadband excitation rings (identified by the loop or given by
+    /// a machine model); `None` until one is found.
+    pub path: Option<Arc<PathPsd>>,
+    /// The physics output is seen through the structural path instead of the model's own
+    /// housing mode: its PSD is multiplied by this (metric grid), see [`Ctx::shaped`].
+    pub phys_shape: Option<Arc<Vec<f64>>>,
     /// ln of the channel gain.
     pub log_gain: f64,
     /// ln of the white floor (units²/Hz).
     pub log_floor: f64,
+    /// ln of the path's excitation level (relative to the identified σ²).
+    pub log_bg: f64,
+}
+
+/// A structural path with its PSD on the metric grid.
+#[derive(Debug)]
+pub(crate) struct PathPsd {
+    pub path: StructuralPath,
+    pub psd: Vec<f64>,
+    pub modes: Vec<PathMode>,
+}
+
+impl PathPsd {
+    pub fn new(path: StructuralPath, n_bins: usize, df: f64) -> Self {
+        let psd = path.psd(n_bins, df);
+        let modes = path.modes();
+        Self { path, psd, modes }
+    }
 }
 
 /// Everything fixed during one run of the loop.
@@ -58,6 +83,8 @@ pub(crate) struct Ctx<'a> {
     pub s_fit: Vec<f64>,
     pub s_held: Vec<f64>,
     pub s_fit_hi: Vec<f64>,
+    /// Floor of the regularised log-spectral distance (units²/Hz).
+    pub eps: f64,
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,
     pub cfg: &'a CheckedConfig,
@@ -133,10 +160,15 @@ impl Ctx<'_> {
         }))
     }
 
-    /// Modulations then modes applied to the base PSD (before gain and floor).
+    /// Path shaping, modulations, then modes applied to the base PSD (before gain and floor).
     pub fn shaped(&self, st: &State) -> Vec<f64> {
         let df = self.welch.df();
         let mut s = st.base.psd.clone();
+        if let Some(t) = &st.phys_shape {
+            for (v, g) in s.iter_mut().zip(t.iter()) {
+                *v *= g;
+            }
+        }
         for m in &st.mods {
             s = m.apply_psd(&s, df);
         }
@@ -160,22 +192,49 @@ impl Ctx<'_> {
         out
     }
 
-    /// Welch PSD of the lines over `range` (zeros when there are none).
-    pub fn lines_psd(&self, lines: &[Line], range: Range<usize>) -> Vec<f64> {
+    /// Welch PSD of the lines (zeros when there are none), in closed form: a line A·cos(2πf₀t+φ)
+    /// seen through the Welch estimator's periodic Hann window w has the one-sided density
+    /// A²/2 · (|W(f − f₀)|² + |W(f + f₀)|²) / (fs·Σw²), W the window's DTFT (lines at different
+    /// frequencies add in power: their relative phase turns from segment to segment). Evaluated
+    /// within ±[`LINE_KERNEL_BINS`] bins of each line, where the Hann kernel holds all but
+    /// −60 dB of the line's power. The same for every segment of the recording, so `_range` is
+    /// only kept for the call sites' clarity.
+    pub fn lines_psd(&self, lines: &[Line], _range: Range<usize>) -> Vec<f64> {
+        let nb = self.welch.n_bins();
+        let mut out = vec![0.0; nb];
         if lines.is_empty() {
-            return vec![0.0; self.welch.n_bins()];
+            return out;
         }
-        self.welch.psd(&self.lines_signal(lines, range))
+        let n = self.welch.nperseg();
+        let df = self.welch.df();
+        let u = 3.0 * n as f64 / 8.0; // Σ w² of a periodic Hann window of n samples
+        for l in lines {
+            let a2 = l.amplitude().powi(2);
+            let k0 = (l.frequency_hz / df).round() as i64;
+            for k in (k0 - LINE_KERNEL_BINS)..=(k0 + LINE_KERNEL_BINS) {
+                if k < 0 || k as usize >= nb {
+                    continue;
+                }
+                let f = k as f64 * df;
+                let w = hann_kernel_power((f - l.frequency_hz) / df, n)
+                    + hann_kernel_power((f + l.frequency_hz) / df, n);
+                out[k as usize] += a2 / 2.0 * w / (self.fs * u);
+            }
+        }
+        out
     }
 
-    /// Model PSD = gain·shaped + floor + lines.
+    /// Model PSD = gain·shaped + level·path + floor + lines.
     pub fn model_psd(&self, st: &State, shaped: &[f64], lines_psd: &[f64]) -> Vec<f64> {
         let g = st.log_gain.exp();
         let fl = st.log_floor.exp();
+        let b = st.log_bg.exp();
+        let path = st.path.as_ref().map(|p| p.psd.as_slice());
         shaped
             .iter()
             .zip(lines_psd)
-            .map(|(s, l)| g * s + fl + l)
+            .enumerate()
+            .map(|(k, (s, l))| g * s + fl + l + path.map_or(0.0, |p| b * p[k]))
             .collect()
     }
 
@@ -184,14 +243,26 @@ impl Ctx<'_> {
     pub fn calibrate(&self, mut st: State, cold: bool) -> (State, f64) {
         let shaped = self.shaped(&st);
         let lp = self.lines_psd(&st.lines, 0..self.n_fit);
-        let warm = if cold {
-            None
-        } else {
-            Some((st.log_gain, st.log_floor))
-        };
-        let (u, v, lsd) = calibrate_gain_floor(&self.s_fit, &shaped, &lp, self.bins.clone(), warm);
-        st.log_gain = u;
-        st.log_floor = v;
+        let ones = vec![1.0; shaped.len()];
+        let mut comps: Vec<&[f64]> = vec![&shaped, &ones];
+        let mut warm = vec![st.log_gain, st.log_floor];
+        if let Some(p) = &st.path {
+            comps.push(&p.psd);
+            warm.push(st.log_bg);
+        }
+        let (u, lsd) = fit_weights(
+            &self.s_fit,
+            &comps,
+            &lp,
+            self.bins.clone(),
+            self.eps,
+            (!cold).then_some(warm.as_slice()),
+        );
+        st.log_gain = u[0];
+        st.log_floor = u[1];
+        if u.len() > 2 {
+            st.log_bg = u[2];
+        }
         (st, lsd)
     }
 
@@ -201,7 +272,7 @@ impl Ctx<'_> {
         let held = self.held();
         let lp = self.lines_psd(&st.lines, held.clone());
         let model = self.model_psd(st, &shaped, &lp);
-        let lsd = log_spectral_distance(&self.s_held, &model, self.bins.clone());
+        let lsd = regularised_lsd(&self.s_held, &model, self.bins.clone(), self.eps);
         let yh = &self.y[held.clone()];
         let d = self.lines_signal(&st.all_lines(), held);
         let r: Vec<f64> = yh.iter().zip(&d).map(|(a, b)| a - b).collect();
@@ -225,84 +296,125 @@ impl Ctx<'_> {
 
 const TINY: f64 = 1e-300;
 
-/// Least squares in the log domain: min over (u, v) of Σ_k (ln S_y − ln(e^u·A + e^v + D))²,
-/// Levenberg–Marquardt; returns (u, v, LSD in dB).
-pub(crate) fn calibrate_gain_floor(
+/// Half-width, in bins, of a line's footprint in the Welch PSD ([`Ctx::lines_psd`]).
+pub(crate) const LINE_KERNEL_BINS: i64 = 12;
+
+/// |W(ν)|² of a periodic Hann window of `n` samples at ν bins from the centre:
+/// W(ν) = ½D(ν) − ¼D(ν − 1) − ¼D(ν + 1), D(x) = Σ_m e^{−j2πxm/n} = e^{−jπx(n−1)/n}·sin(πx)/sin(πx/n).
+/// With θ = π(n−1)/n and s = sin(πν): |W|² = s²·|½/sin(πν/n) + ¼e^{jθ}/sin(π(ν−1)/n)
+/// + ¼e^{−jθ}/sin(π(ν+1)/n)|² (integer ν is taken as the limit, by a 1e-7-bin offset).
+pub(crate) fn hann_kernel_power(nu: f64, n: usize) -> f64 {
+    use std::f64::consts::PI;
+    let nf = n as f64;
+    let nu = if (nu - nu.round()).abs() < 1e-7 {
+        nu + 1e-7
+    } else {
+        nu
+    };
+    let th = PI * (nf - 1.0) / nf;
+    let (a0, am, ap) = (
+        (PI * nu / nf).sin(),
+        (PI * (nu - 1.0) / nf).sin(),
+        (PI * (nu + 1.0) / nf).sin(),
+    );
+    let re = 0.5 / a0 + 0.25 * th.cos() * (1.0 / am + 1.0 / ap);
+    let im = 0.25 * th.sin() * (1.0 / am - 1.0 / ap);
+    let s = (PI * nu).sin();
+    s * s * (re * re + im * im)
+}
+
+/// Least squares in the floor-regularised log domain: min over log-weights u of
+/// Σ_k (ln(S_y,k + ε) − ln(Σ_j e^{u_j}·C_j,k + D_k + ε))², Levenberg–Marquardt from a few
+/// starts; returns (u, regularised LSD in dB). `comps` are the components (physics, path,
+/// the white floor as a vector of ones), `d` the fixed part (lines).
+pub(crate) fn fit_weights(
     sy: &[f64],
-    a: &[f64],
+    comps: &[&[f64]],
     d: &[f64],
     bins: Range<usize>,
-    warm: Option<(f64, f64)>,
-) -> (f64, f64, f64) {
-    let ly: Vec<f64> = bins.clone().map(|i| sy[i].max(TINY).ln()).collect();
-    let aa = &a[bins.clone()];
+    eps: f64,
+    warm: Option<&[f64]>,
+) -> (Vec<f64>, f64) {
+    let nc = comps.len();
+    let ly: Vec<f64> = bins.clone().map(|i| (sy[i] + eps).max(TINY).ln()).collect();
+    let cs: Vec<&[f64]> = comps.iter().map(|c| &c[bins.clone()]).collect();
     let dd = &d[bins.clone()];
     let n = ly.len().max(1) as f64;
-    let cost = |u: f64, v: f64| -> f64 {
-        let (g, fl) = (u.exp(), v.exp());
-        ly.iter()
-            .zip(aa)
-            .zip(dd)
-            .map(|((l, a), d)| {
-                let r = l - (g * a + fl + d).max(TINY).ln();
+    let model = |u: &[f64], k: usize| -> f64 {
+        let mut m = dd[k] + eps;
+        for (j, c) in cs.iter().enumerate() {
+            m += u[j].exp() * c[k];
+        }
+        m.max(TINY)
+    };
+    let cost = |u: &[f64]| -> f64 {
+        (0..ly.len())
+            .map(|k| {
+                let r = ly[k] - model(u, k).ln();
                 r * r
             })
             .sum::<f64>()
     };
-    let starts: Vec<(f64, f64)> = match warm {
-        Some(w) => vec![w],
-        None => {
+    let starts: Vec<Vec<f64>> = match warm {
+        Some(w) if w.len() == nc => vec![w.to_vec()],
+        _ => {
             let my = ly.iter().map(|l| l.exp()).sum::<f64>() / n;
-            let ma = aa.iter().sum::<f64>() / n;
             let mut sorted = ly.clone();
             sorted.sort_by(|x, y| x.total_cmp(y));
-            let q10 = sorted.get(sorted.len() / 10).copied().unwrap_or(0.0);
-            let u0 = if ma > 0.0 && my > 0.0 {
-                (my / ma).ln()
-            } else {
-                0.0
+            let q10 = sorted.get(sorted.len() / 10).copied().unwrap_or(0.0).exp();
+            let level = |c: &[f64], target: f64| -> f64 {
+                let mc = c.iter().sum::<f64>() / n;
+                if mc > 0.0 && target > 0.0 {
+                    (target / mc).ln()
+                } else {
+                    -50.0
+                }
             };
-            vec![
-                (u0, q10),
-                (u0, q10 - 4.6),
-                (u0 - 2.3, q10),
-                (u0, my.max(TINY).ln()),
-                (u0 - 4.6, q10 - 2.3),
-            ]
+            let base: Vec<f64> = cs.iter().map(|c| level(c, my)).collect();
+            let mut v = vec![base.clone()];
+            for j in 0..nc {
+                let mut s = base.clone();
+                s[j] = level(cs[j], q10);
+                v.push(s);
+                let mut s = base.clone();
+                s[j] -= 4.6;
+                v.push(s);
+            }
+            v
         }
     };
-    let mut best = (0.0, 0.0, f64::INFINITY);
-    for (mut u, mut v) in starts {
-        let mut c = cost(u, v);
+    let mut best = (vec![0.0; nc], f64::INFINITY);
+    for mut u in starts {
+        let mut c = cost(&u);
         let mut lambda = 1e-3;
-        for _ in 0..60 {
-            let (g, fl) = (u.exp(), v.exp());
-            let (mut j11, mut j12, mut j22, mut g1, mut g2) = (0.0, 0.0, 0.0, 0.0, 0.0);
-            for ((l, a), d) in ly.iter().zip(aa).zip(dd) {
-                let m = (g * a + fl + d).max(TINY);
-                let r = l - m.ln();
-                let du = -g * a / m;
-                let dv = -fl / m;
-                j11 += du * du;
-                j12 += du * dv;
-                j22 += dv * dv;
-                g1 += du * r;
-                g2 += dv * r;
+        for _ in 0..80 {
+            let mut jtj = nalgebra::DMatrix::<f64>::zeros(nc, nc);
+            let mut g = nalgebra::DVector::<f64>::zeros(nc);
+            for k in 0..ly.len() {
+                let m = model(&u, k);
+                let r = ly[k] - m.ln();
+                let jac: Vec<f64> = (0..nc).map(|j| -u[j].exp() * cs[j][k] / m).collect();
+                for a in 0..nc {
+                    g[a] += jac[a] * r;
+                    for b in 0..nc {
+                        jtj[(a, b)] += jac[a] * jac[b];
+                    }
+                }
             }
             let mut improved = false;
             for _ in 0..8 {
-                let (a11, a22) = (j11 * (1.0 + lambda) + 1e-12, j22 * (1.0 + lambda) + 1e-12);
-                let det = a11 * a22 - j12 * j12;
-                if det.abs() < 1e-300 {
-                    break;
+                let mut a = jtj.clone();
+                for j in 0..nc {
+                    a[(j, j)] = a[(j, j)] * (1.0 + lambda) + 1e-12;
                 }
-                let su = (-(a22 * g1 - j12 * g2) / det).clamp(-5.0, 5.0);
-                let sv = (-(a11 * g2 - j12 * g1) / det).clamp(-5.0, 5.0);
-                let c2 = cost(u + su, v + sv);
+                let Some(step) = a.lu().solve(&(-&g)) else {
+                    break;
+                };
+                let u2: Vec<f64> = (0..nc).map(|j| u[j] + step[j].clamp(-5.0, 5.0)).collect();
+                let c2 = cost(&u2);
                 if c2 < c {
-                    u += su;
-                    v += sv;
                     let rel = (c - c2) / c.max(1e-300);
+                    u = u2;
                     c = c2;
                     lambda = (lambda / 3.0).max(1e-9);
                     improved = rel > 1e-10;
@@ -314,10 +426,38 @@ pub(crate) fn calibrate_gain_floor(
                 break;
             }
         }
-        if c < best.2 {
-            best = (u, v, c);
+        if c < best.1 {
+            best = (u, c);
         }
     }
-    let lsd = 10.0 / std::f64::consts::LN_10 * (best.2 / n).sqrt();
-    (best.0, best.1, lsd)
+    let lsd = 10.0 / std::f64::consts::LN_10 * (best.1 / n).sqrt();
+    (best.0, lsd)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hann_kernel_power;
+
+    /// The closed-form Hann kernel equals the window's DTFT computed by brute force.
+    #[test]
+    fn hann_kernel_matches_the_dtft() {
+        let n = 64;
+        let w: Vec<f64> = (0..n)
+            .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos())
+            .collect();
+        for &nu in &[0.0, 0.3, 1.0, 1.7, 2.5, 6.2] {
+            let (mut re, mut im) = (0.0, 0.0);
+            for (m, v) in w.iter().enumerate() {
+                let ph = -2.0 * std::f64::consts::PI * nu * m as f64 / n as f64;
+                re += v * ph.cos();
+                im += v * ph.sin();
+            }
+            let brute = re * re + im * im;
+            let closed = hann_kernel_power(nu, n);
+            assert!(
+                (brute - closed).abs() <= 1e-6 * brute.max(1e-3),
+                "nu {nu}: {brute} vs {closed}"
+            );
+        }
+    }
 }

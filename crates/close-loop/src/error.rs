@@ -53,8 +53,8 @@ pub enum CloseLoopError {
         /// The designation given.
         name: String,
     },
-    /// The fault name is not one of none|outer|inner|ball.
-    #[error("unknown fault `{name}` (none|outer|inner|ball)")]
+    /// The fault name is not none or a `+`-joined set of outer|inner|ball.
+    #[error("unknown fault `{name}` (none, or a +-joined set of outer|inner|ball)")]
     UnknownFault {
         /// The name given.
         name: String,
@@ -84,5 +84,21 @@ pub enum CloseLoopError {
         expected: usize,
         /// Samples returned.
         found: usize,
+    },
+    /// A machine model does not fit the recording or the run it is used in.
+    #[error("machine model mismatch: {what} is {found}, the recording needs {expected}")]
+    MachineModelMismatch {
+        /// What differs ("sampling rate", "bearing", "units", "format", "version").
+        what: &'static str,
+        /// What the recording or run needs.
+        expected: String,
+        /// What the machine model holds.
+        found: String,
+    },
+    /// A machine model file could not be parsed.
+    #[error("machine model is not valid JSON of the expected form: {reason}")]
+    MachineModelFormat {
+        /// The parser's message.
+        reason: String,
     },
 }

@@ -22,9 +22,11 @@ mod declared;
 pub mod effect;
 mod engine;
 mod error;
+pub mod machine;
 pub mod metric;
 pub mod observe;
 mod optimize;
+pub mod path;
 pub mod physics;
 pub mod report;
 mod runner;
@@ -32,8 +34,10 @@ pub mod scenario;
 pub mod spectrum;
 
 pub use config::{CheckedConfig, LoopConfig};
-pub use declared::{BearingRates, DeclaredFault, DeclaredModel, OperatingPoint};
+pub use declared::{
+    BearingRates, DeclaredFault, DeclaredModel, OperatingPoint, impact_orders, parse_fault,
+};
 pub use effect::{Effect, EffectKind, Placement};
 pub use error::CloseLoopError;
 pub use report::{EffectEntry, Ledger, Outcome, Spectra};
-pub use runner::{MIN_NPERSEG, close_loop, fit_len, min_samples};
+pub use runner::{MIN_NPERSEG, close_loop, close_loop_from, fit_len, min_samples};

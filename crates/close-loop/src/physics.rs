@@ -2,7 +2,7 @@
 //! as a [`DeclaredModel`]: the declared speed, bearing and fault go in, the housing acceleration
 //! comes out (no measurement noise: the loop fits the channel's white floor itself).
 
-use crate::{CloseLoopError, DeclaredFault, DeclaredModel, OperatingPoint};
+use crate::{CloseLoopError, DeclaredModel, OperatingPoint};
 use bearing_model::{
     Bearing, FaultClass, FaultSet, Housing, Noise, ParamSet, Scenario, ShaftHarmonic, Slip, Spall,
 };
@@ -16,7 +16,8 @@ pub struct PhysicsModel {
     pub bearing: Bearing,
     /// Spall width, inches (CWRU sizes 0.007 / 0.014 / 0.021).
     pub fault_size_in: f64,
-    /// Random slip fraction (0 = off).
+    /// Random slip fraction (0 = off; default 0.01, as `cargo xtask simulate`: slip of 1–2 % is
+    /// usual, references.md).
     pub slip_fraction: f64,
     /// Housing resonance override (`None` = the parameter set's).
     pub housing: Option<Housing>,
@@ -32,7 +33,7 @@ impl Default for PhysicsModel {
             set: ParamSet::CwruRig,
             bearing: Bearing::Skf6205,
             fault_size_in: 0.007,
-            slip_fraction: 0.0,
+            slip_fraction: 0.01,
             housing: None,
             harmonics: Vec::new(),
             seed: 1,
@@ -51,12 +52,7 @@ impl PhysicsModel {
         n: usize,
         fs: f64,
     ) -> Result<Scenario, CloseLoopError> {
-        let class = match op.fault {
-            DeclaredFault::None => FaultClass::None,
-            DeclaredFault::Outer => FaultClass::Outer,
-            DeclaredFault::Inner => FaultClass::Inner,
-            DeclaredFault::Ball => FaultClass::Ball,
-        };
+        let class = op.fault;
         let mut s = Scenario::new(self.set, self.bearing, op.rpm)
             .with_fs(fs)
             .with_duration(n as f64 / fs)

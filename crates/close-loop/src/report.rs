@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Name of the primary metric in the JSON.
-pub const PRIMARY_METRIC: &str = "log_spectral_distance_db";
+pub const PRIMARY_METRIC: &str = "floor_regularised_lsd_db";
 /// Name of the secondary metric in the JSON.
 pub const SECONDARY_METRIC: &str = "residual_rms_ratio";
 
@@ -63,8 +63,8 @@ pub struct Declared {
     pub rpm: f64,
     /// Bearing designation.
     pub bearing: String,
-    /// Declared fault.
-    pub fault: crate::DeclaredFault,
+    /// Declared fault ("none", "outer", "inner+ball", …).
+    pub fault: String,
     /// Sampling frequency, Hz.
     pub fs: f64,
 }
@@ -84,6 +84,12 @@ pub struct Protocol {
     pub band_hz: [f64; 2],
     /// Stop-rule margin (relative held-out improvement an effect must bring).
     pub margin: f64,
+    /// Floor of the regularised LSD, dB re the measurement's mean PSD over the band.
+    pub floor_db: f64,
+    /// The same floor in units²/Hz.
+    pub floor_psd: f64,
+    /// The error a correct model would show from estimation variance alone, dB.
+    pub estimation_lsd_db: f64,
 }
 
 /// The full report written as JSON.
@@ -119,6 +125,9 @@ pub struct Ledger {
     pub declared: Declared,
     /// Split and scoring.
     pub protocol: Protocol,
+    /// Modes of the structural path in the final model (empty without one).
+    #[serde(default)]
+    pub structural_modes: Vec<crate::path::PathMode>,
 }
 
 /// Held-out spectra for plotting (not part of the JSON).
@@ -141,6 +150,8 @@ pub struct Outcome {
     pub ledger: Ledger,
     /// Held-out spectra.
     pub spectra: Spectra,
+    /// The augmented model as a reloadable machine model (declared model + everything added).
+    pub machine: crate::machine::MachineModel,
 }
 
 impl Ledger {
@@ -149,7 +160,7 @@ impl Ledger {
         let mut s = String::new();
         s.push_str(&format!("# Closed loop: {title}\n\n"));
         s.push_str(&format!(
-            "Declared model `{}` at {:.1} rpm, bearing {}, fault `{:?}`, fs = {} Hz.\n\n",
+            "Declared model `{}` at {:.1} rpm, bearing {}, fault `{}`, fs = {} Hz.\n\n",
             self.declared.model,
             self.declared.rpm,
             self.declared.bearing,

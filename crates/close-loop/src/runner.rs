@@ -2,7 +2,8 @@
 //! one that lowers the held-out error by the margin → repeat; stop when none does.
 
 use crate::effect::{Effect, Line, Mode, Modulation};
-use crate::engine::{Base, Ctx, ModelRef, State};
+use crate::engine::{Base, Ctx, ModelRef, PathPsd, State};
+use crate::machine::MachineModel;
 use crate::optimize::golden_min;
 use crate::report::{
     Declared, EffectEntry, Ledger, Outcome, PRIMARY_METRIC, Protocol, RejectedCandidate,
@@ -46,7 +47,29 @@ pub fn close_loop(
     op: &OperatingPoint,
     cfg: &CheckedConfig,
 ) -> Result<Outcome, CloseLoopError> {
+    close_loop_from(model, None, y, fs, op, cfg)
+}
+
+/// [`close_loop`] starting from a calibrated machine model: its speed ratio, structural path,
+/// channel modes and lines (re-fitted in amplitude and phase on this recording's fitting
+/// segment) are part of the declared model, and the declared physics is seen through its path.
+/// The machine model must match the recording's sampling rate (checked by
+/// [`MachineModel::check_compatible`]).
+///
+/// # Errors
+/// As [`close_loop`], plus [`CloseLoopError::MachineModelMismatch`].
+pub fn close_loop_from(
+    model: &dyn DeclaredModel,
+    prior: Option<&MachineModel>,
+    y: &[f64],
+    fs: f64,
+    op: &OperatingPoint,
+    cfg: &CheckedConfig,
+) -> Result<Outcome, CloseLoopError> {
     let c = cfg.get();
+    if let Some(m) = prior {
+        m.check_compatible(fs, op.bearing.name)?;
+    }
     if !(fs.is_finite() && fs > 0.0) {
         return Err(CloseLoopError::InvalidSamplingRate { fs });
     }
@@ -74,8 +97,8 @@ pub fn close_loop(
     while nperseg > MIN_NPERSEG && (2 * shortest / nperseg).saturating_sub(1) < c.min_segments {
         nperseg /= 2;
     }
-    let mut nperseg_hi = 4 * nperseg;
-    while nperseg_hi > nperseg && 2 * nperseg_hi > n_fit {
+    let mut nperseg_hi = 8 * nperseg;
+    while nperseg_hi > nperseg && 4 * nperseg_hi > n_fit {
         nperseg_hi /= 2;
     }
     let welch = Welch::new(fs, nperseg)?;
@@ -93,11 +116,14 @@ pub fn close_loop(
             max: band_hi,
         });
     }
+    let s_fit = welch.try_psd(&y[..n_fit])?;
+    let eps = crate::metric::floor_of(&s_fit, k_lo..k_hi + 1, c.floor_db);
     let ctx = Ctx {
         y,
         fs,
         n_fit,
-        s_fit: welch.try_psd(&y[..n_fit])?,
+        eps,
+        s_fit,
         s_held: welch.try_psd(&y[n_fit..])?,
         s_fit_hi: welch_hi.try_psd(&y[..n_fit])?,
         welch,
@@ -108,7 +134,7 @@ pub fn close_loop(
         model,
         cfg,
     };
-    run(&ctx)
+    run(&ctx, prior)
 }
 
 /// A candidate evaluated on the fitting segment.
@@ -118,31 +144,47 @@ struct Evaluated {
     fit_lsd: f64,
 }
 
-fn run(ctx: &Ctx<'_>) -> Result<Outcome, CloseLoopError> {
+fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoopError> {
     let c = ctx.cfg.get();
-    let base = ctx.make_base(1.0)?;
-    let st0 = State {
-        model: None,
-        physics_lines: Vec::new(),
-        base,
-        modes: Vec::new(),
-        mods: Vec::new(),
-        lines: Vec::new(),
-        log_gain: 0.0,
-        log_floor: 0.0,
+    let st0 = match prior {
+        None => State {
+            model: None,
+            physics_lines: Vec::new(),
+            base: ctx.make_base(1.0)?,
+            modes: Vec::new(),
+            mods: Vec::new(),
+            lines: Vec::new(),
+            path: None,
+            phys_shape: None,
+            log_gain: 0.0,
+            log_floor: 0.0,
+            log_bg: 0.0,
+        },
+        Some(m) => prior_state(ctx, m)?,
     };
     let (mut st, mut fit_lsd) = ctx.calibrate(st0, true);
     let first = st.clone();
     let mut held = ctx.held_scores(&st);
     let before = held;
+    let noise = crate::metric::estimation_lsd(
+        segments(ctx.y.len() - ctx.n_fit, ctx.welch.nperseg()),
+        Some(segments(ctx.n_fit, ctx.welch.nperseg())),
+    );
     let mut obs = observer_rms(ctx, &st);
     let obs_before = obs;
     let mut effects = Vec::new();
     let mut rejected = Vec::new();
     let mut stop_reason = format!("reached the maximum of {} effects", c.max_effects);
     for _round in 0..c.max_effects {
+        // within the estimator's own scatter, only lines (a detection that stands on its own:
+        // a narrow peak above the local floor that the model does not carry) are still tried;
+        // broadband candidates would be fitting estimation noise
+        let lines_only = held.lsd <= c.noise_stop_factor * noise;
         let mut cands = candidates(ctx, &st)?;
         cands.retain(|e| e.fit_lsd.is_finite() && e.fit_lsd < fit_lsd);
+        if lines_only {
+            cands.retain(|e| e.effect.is_line());
+        }
         cands.sort_by(|a, b| a.fit_lsd.total_cmp(&b.fit_lsd));
         rejected.clear();
         let mut accepted = None;
@@ -156,12 +198,13 @@ fn run(ctx: &Ctx<'_>) -> Result<Outcome, CloseLoopError> {
                 shaft_hz,
                 force: None,
             } = cand.effect
-                && let Some(ev) = shaft_force_candidate(ctx, &st, order, line, shaft_hz)
+                && order.fract() == 0.0
+                && let Some(ev) = shaft_force_candidate(ctx, &st, order as u32, line, shaft_hz)
             {
                 cand = ev;
             }
             let h = ctx.held_scores(&cand.state);
-            if h.lsd <= held.lsd * (1.0 - c.margin) {
+            if h.lsd <= held.lsd * (1.0 - c.margin) && held.lsd - h.lsd >= c.min_improvement_db {
                 accepted = Some((cand, h));
                 break;
             }
@@ -173,12 +216,19 @@ fn run(ctx: &Ctx<'_>) -> Result<Outcome, CloseLoopError> {
             });
         }
         let Some((cand, h)) = accepted else {
-            stop_reason = if rejected.is_empty() {
+            stop_reason = if lines_only && rejected.is_empty() {
+                format!(
+                    "the held-out error {:.3} dB is within {:.2} x the {:.3} dB a correct model \
+                     shows from estimation variance alone, and no line stands out",
+                    held.lsd, c.noise_stop_factor, noise
+                )
+            } else if rejected.is_empty() {
                 "no candidate effect lowered the fitting-segment error".to_string()
             } else {
                 format!(
-                    "no candidate lowered the held-out error by at least {:.1} %",
-                    100.0 * c.margin
+                    "no candidate lowered the held-out error by at least {:.1} % and {:.2} dB",
+                    100.0 * c.margin,
+                    c.min_improvement_db
                 )
             };
             break;
@@ -207,6 +257,7 @@ fn run(ctx: &Ctx<'_>) -> Result<Outcome, CloseLoopError> {
         held = h;
     }
     let spectra = spectra(ctx, &first, &st);
+    let machine = MachineModel::from_state(ctx, &st, &effects, before.lsd, held.lsd);
     let ledger = Ledger {
         error_metric: PRIMARY_METRIC.to_string(),
         error_before: before.lsd,
@@ -225,7 +276,7 @@ fn run(ctx: &Ctx<'_>) -> Result<Outcome, CloseLoopError> {
             model: ctx.model.name().to_string(),
             rpm: ctx.op.rpm,
             bearing: ctx.op.bearing.name.to_string(),
-            fault: ctx.op.fault,
+            fault: ctx.op.fault.name().to_string(),
             fs: ctx.fs,
         },
         protocol: Protocol {
@@ -238,9 +289,21 @@ fn run(ctx: &Ctx<'_>) -> Result<Outcome, CloseLoopError> {
                 ctx.welch.frequency(ctx.bins.end - 1),
             ],
             margin: c.margin,
+            floor_db: c.floor_db,
+            floor_psd: ctx.eps,
+            estimation_lsd_db: noise,
         },
+        structural_modes: st
+            .path
+            .as_ref()
+            .map(|p| p.modes.clone())
+            .unwrap_or_default(),
     };
-    Ok(Outcome { ledger, spectra })
+    Ok(Outcome {
+        ledger,
+        spectra,
+        machine,
+    })
 }
 
 /// Held-out RMS of the observer residual of y − (the state's phase-coherent lines), the observer
@@ -284,9 +347,110 @@ fn log_ratio(ctx: &Ctx<'_>, st: &State) -> Vec<f64> {
         .collect()
 }
 
+/// Number of half-overlapped Welch segments of `nperseg` in `n` samples.
+fn segments(n: usize, nperseg: usize) -> usize {
+    (2 * n / nperseg.max(1)).saturating_sub(1).max(1)
+}
+
+/// The initial state of a run that starts from a calibrated machine model.
+fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError> {
+    let ratio = m.speed_ratio;
+    let base = ctx.make_base(ratio)?;
+    let fr = ctx.op.shaft_hz() * ratio;
+    let resid = &ctx.y[..ctx.n_fit];
+    let mut lines: Vec<Line> = Vec::new();
+    for f in m.line_frequencies(fr) {
+        if f > 0.0 && f < 0.5 * ctx.fs {
+            lines.push(fit_line(resid, ctx.fs, f));
+        }
+    }
+    let df = ctx.welch.df();
+    let n_bins = ctx.welch.n_bins();
+    let path = m
+        .path
+        .as_ref()
+        .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
+    // the physics output is seen through the identified path instead of its own housing mode:
+    // S_phys · |P(f)|²/|P|²_mean / |T_h(f)|², T_h the model's base-excited housing transmissibility
+    let phys_shape = match (&path, ctx.model.housing_mode()) {
+        (Some(p), Some((fh, zh))) => {
+            let g: Vec<f64> = (0..n_bins)
+                .map(|k| p.path.power_gain(k as f64 * df))
+                .collect();
+            let mean = g[ctx.bins.clone()].iter().sum::<f64>() / ctx.bins.len().max(1) as f64;
+            Some(Arc::new(
+                g.iter()
+                    .enumerate()
+                    .map(|(k, v)| {
+                        let r = k as f64 * df / fh;
+                        let num = 1.0 + (2.0 * zh * r).powi(2);
+                        let den = (1.0 - r * r).powi(2) + (2.0 * zh * r).powi(2);
+                        v / mean.max(1e-300) * den / num
+                    })
+                    .collect::<Vec<f64>>(),
+            ))
+        }
+        _ => None,
+    };
+    Ok(State {
+        model: None,
+        physics_lines: Vec::new(),
+        base,
+        modes: m.channel_modes.clone(),
+        mods: m.modulations.clone(),
+        lines,
+        path,
+        phys_shape,
+        log_gain: m.physics_gain.max(1e-300).ln(),
+        log_floor: m.noise_floor_psd.max(1e-300).ln(),
+        log_bg: m.path_level.max(1e-300).ln(),
+    })
+}
+
+/// The structural path as a candidate: identified from the fitting segment's line-free PSD
+/// ([`crate::path::identify`]) when the model has none yet.
+fn path_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
+    if st.path.is_some() {
+        return None;
+    }
+    let c = ctx.cfg.get();
+    let df = ctx.welch.df();
+    let n_bins = ctx.welch.n_bins();
+    let resid = ctx.fit_residual(st);
+    let s_hi = ctx.welch_hi.try_psd(&resid).ok()?;
+    let path = crate::path::identify(
+        &s_hi,
+        ctx.welch_hi.df(),
+        ctx.fs,
+        c.max_path_order,
+        0.1,
+        |p| {
+            let m = p.psd(n_bins, df);
+            crate::metric::regularised_lsd(&ctx.s_fit, &m, ctx.bins.clone(), ctx.eps)
+        },
+    )
+    .ok()?;
+    let order = path.order();
+    let mut s2 = st.clone();
+    s2.path = Some(Arc::new(PathPsd::new(path, n_bins, df)));
+    s2.log_bg = 0.0;
+    let (s2, lsd) = ctx.calibrate(s2, true);
+    let modes = s2
+        .path
+        .as_ref()
+        .map(|p| p.modes.clone())
+        .unwrap_or_default();
+    Some(Evaluated {
+        effect: Effect::StructuralPath { order, modes },
+        state: s2,
+        fit_lsd: lsd,
+    })
+}
+
 fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopError> {
     let lr = log_ratio(ctx, st);
     let mut out = Vec::new();
+    out.extend(path_candidate(ctx, st));
     out.extend(line_candidates(ctx, st, &lr));
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
@@ -321,38 +485,91 @@ fn fit_line(x: &[f64], fs: f64, f: f64) -> Line {
     }
 }
 
-fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Evaluated> {
+/// Narrow lines of the fitting residual (y − the lines already in the model) that the model does
+/// not carry: on the fine Welch grid, the residual's log PSD above its running median (±~25 Hz)
+/// minus the same excess of the model's own simulated output (its fault lines), peaks above
+/// `line_threshold_db`, ranked by the power they carry above the background — what they explain.
+fn line_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
     let c = ctx.cfg.get();
     if c.max_line_candidates == 0 {
         return Vec::new();
     }
-    let base = running_median(lr, 12);
-    let ex: Vec<f64> = lr.iter().zip(&base).map(|(a, b)| a - b).collect();
+    let resid = ctx.fit_residual(st);
+    let Ok(s) = ctx.welch_hi.try_psd(&resid) else {
+        return Vec::new();
+    };
+    let dfh = ctx.welch_hi.df();
+    let bins = ctx.bins_hi.clone();
+    let half = ((25.0 / dfh).round() as usize).max(6);
+    let ly: Vec<f64> = bins
+        .clone()
+        .map(|k| 10.0 * s[k].max(1e-300).log10())
+        .collect();
+    let my = running_median(&ly, half);
+    let lm: Vec<f64> = bins
+        .clone()
+        .map(|k| {
+            10.0 * st
+                .base
+                .psd_hi
+                .get(k)
+                .copied()
+                .unwrap_or(0.0)
+                .max(1e-300)
+                .log10()
+        })
+        .collect();
+    let mm = running_median(&lm, half);
+    // the model's lines count only where the model carries power near the measurement's level
+    let gain_db = 10.0 * st.log_gain / std::f64::consts::LN_10;
+    let ex: Vec<f64> = (0..ly.len())
+        .map(|i| {
+            let model_ex = if lm[i] + gain_db > my[i] - 3.0 {
+                (lm[i] - mm[i]).max(0.0)
+            } else {
+                0.0
+            };
+            ly[i] - my[i] - model_ex
+        })
+        .collect();
     let mut peaks: Vec<(usize, f64)> = (1..ex.len().saturating_sub(1))
-        .filter(|&i| ex[i] > c.line_threshold_db && ex[i] >= ex[i - 1] && ex[i] >= ex[i + 1])
-        .map(|i| (i, ex[i]))
+        .filter(|&i| ex[i] > c.line_threshold_db && ly[i] >= ly[i - 1] && ly[i] >= ly[i + 1])
+        .map(|i| {
+            let k = bins.start + i;
+            let above = s[k] - 10f64.powf(my[i] / 10.0);
+            (i, above.max(0.0))
+        })
         .collect();
     peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let xw = hann_windowed(&resid);
+    let fr = ctx.op.shaft_hz() * st.base.ratio;
+    let mut out = Vec::new();
+    // combs: every standing line refined once, then grouped
+    let refined: Vec<(f64, f64)> = peaks
+        .iter()
+        .take(32)
+        .map(|&(i, p)| {
+            let f0 = ctx.welch_hi.frequency(bins.start + i);
+            (
+                refine_peak(&xw, ctx.fs, (f0 - 1.5 * dfh).max(0.5 * dfh), f0 + 1.5 * dfh),
+                p,
+            )
+        })
+        .collect();
+    out.extend(shaft_comb_candidate(ctx, st, &resid, &refined, fr));
+    out.extend(line_comb_candidate(ctx, st, &resid, &refined, fr));
     let mut chosen: Vec<usize> = Vec::new();
     for (i, _) in peaks {
-        if chosen.iter().all(|&j| j.abs_diff(i) > 3) {
+        if chosen.iter().all(|&j| j.abs_diff(i) > 2) {
             chosen.push(i);
         }
         if chosen.len() >= c.max_line_candidates {
             break;
         }
     }
-    if chosen.is_empty() {
-        return Vec::new();
-    }
-    let resid = ctx.fit_residual(st);
-    let xw = hann_windowed(&resid);
-    let df = ctx.welch.df();
-    let fr = ctx.op.shaft_hz() * st.base.ratio;
-    let mut out = Vec::new();
     for i in chosen {
-        let f0 = ctx.welch.frequency(ctx.bins.start + i);
-        let f = refine_peak(&xw, ctx.fs, (f0 - 1.5 * df).max(0.5 * df), f0 + 1.5 * df);
+        let f0 = ctx.welch_hi.frequency(bins.start + i);
+        let f = refine_peak(&xw, ctx.fs, (f0 - 1.5 * dfh).max(0.5 * dfh), f0 + 1.5 * dfh);
         let line = fit_line(&resid, ctx.fs, f);
         let effect = classify_line(line, fr, c);
         let mut s2 = st.clone();
@@ -365,6 +582,154 @@ fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Evaluated> {
         });
     }
     out
+}
+
+/// Fewest lines that make a comb.
+const MIN_COMB_LINES: usize = 4;
+
+/// A shaft-synchronous comb: the standing lines that sit at integer shaft orders (within
+/// `harmonic_tolerance` and a quarter order), fr refined by weighted least squares of f_k = k·fr
+/// over them, every order fitted as a phase-coherent line at k·fr̂ — what a time-synchronous
+/// average of the shaft-synchronous part holds. Needs [`MIN_COMB_LINES`] orders.
+fn shaft_comb_candidate(
+    ctx: &Ctx<'_>,
+    st: &State,
+    resid: &[f64],
+    refined: &[(f64, f64)],
+    fr: f64,
+) -> Option<Evaluated> {
+    let c = ctx.cfg.get();
+    let mut members: Vec<(f64, f64, f64)> = Vec::new(); // (order, f, power)
+    for &(f, p) in refined {
+        let k = (f / fr).round();
+        if k >= 1.0
+            && (f - k * fr).abs() <= (c.harmonic_tolerance * f).min(0.25 * fr)
+            && !line_near_mains(f, fr, c)
+            && members.iter().all(|m| m.0 != k)
+        {
+            members.push((k, f, p));
+        }
+    }
+    if members.len() < MIN_COMB_LINES {
+        return None;
+    }
+    let (num, den) = members.iter().fold((0.0, 0.0), |(a, b), (k, f, p)| {
+        let w = p.sqrt();
+        (a + w * k * f, b + w * k * k)
+    });
+    let fr_hat = num / den;
+    let mut s2 = st.clone();
+    for (k, _, _) in &members {
+        s2.lines.push(fit_line(resid, ctx.fs, k * fr_hat));
+    }
+    let (s2, lsd) = ctx.calibrate(s2, false);
+    let mut orders: Vec<f64> = members.iter().map(|m| m.0).collect();
+    orders.sort_by(f64::total_cmp);
+    Some(Evaluated {
+        effect: Effect::ShaftComb {
+            shaft_hz: fr_hat,
+            declared_shaft_hz: ctx.op.shaft_hz(),
+            orders,
+            lines: s2.lines[st.lines.len()..].to_vec(),
+        },
+        state: s2,
+        fit_lsd: lsd,
+    })
+}
+
+/// Is `f` nearer a multiple of the declared mains frequency than a shaft order?
+fn line_near_mains(f: f64, fr: f64, c: &crate::LoopConfig) -> bool {
+    c.line_frequency_hz.is_some_and(|lf| {
+        let m = (f / lf).round();
+        let k = (f / fr).round();
+        m >= 1.0 && (f - m * lf).abs() < (f - k * fr).abs() && (f / (m * lf) - 1.0).abs() < 1e-3
+    })
+}
+
+/// An equally spaced comb of lines not at shaft orders (an interference or mains comb): the
+/// largest set of standing lines at f₀ + m·Δ (|m| ≤ 8, within 0.3 % of Δ), Δ from 10 Hz up,
+/// over every pair of the strongest lines. Needs [`MIN_COMB_LINES`] lines.
+fn line_comb_candidate(
+    ctx: &Ctx<'_>,
+    st: &State,
+    resid: &[f64],
+    refined: &[(f64, f64)],
+    fr: f64,
+) -> Option<Evaluated> {
+    let c = ctx.cfg.get();
+    let free: Vec<(f64, f64)> = refined
+        .iter()
+        .copied()
+        .filter(|&(f, _)| {
+            let k = (f / fr).round();
+            k < 1.0
+                || (f - k * fr).abs() > (c.harmonic_tolerance * f).min(0.25 * fr)
+                || line_near_mains(f, fr, c)
+        })
+        .take(24)
+        .collect();
+    // a spacing at a kinematic fault rate (within the speed search range) is the fault's own
+    // comb at another speed: the speed candidate's business, not an interference comb
+    let kinematic: Vec<f64> = crate::impact_orders(ctx.op.fault, &ctx.op.bearing)
+        .into_iter()
+        .chain([ctx.op.bearing.ftf])
+        .map(|o| o * fr)
+        .collect();
+    let is_kinematic = |d: f64| {
+        kinematic.iter().any(|&k| {
+            let m = (d / k).round();
+            m >= 1.0 && (d / (m * k) - 1.0).abs() <= c.max_speed_offset
+        })
+    };
+    let mut best: Vec<(f64, f64)> = Vec::new();
+    let mut best_spacing = 0.0;
+    for i in 0..free.len() {
+        for j in 0..free.len() {
+            let (f0, f1) = (free[i].0, free[j].0);
+            let d = f1 - f0;
+            if d < 10.0 || is_kinematic(d) {
+                continue;
+            }
+            let tol = 3e-3 * d;
+            let set: Vec<(f64, f64)> = free
+                .iter()
+                .copied()
+                .filter(|&(f, _)| {
+                    let m = ((f - f0) / d).round();
+                    m.abs() <= 8.0 && (f - f0 - m * d).abs() <= tol
+                })
+                .collect();
+            let power = |v: &[(f64, f64)]| v.iter().map(|x| x.1).sum::<f64>();
+            if set.len() > best.len() || (set.len() == best.len() && power(&set) > power(&best)) {
+                best = set;
+                best_spacing = d;
+            }
+        }
+    }
+    if best.len() < MIN_COMB_LINES {
+        return None;
+    }
+    // spacing refined by least squares over the members' offsets
+    best.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let f0 = best[0].0;
+    let (num, den) = best.iter().fold((0.0, 0.0), |(a, b), &(f, _)| {
+        let m = ((f - f0) / best_spacing).round();
+        (a + m * (f - f0), b + m * m)
+    });
+    let spacing = if den > 0.0 { num / den } else { best_spacing };
+    let mut s2 = st.clone();
+    for &(f, _) in &best {
+        s2.lines.push(fit_line(resid, ctx.fs, f));
+    }
+    let (s2, lsd) = ctx.calibrate(s2, false);
+    Some(Evaluated {
+        effect: Effect::LineComb {
+            spacing_hz: spacing,
+            lines: s2.lines[st.lines.len()..].to_vec(),
+        },
+        state: s2,
+        fit_lsd: lsd,
+    })
 }
 
 /// Complex amplitude C = a − j·b of a line (a·cos + b·sin = Re(C·e^{jωt})).
@@ -433,7 +798,7 @@ fn shaft_force_candidate(
     let (s2, lsd) = ctx.calibrate(s2, false);
     Some(Evaluated {
         effect: Effect::ShaftHarmonic {
-            order,
+            order: f64::from(order),
             line: measured,
             shaft_hz: fr,
             force: Some((amp, phase)),
@@ -443,11 +808,19 @@ fn shaft_force_candidate(
     })
 }
 
+/// Highest half order (k + ½) named a shaft harmonic (looseness shows half orders).
+const MAX_HALF_ORDER: f64 = 5.5;
+
+/// Name a line: a shaft harmonic when it sits within `harmonic_tolerance` of an order k·fr
+/// (k = 1 … `max_harmonic_order`) or a half order (½ … 5½) and nearer to it than to a multiple of
+/// the declared line frequency; a tone otherwise.
 fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effect {
     let f = line.frequency_hz;
-    let k = (f / fr).round();
-    let rel_h = if k >= 1.0 {
-        (f / (k * fr) - 1.0).abs()
+    let k2 = (2.0 * f / fr).round();
+    let order = k2 / 2.0;
+    let is_half = k2 % 2.0 != 0.0;
+    let rel_h = if k2 >= 1.0 {
+        (f / (order * fr) - 1.0).abs()
     } else {
         f64::INFINITY
     };
@@ -459,13 +832,14 @@ fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effect {
             f64::INFINITY
         }
     });
-    if k >= 1.0
-        && k <= f64::from(c.max_harmonic_order)
-        && rel_h <= c.harmonic_tolerance
-        && rel_h <= rel_l
-    {
+    let in_range = if is_half {
+        order <= MAX_HALF_ORDER
+    } else {
+        order >= 1.0 && order <= f64::from(c.max_harmonic_order)
+    };
+    if in_range && rel_h <= c.harmonic_tolerance && rel_h <= rel_l {
         Effect::ShaftHarmonic {
-            order: k as u32,
+            order,
             line,
             shaft_hz: fr,
             force: None,
@@ -648,7 +1022,7 @@ fn housing_candidate(ctx: &Ctx<'_>, st: &State, fitted: &Mode) -> Option<Evaluat
         |lf| eval(lf.exp()).map_or(f64::INFINITY, |e| e.1),
         (f0 * (1.0 - HOUSING_SEARCH)).ln(),
         (f0 * (1.0 + HOUSING_SEARCH)).min(nyq).ln(),
-        6,
+        10,
     );
     let f = lf.exp();
     let (s2, lsd, _) = eval(f)?;
@@ -677,7 +1051,7 @@ fn line_excess(s: &[f64], bins: std::ops::Range<usize>) -> Vec<f64> {
 /// line excess at k·f_fault·s (k = 1..4) of the fitting residual's envelope spectrum.
 fn envelope_speed_step(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
     let c = ctx.cfg.get();
-    let order = ctx.op.fault.impact_order(&ctx.op.bearing)?;
+    let order = *crate::impact_orders(ctx.op.fault, &ctx.op.bearing).first()?;
     let f_fault = order * ctx.op.shaft_hz() * st.base.ratio;
     let resid = ctx.fit_residual(st);
     let (ey, de) = envelope_periodogram(&resid, ctx.fs);

@@ -127,7 +127,7 @@ impl DeclaredModel for PhenomenologicalModel {
         let mut rng = Gaussian::new(self.seed);
         let fr = op.shaft_hz();
         let mut force: Vec<f64> = (0..n).map(|_| self.background * rng.sample()).collect();
-        if let Some(order) = op.fault.impact_order(&op.bearing) {
+        if let Some(&order) = crate::impact_orders(op.fault, &op.bearing).first() {
             let rate = order * fr;
             let fm = match op.fault {
                 DeclaredFault::Inner => fr,

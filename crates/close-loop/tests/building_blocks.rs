@@ -153,7 +153,7 @@ fn bad_input_gets_typed_errors() {
         Err(CloseLoopError::UnknownBearing { .. })
     ));
     assert!(matches!(
-        DeclaredFault::parse("cage"),
+        close_loop::parse_fault("cage"),
         Err(CloseLoopError::UnknownFault { .. })
     ));
     let mut nan = y.clone();

@@ -1,0 +1,318 @@
+//! The calibrated machine model: the declared 5-DOF model plus everything the loop added on a
+//! recording — speed ratio, the structural path from bearing to sensor (its modes), the excitation
+//! and noise floor, shaft harmonics and tones, channel modes and modulations — saved as versioned
+//! JSON, reloaded, validated against the recording it is used on, and taken by
+//! [`crate::close_loop_from`] as its declared model.
+
+use crate::CloseLoopError;
+use crate::effect::{Mode, Modulation};
+use crate::engine::{Ctx, State};
+use crate::path::{PathMode, StructuralPath};
+use crate::report::EffectEntry;
+use serde::{Deserialize, Serialize};
+
+/// The `format` string of a machine model file.
+pub const FORMAT: &str = "hybrid-fdd/machine-model";
+/// The current `version`.
+pub const VERSION: u32 = 1;
+
+/// A line of the machine model: a shaft order (moves with the speed) or a tone (fixed in Hz).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum MachineLine {
+    /// A line at `order` × fr.
+    ShaftHarmonic {
+        /// Shaft order (half orders allowed).
+        order: f64,
+        /// Amplitude on the calibration recording, recording units.
+        amplitude: f64,
+    },
+    /// A line at a fixed frequency.
+    Tone {
+        /// Frequency, Hz.
+        frequency_hz: f64,
+        /// Amplitude on the calibration recording, recording units.
+        amplitude: f64,
+    },
+}
+
+/// Where a machine model came from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct Provenance {
+    /// The recording it was calibrated on (a name; set by the caller).
+    pub recording: String,
+    /// Held-out error of the declared model on it, dB.
+    pub error_before: f64,
+    /// Held-out error of this machine model on it, dB.
+    pub error_after: f64,
+    /// Name of the error metric.
+    pub error_metric: String,
+    /// Fitting samples `[start, end)`.
+    pub fit_samples: [usize; 2],
+}
+
+/// A calibrated machine model (JSON, `format` = [`FORMAT`], `version` = [`VERSION`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MachineModel {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// Schema version ([`VERSION`]).
+    pub version: u32,
+    /// Sampling rate the model was identified at, Hz (the path is discrete-time at this rate).
+    pub fs_hz: f64,
+    /// Units of the recording it was calibrated on ("g", "m/s^2", or "unknown").
+    pub units: String,
+    /// Bearing designation.
+    pub bearing: String,
+    /// BPFO, BPFI, FTF, ball-defect rate as multiples of fr.
+    pub bearing_orders: [f64; 4],
+    /// Declared model name ("physics-5dof", …).
+    pub model: String,
+    /// Declared speed on the calibration recording, rpm.
+    pub declared_rpm: f64,
+    /// Declared fault on the calibration recording.
+    pub declared_fault: String,
+    /// True speed / declared speed.
+    pub speed_ratio: f64,
+    /// Gain on the declared physics output.
+    pub physics_gain: f64,
+    /// Housing mode of the physics model (Hz, ζ) when the loop moved it.
+    pub housing_mode: Option<[f64; 2]>,
+    /// Shaft forces put into the physics (order, amplitude N, phase rad).
+    pub shaft_forces: Vec<[f64; 3]>,
+    /// The structural path from bearing to sensor.
+    pub path: Option<StructuralPath>,
+    /// Level of the path's excitation relative to the identified σ² (1 = as identified).
+    pub path_level: f64,
+    /// The path's modes (derived from `path`, written for people and scripts).
+    pub structural_modes: Vec<PathMode>,
+    /// White noise floor, units²/Hz (one-sided).
+    pub noise_floor_psd: f64,
+    /// Lines.
+    pub lines: Vec<MachineLine>,
+    /// Channel modes on the physics output.
+    pub channel_modes: Vec<Mode>,
+    /// Modulations of the physics output.
+    pub modulations: Vec<Modulation>,
+    /// Where it came from.
+    pub provenance: Provenance,
+}
+
+impl MachineModel {
+    pub(crate) fn from_state(
+        ctx: &Ctx<'_>,
+        st: &State,
+        effects: &[EffectEntry],
+        before: f64,
+        after: f64,
+    ) -> Self {
+        let fr = ctx.op.shaft_hz() * st.base.ratio;
+        let mut lines: Vec<MachineLine> = Vec::new();
+        // a line at (half) a shaft order within the harmonic tolerance (or a quarter order)
+        // moves with the speed; any other line is a tone fixed in Hz
+        let tol = ctx.cfg.get().harmonic_tolerance;
+        for l in &st.lines {
+            let f = l.frequency_hz;
+            let k2 = (2.0 * f / fr).round();
+            let near = k2 >= 1.0 && (f - k2 / 2.0 * fr).abs() <= (tol * f).min(0.25 * fr);
+            lines.push(if near {
+                MachineLine::ShaftHarmonic {
+                    order: k2 / 2.0,
+                    amplitude: l.amplitude(),
+                }
+            } else {
+                MachineLine::Tone {
+                    frequency_hz: f,
+                    amplitude: l.amplitude(),
+                }
+            });
+        }
+        let mut housing_mode = None;
+        let mut shaft_forces = Vec::new();
+        for e in effects {
+            let p = &e.parameters;
+            match e.kind {
+                crate::EffectKind::Resonance if p.get("housing_mode") == Some(&1.0) => {
+                    housing_mode = e
+                        .frequency_hz
+                        .map(|f| [f, p.get("damping_ratio").copied().unwrap_or(0.05)]);
+                }
+                crate::EffectKind::ShaftHarmonic => {
+                    if let (Some(o), Some(a), Some(ph)) = (
+                        p.get("order"),
+                        p.get("force_amplitude_n"),
+                        p.get("force_phase_rad"),
+                    ) {
+                        shaft_forces.push([*o, *a, *ph]);
+                    }
+                }
+                _ => {}
+            }
+        }
+        let b = ctx.op.bearing;
+        Self {
+            format: FORMAT.to_string(),
+            version: VERSION,
+            fs_hz: ctx.fs,
+            units: "unknown".to_string(),
+            bearing: b.name.to_string(),
+            bearing_orders: [b.bpfo, b.bpfi, b.ftf, b.bsf],
+            model: ctx.model.name().to_string(),
+            declared_rpm: ctx.op.rpm,
+            declared_fault: ctx.op.fault.name().to_string(),
+            speed_ratio: st.base.ratio,
+            physics_gain: st.log_gain.exp(),
+            housing_mode,
+            shaft_forces,
+            path: st.path.as_ref().map(|p| p.path.clone()),
+            path_level: if st.path.is_some() {
+                st.log_bg.exp()
+            } else {
+                0.0
+            },
+            structural_modes: st
+                .path
+                .as_ref()
+                .map(|p| p.modes.clone())
+                .unwrap_or_default(),
+            noise_floor_psd: st.log_floor.exp(),
+            lines,
+            channel_modes: st.modes.clone(),
+            modulations: st.mods.clone(),
+            provenance: Provenance {
+                recording: String::new(),
+                error_before: before,
+                error_after: after,
+                error_metric: crate::report::PRIMARY_METRIC.to_string(),
+                fit_samples: [0, ctx.n_fit],
+            },
+        }
+    }
+
+    /// The frequencies of the model's lines at shaft rate `fr_hz` (true, not declared, speed).
+    pub fn line_frequencies(&self, fr_hz: f64) -> Vec<f64> {
+        self.lines
+            .iter()
+            .map(|l| match *l {
+                MachineLine::ShaftHarmonic { order, .. } => order * fr_hz,
+                MachineLine::Tone { frequency_hz, .. } => frequency_hz,
+            })
+            .collect()
+    }
+
+    /// The model as pretty JSON.
+    ///
+    /// # Errors
+    /// [`CloseLoopError::MachineModelFormat`] if a value cannot be written (non-finite number).
+    pub fn to_json(&self) -> Result<String, CloseLoopError> {
+        serde_json::to_string_pretty(self).map_err(|e| CloseLoopError::MachineModelFormat {
+            reason: e.to_string(),
+        })
+    }
+
+    /// Parse and validate a machine model (format, version, finite positive rates and levels).
+    ///
+    /// # Errors
+    /// [`CloseLoopError::MachineModelFormat`] or [`CloseLoopError::MachineModelMismatch`].
+    pub fn from_json(text: &str) -> Result<Self, CloseLoopError> {
+        let m: Self =
+            serde_json::from_str(text).map_err(|e| CloseLoopError::MachineModelFormat {
+                reason: e.to_string(),
+            })?;
+        if m.format != FORMAT {
+            return Err(CloseLoopError::MachineModelMismatch {
+                what: "format",
+                expected: FORMAT.to_string(),
+                found: m.format,
+            });
+        }
+        if m.version != VERSION {
+            return Err(CloseLoopError::MachineModelMismatch {
+                what: "version",
+                expected: VERSION.to_string(),
+                found: m.version.to_string(),
+            });
+        }
+        let positive = [
+            ("fs_hz", m.fs_hz),
+            ("speed_ratio", m.speed_ratio),
+            ("declared_rpm", m.declared_rpm),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(CloseLoopError::MachineModelFormat {
+                    reason: format!("`{name}` must be finite and > 0, got {v}"),
+                });
+            }
+        }
+        for (name, v) in [
+            ("physics_gain", m.physics_gain),
+            ("path_level", m.path_level),
+            ("noise_floor_psd", m.noise_floor_psd),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(CloseLoopError::MachineModelFormat {
+                    reason: format!("`{name}` must be finite and >= 0, got {v}"),
+                });
+            }
+        }
+        if let Some(p) = &m.path
+            && ((p.fs_hz - m.fs_hz).abs() > 1e-9 * m.fs_hz
+                || !p.ar.iter().all(|a| a.is_finite())
+                || !(p.excitation_variance.is_finite() && p.excitation_variance > 0.0))
+        {
+            return Err(CloseLoopError::MachineModelFormat {
+                reason: "`path` is not a finite AR model at the model's sampling rate".into(),
+            });
+        }
+        Ok(m)
+    }
+
+    /// Check that the model fits a recording at `fs` Hz of bearing `bearing`.
+    ///
+    /// # Errors
+    /// [`CloseLoopError::MachineModelMismatch`] naming what differs.
+    pub fn check_compatible(&self, fs: f64, bearing: &str) -> Result<(), CloseLoopError> {
+        if (self.fs_hz - fs).abs() > 1e-6 * fs.abs().max(1.0) {
+            return Err(CloseLoopError::MachineModelMismatch {
+                what: "sampling rate",
+                expected: format!("{fs} Hz"),
+                found: format!("{} Hz", self.fs_hz),
+            });
+        }
+        if !self.bearing.eq_ignore_ascii_case(bearing) {
+            return Err(CloseLoopError::MachineModelMismatch {
+                what: "bearing",
+                expected: bearing.to_string(),
+                found: self.bearing.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Check the units the model was calibrated in against the recording's (`"unknown"` on
+    /// either side is accepted).
+    ///
+    /// # Errors
+    /// [`CloseLoopError::MachineModelMismatch`] when both are known and differ.
+    pub fn check_units(&self, units: &str) -> Result<(), CloseLoopError> {
+        if self.units != "unknown" && units != "unknown" && self.units != units {
+            return Err(CloseLoopError::MachineModelMismatch {
+                what: "units",
+                expected: units.to_string(),
+                found: self.units.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The effects a machine model holds, as effects (for reports).
+    pub fn effect_count(&self) -> usize {
+        self.lines.len()
+            + self.channel_modes.len()
+            + self.modulations.len()
+            + usize::from(self.path.is_some())
+            + self.shaft_forces.len()
+            + usize::from(self.housing_mode.is_some())
+    }
+}
