@@ -81,9 +81,14 @@ impl Line {
     /// Add the line to `out`, whose first sample is sample `start` of the recording.
     pub fn add_to(&self, out: &mut [f64], start: usize, fs: f64) {
         let w = 2.0 * PI * self.frequency_hz / fs;
-        for (i, o) in out.iter_mut().enumerate() {
-            let ph = w * (start + i) as f64;
-            *o += self.a * ph.cos() + self.b * ph.sin();
+        // phasor recurrence e^{jω(k+1)} = e^{jωk}·e^{jω}, re-anchored exactly every 256 samples
+        let (sw, cw) = w.sin_cos();
+        for (j, chunk) in out.chunks_mut(256).enumerate() {
+            let (mut s, mut c) = (w * (start + 256 * j) as f64).sin_cos();
+            for o in chunk.iter_mut() {
+                *o += self.a * c + self.b * s;
+                (s, c) = (s * cw + c * sw, c * cw - s * sw);
+            }
         }
     }
 }
@@ -226,6 +231,9 @@ pub enum Effect {
         order: usize,
         /// Its modes.
         modes: Vec<crate::path::PathMode>,
+        /// `true`: the path the declared physics (the fault's impacts) is seen through;
+        /// `false`: the path rung by broadband excitation.
+        physics: bool,
     },
 }
 
@@ -372,8 +380,13 @@ impl Effect {
                     m.insert("amplitude".into(), l.amplitude());
                 }
             }
-            Self::StructuralPath { order, modes } => {
+            Self::StructuralPath {
+                order,
+                modes,
+                physics,
+            } => {
                 m.insert("ar_order".into(), *order as f64);
+                m.insert("physics_excitation".into(), f64::from(u8::from(*physics)));
                 let resonant: Vec<_> = modes.iter().filter(|m| m.frequency_hz > 0.0).collect();
                 m.insert("modes".into(), resonant.len() as f64);
                 if let Some(d) = dominant(modes) {
@@ -439,14 +452,23 @@ impl Effect {
                     .collect();
                 format!("line comb, spacing {spacing_hz:.3} Hz: {} Hz", f.join(", "))
             }
-            Self::StructuralPath { order, modes } => {
+            Self::StructuralPath {
+                order,
+                modes,
+                physics,
+            } => {
                 let list: Vec<String> = modes
                     .iter()
                     .filter(|m| m.frequency_hz > 0.0)
                     .map(|m| format!("{:.0} Hz/{:.3}", m.frequency_hz, m.damping_ratio))
                     .collect();
                 format!(
-                    "structural path, AR order {order}, modes (Hz/zeta): {}",
+                    "structural path {}, AR order {order}, modes (Hz/zeta): {}",
+                    if *physics {
+                        "of the declared fault's impacts"
+                    } else {
+                        "of the broadband excitation"
+                    },
                     list.join(", ")
                 )
             }

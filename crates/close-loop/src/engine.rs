@@ -47,6 +47,9 @@ pub(crate) struct State {
     /// The physics output is seen through the structural path instead of the model's own
     /// housing mode: its PSD is multiplied by this (metric grid), see [`Ctx::shaped`].
     pub phys_shape: Option<Arc<Vec<f64>>>,
+    /// The path the declared physics is seen through, when identified on this recording or
+    /// given by a machine model's `physics_path`.
+    pub phys_path: Option<Arc<PathPsd>>,
     /// ln of the channel gain.
     pub log_gain: f64,
     /// ln of the white floor (units²/Hz).
@@ -85,6 +88,8 @@ pub(crate) struct Ctx<'a> {
     pub s_fit_hi: Vec<f64>,
     /// Floor of the regularised log-spectral distance (units²/Hz).
     pub eps: f64,
+    /// Speed ratios judged and rejected (not simulated again).
+    pub rejected_ratios: std::sync::Mutex<Vec<f64>>,
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,
     pub cfg: &'a CheckedConfig,

@@ -86,6 +86,10 @@ pub struct MachineModel {
     pub path_level: f64,
     /// The path's modes (derived from `path`, written for people and scripts).
     pub structural_modes: Vec<PathMode>,
+    /// The path the declared physics (a fault's impacts) is seen through, when identified
+    /// separately from the broadband path (`null`: the physics is seen through `path`).
+    #[serde(default)]
+    pub physics_path: Option<StructuralPath>,
     /// White noise floor, units²/Hz (one-sided).
     pub noise_floor_psd: f64,
     /// Lines.
@@ -175,6 +179,7 @@ impl MachineModel {
                 .as_ref()
                 .map(|p| p.modes.clone())
                 .unwrap_or_default(),
+            physics_path: st.phys_path.as_ref().map(|p| p.path.clone()),
             noise_floor_psd: st.log_floor.exp(),
             lines,
             channel_modes: st.modes.clone(),

@@ -10,7 +10,7 @@ use crate::report::{
     SECONDARY_METRIC, Spectra,
 };
 use crate::spectrum::{
-    Welch, envelope, envelope_periodogram, hann_windowed, refine_peak, running_median,
+    PeakRefiner, Welch, envelope, envelope_periodogram, hann_windowed, refine_peak, running_median,
 };
 use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
 use std::sync::Arc;
@@ -123,6 +123,7 @@ pub fn close_loop_from(
         fs,
         n_fit,
         eps,
+        rejected_ratios: std::sync::Mutex::new(Vec::new()),
         s_fit,
         s_held: welch.try_psd(&y[n_fit..])?,
         s_fit_hi: welch_hi.try_psd(&y[..n_fit])?,
@@ -156,6 +157,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             lines: Vec::new(),
             path: None,
             phys_shape: None,
+            phys_path: None,
             log_gain: 0.0,
             log_floor: 0.0,
             log_bg: 0.0,
@@ -207,6 +209,12 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             if h.lsd <= held.lsd * (1.0 - c.margin) && held.lsd - h.lsd >= c.min_improvement_db {
                 accepted = Some((cand, h));
                 break;
+            }
+            if let Effect::SpeedOffset { ratio, .. } = cand.effect {
+                ctx.rejected_ratios
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .push(ratio);
             }
             rejected.push(RejectedCandidate {
                 kind: cand.effect.kind(),
@@ -370,28 +378,17 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         .path
         .as_ref()
         .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
-    // the physics output is seen through the identified path instead of its own housing mode:
-    // S_phys · |P(f)|²/|P|²_mean / |T_h(f)|², T_h the model's base-excited housing transmissibility
-    let phys_shape = match (&path, ctx.model.housing_mode()) {
-        (Some(p), Some((fh, zh))) => {
-            let g: Vec<f64> = (0..n_bins)
-                .map(|k| p.path.power_gain(k as f64 * df))
-                .collect();
-            let mean = g[ctx.bins.clone()].iter().sum::<f64>() / ctx.bins.len().max(1) as f64;
-            Some(Arc::new(
-                g.iter()
-                    .enumerate()
-                    .map(|(k, v)| {
-                        let r = k as f64 * df / fh;
-                        let num = 1.0 + (2.0 * zh * r).powi(2);
-                        let den = (1.0 - r * r).powi(2) + (2.0 * zh * r).powi(2);
-                        v / mean.max(1e-300) * den / num
-                    })
-                    .collect::<Vec<f64>>(),
-            ))
-        }
-        _ => None,
-    };
+    // the declared physics keeps its line structure (kinematics, modulation) and is seen
+    // through the structural path identified from data: the machine's physics path if it has
+    // one, else its broadband path
+    let phys_path = m
+        .physics_path
+        .as_ref()
+        .or(m.path.as_ref())
+        .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
+    let phys_shape = phys_path
+        .as_ref()
+        .map(|p| Arc::new(physics_shape(ctx, &base.psd, &p.path)));
     Ok(State {
         model: None,
         physics_lines: Vec::new(),
@@ -401,24 +398,41 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         lines,
         path,
         phys_shape,
+        phys_path: m.physics_path.as_ref().map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df))),
         log_gain: m.physics_gain.max(1e-300).ln(),
         log_floor: m.noise_floor_psd.max(1e-300).ln(),
         log_bg: m.path_level.max(1e-300).ln(),
     })
 }
 
-/// The structural path as a candidate: identified from the fitting segment's line-free PSD
-/// ([`crate::path::identify`]) when the model has none yet.
-fn path_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
-    if st.path.is_some() {
-        return None;
-    }
+/// The multiplier that puts the declared physics behind a structural path: its PSD is divided by
+/// its own smooth level (lines replaced by the local median, ±60 Hz) and multiplied by the path's
+/// power gain |1/A|², so the physics contributes its line structure (kinematic lines, sidebands)
+/// and the path its resonances. The level is free (the physics gain is calibrated).
+pub(crate) fn physics_shape(
+    ctx: &Ctx<'_>,
+    base_psd: &[f64],
+    path: &crate::path::StructuralPath,
+) -> Vec<f64> {
+    let df = ctx.welch.df();
+    let half = ((60.0 / df).round() as usize).max(3);
+    let smooth = crate::path::line_free(base_psd, half, 3.0);
+    smooth
+        .iter()
+        .enumerate()
+        .map(|(k, sm)| path.power_gain(k as f64 * df) / sm.max(1e-300))
+        .collect()
+}
+
+/// Identify a structural path from the fitting segment's line-free PSD
+/// ([`crate::path::identify`], order by the regularised LSD of the path alone).
+fn identify_path(ctx: &Ctx<'_>, st: &State) -> Option<crate::path::StructuralPath> {
     let c = ctx.cfg.get();
     let df = ctx.welch.df();
     let n_bins = ctx.welch.n_bins();
     let resid = ctx.fit_residual(st);
     let s_hi = ctx.welch_hi.try_psd(&resid).ok()?;
-    let path = crate::path::identify(
+    crate::path::identify(
         &s_hi,
         ctx.welch_hi.df(),
         ctx.fs,
@@ -429,28 +443,65 @@ fn path_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
             crate::metric::regularised_lsd(&ctx.s_fit, &m, ctx.bins.clone(), ctx.eps)
         },
     )
-    .ok()?;
+    .ok()
+}
+
+/// The structural path as a candidate, in two places: when the model has no broadband path yet,
+/// the path rung by broadband excitation; when a fault is declared and its physics is not yet
+/// behind a path identified on this recording, the path the fault's impacts ring (the physics
+/// keeps its lines, the data gives the resonances: [`physics_shape`]).
+fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
+    let n_bins = ctx.welch.n_bins();
+    let df = ctx.welch.df();
+    let want_broadband = st.path.is_none();
+    let want_physics = st.phys_path.is_none()
+        && !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty();
+    if !(want_broadband || want_physics) {
+        return Vec::new();
+    }
+    let Some(path) = identify_path(ctx, st) else {
+        return Vec::new();
+    };
     let order = path.order();
-    let mut s2 = st.clone();
-    s2.path = Some(Arc::new(PathPsd::new(path, n_bins, df)));
-    s2.log_bg = 0.0;
-    let (s2, lsd) = ctx.calibrate(s2, true);
-    let modes = s2
-        .path
-        .as_ref()
-        .map(|p| p.modes.clone())
-        .unwrap_or_default();
-    Some(Evaluated {
-        effect: Effect::StructuralPath { order, modes },
-        state: s2,
-        fit_lsd: lsd,
-    })
+    let pp = Arc::new(PathPsd::new(path, n_bins, df));
+    let mut out = Vec::new();
+    if want_broadband {
+        let mut s2 = st.clone();
+        s2.path = Some(pp.clone());
+        s2.log_bg = 0.0;
+        let (s2, lsd) = ctx.calibrate(s2, true);
+        out.push(Evaluated {
+            effect: Effect::StructuralPath {
+                order,
+                modes: pp.modes.clone(),
+                physics: false,
+            },
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    if want_physics {
+        let mut s2 = st.clone();
+        s2.phys_shape = Some(Arc::new(physics_shape(ctx, &st.base.psd, &pp.path)));
+        s2.phys_path = Some(pp.clone());
+        let (s2, lsd) = ctx.calibrate(s2, true);
+        out.push(Evaluated {
+            effect: Effect::StructuralPath {
+                order,
+                modes: pp.modes.clone(),
+                physics: true,
+            },
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    out
 }
 
 fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopError> {
     let lr = log_ratio(ctx, st);
     let mut out = Vec::new();
-    out.extend(path_candidate(ctx, st));
+    out.extend(path_candidates(ctx, st));
     out.extend(line_candidates(ctx, st, &lr));
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
@@ -462,13 +513,18 @@ fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopErro
 fn fit_line(x: &[f64], fs: f64, f: f64) -> Line {
     let w = 2.0 * std::f64::consts::PI * f / fs;
     let (mut cc, mut cs, mut ss, mut xc, mut xs) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for (i, v) in x.iter().enumerate() {
-        let (s, c) = (w * i as f64).sin_cos();
-        cc += c * c;
-        cs += c * s;
-        ss += s * s;
-        xc += v * c;
-        xs += v * s;
+    let (sw, cw) = w.sin_cos();
+    // phasor recurrence, re-anchored exactly every 256 samples
+    for (j, chunk) in x.chunks(256).enumerate() {
+        let (mut s, mut c) = (w * (256 * j) as f64).sin_cos();
+        for v in chunk {
+            cc += c * c;
+            cs += c * s;
+            ss += s * s;
+            xc += v * c;
+            xs += v * s;
+            (s, c) = (s * cw + c * sw, c * cw - s * sw);
+        }
     }
     let det = cc * ss - cs * cs;
     if det.abs() < 1e-12 {
@@ -542,6 +598,7 @@ fn line_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
         .collect();
     peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
     let xw = hann_windowed(&resid);
+    let refiner = PeakRefiner::new(&xw, ctx.fs);
     let fr = ctx.op.shaft_hz() * st.base.ratio;
     let mut out = Vec::new();
     // combs: every standing line refined once, then grouped
@@ -551,7 +608,7 @@ fn line_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
         .map(|&(i, p)| {
             let f0 = ctx.welch_hi.frequency(bins.start + i);
             (
-                refine_peak(&xw, ctx.fs, (f0 - 1.5 * dfh).max(0.5 * dfh), f0 + 1.5 * dfh),
+                refiner.refine((f0 - 1.5 * dfh).max(0.5 * dfh), f0 + 1.5 * dfh),
                 p,
             )
         })
@@ -569,7 +626,7 @@ fn line_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
     }
     for i in chosen {
         let f0 = ctx.welch_hi.frequency(bins.start + i);
-        let f = refine_peak(&xw, ctx.fs, (f0 - 1.5 * dfh).max(0.5 * dfh), f0 + 1.5 * dfh);
+        let f = refiner.refine((f0 - 1.5 * dfh).max(0.5 * dfh), f0 + 1.5 * dfh);
         let line = fit_line(&resid, ctx.fs, f);
         let effect = classify_line(line, fr, c);
         let mut s2 = st.clone();
@@ -672,7 +729,7 @@ fn line_comb_candidate(
     // comb at another speed: the speed candidate's business, not an interference comb
     let kinematic: Vec<f64> = crate::impact_orders(ctx.op.fault, &ctx.op.bearing)
         .into_iter()
-        .chain([ctx.op.bearing.ftf])
+        .chain([ctx.op.bearing.ftf, 1.0])
         .map(|o| o * fr)
         .collect();
     let is_kinematic = |d: f64| {
@@ -996,6 +1053,11 @@ const HOUSING_SEARCH: f64 = 0.08;
 /// more only if the move at the fitted frequency already lowers the fitting error; the channel
 /// mode's frequency is biased by the dip the misplaced mode leaves).
 fn housing_candidate(ctx: &Ctx<'_>, st: &State, fitted: &Mode) -> Option<Evaluated> {
+    // behind a path identified from data the model's own housing mode is divided out
+    // ([`physics_shape`]): moving it changes nothing that is seen
+    if st.phys_shape.is_some() {
+        return None;
+    }
     let model = ctx.model_of(st);
     let (fh, zh) = model.housing_mode()?;
     if fitted.gain <= 0.0 || (fitted.frequency_hz / fh - 1.0).abs() > HOUSING_MOVE_RANGE {
@@ -1108,6 +1170,16 @@ fn speed_candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLo
             continue;
         }
         let ratio = st.base.ratio * s;
+        // a ratio judged and rejected in an earlier round is not simulated again
+        if ctx
+            .rejected_ratios
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .iter()
+            .any(|r| (r / ratio - 1.0).abs() < 0.25 * c.min_speed_step)
+        {
+            continue;
+        }
         let base: Arc<Base> = ctx.make_base_with(ctx.model_of(st), ratio)?;
         let mut s2 = st.clone();
         s2.base = base;

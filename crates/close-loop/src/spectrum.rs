@@ -182,27 +182,52 @@ pub fn zoom_power(xw: &[f64], fs: f64, f: f64) -> f64 {
     acc.norm_sqr()
 }
 
-/// The frequency in `[lo, hi]` where [`zoom_power`] is largest: a grid of step `fs/(4·len)`
-/// (a quarter of the DFT bin, finer than the Hann main lobe) then golden-section refinement.
+/// The frequency in `[lo, hi]` where [`zoom_power`] is largest (one-off use of [`PeakRefiner`]).
 pub fn refine_peak(xw: &[f64], fs: f64, lo: f64, hi: f64) -> f64 {
-    let step = fs / (4.0 * xw.len().max(1) as f64);
-    let n_grid = (((hi - lo) / step).ceil() as usize).clamp(2, 4000);
-    let step = (hi - lo) / n_grid as f64;
-    let mut best = (lo, f64::NEG_INFINITY);
-    for i in 0..=n_grid {
-        let f = lo + step * i as f64;
-        let p = zoom_power(xw, fs, f);
-        if p > best.1 {
-            best = (f, p);
+    PeakRefiner::new(xw, fs).refine(lo, hi)
+}
+
+/// Refines many peaks of one signal: a zero-padded (×4) FFT of the windowed signal computed
+/// once locates each peak on a grid of a quarter of the full-length bin, then a golden-section
+/// search of the zoom DFT ([`zoom_power`]) within ± one grid step places it (to ~1e-4 bin).
+pub struct PeakRefiner<'a> {
+    xw: &'a [f64],
+    fs: f64,
+    power: Vec<f64>,
+    df: f64,
+}
+
+impl<'a> PeakRefiner<'a> {
+    /// Transform `xw` (already windowed) once.
+    pub fn new(xw: &'a [f64], fs: f64) -> Self {
+        let n = (4 * xw.len().max(1)).next_power_of_two();
+        let mut buf: Vec<Complex<f64>> = xw.iter().map(|&v| Complex::new(v, 0.0)).collect();
+        buf.resize(n, Complex::new(0.0, 0.0));
+        rustfft::FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+        let power = buf[..n / 2 + 1].iter().map(|c| c.norm_sqr()).collect();
+        Self {
+            xw,
+            fs,
+            power,
+            df: fs / n as f64,
         }
     }
-    let (f, _) = crate::optimize::golden_max(
-        |f| zoom_power(xw, fs, f),
-        (best.0 - step).max(lo),
-        (best.0 + step).min(hi),
-        30,
-    );
-    f
+
+    /// The frequency of the largest peak in `[lo, hi]`, Hz.
+    pub fn refine(&self, lo: f64, hi: f64) -> f64 {
+        let last = self.power.len() - 1;
+        let k0 = ((lo.max(0.0) / self.df).floor() as usize).min(last);
+        let k1 = ((hi.max(lo) / self.df).ceil() as usize).clamp(k0, last);
+        let kmax = (k0..=k1)
+            .max_by(|&a, &b| self.power[a].total_cmp(&self.power[b]))
+            .unwrap_or(k0);
+        let f = kmax as f64 * self.df;
+        let (a, b) = ((f - self.df).max(lo), (f + self.df).min(hi));
+        if b <= a {
+            return f.clamp(lo, hi);
+        }
+        crate::optimize::golden_max(|f| zoom_power(self.xw, self.fs, f), a, b, 16).0
+    }
 }
 
 /// Digital second-order band-pass with unit peak gain (RBJ cookbook "constant 0 dB peak"),
