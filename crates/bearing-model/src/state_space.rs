@@ -98,6 +98,20 @@ pub struct BallFrame {
     hy: f64,
 }
 
+impl Default for BallFrame {
+    /// No balls (fill with [`BearingModel::frame_into`]).
+    fn default() -> Self {
+        Self {
+            n: 0,
+            c: [0.0; MAX_BALLS],
+            s: [0.0; MAX_BALLS],
+            gap: [0.0; MAX_BALLS],
+            hx: 0.0,
+            hy: 0.0,
+        }
+    }
+}
+
 /// The 5-DOF bearing model with its (possibly perturbed) parameters, faults and slip.
 ///
 /// Build once with [`BearingModel::new`]; every evaluation afterwards is allocation-free.
@@ -128,6 +142,8 @@ pub struct BearingModel {
     n_balls: usize,
     /// cos/sin of 2πj/n.
     ball_offsets: Vec<(f64, f64)>,
+    /// 2πj/n.
+    ball_nominal: Vec<f64>,
     /// Slip table: per ball, SLIP_REVS entries of (ε, cos(α_j+ε), sin(α_j+ε)).
     slip: Option<Vec<(f64, f64, f64)>>,
     slip_switch: f64,
@@ -241,6 +257,7 @@ impl BearingModel {
             theta0: spec.cage_angle0_rad,
             n_balls: n,
             ball_offsets,
+            ball_nominal: (0..n).map(|j| TAU * j as f64 / n as f64).collect(),
             slip,
             slip_switch,
             inner,
@@ -286,19 +303,19 @@ impl BearingModel {
     fn for_each_ball(&self, t: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
         let th = self.cage_angle(t);
         let (s0, c0) = th.sin_cos();
-        let n = self.n_balls as f64;
         match &self.slip {
             None => {
-                for (j, &(ca, sa)) in self.ball_offsets.iter().enumerate() {
+                for (j, (&(ca, sa), &a)) in
+                    self.ball_offsets.iter().zip(&self.ball_nominal).enumerate()
+                {
                     let c = c0 * ca - s0 * sa;
                     let s = s0 * ca + c0 * sa;
-                    f(j, c, s, TAU * j as f64 / n);
+                    f(j, c, s, a);
                 }
             }
             Some(tab) => {
-                for j in 0..self.n_balls {
-                    let a = TAU * j as f64 / n;
-                    let rev = ((th + a - self.slip_switch) * (1.0 / TAU)).floor() as i64;
+                for (j, &a) in self.ball_nominal.iter().enumerate() {
+                    let rev = floor_i64((th + a - self.slip_switch) * (1.0 / TAU));
                     let k = (rev & (SLIP_REVS as i64 - 1)) as usize;
                     let (e, ca, sa) = tab[j * SLIP_REVS + k];
                     let c = c0 * ca - s0 * sa;
@@ -364,33 +381,69 @@ impl BearingModel {
     /// The time-only part of the model at `t` (ball directions, gaps, harmonic force).
     #[inline]
     pub fn frame(&self, t: f64) -> BallFrame {
-        let mut f = BallFrame {
-            n: self.n_balls,
-            c: [0.0; MAX_BALLS],
-            s: [0.0; MAX_BALLS],
-            gap: [self.clearance; MAX_BALLS],
-            hx: 0.0,
-            hy: 0.0,
-        };
-        let faults = self.has_faults();
-        let ph = if faults {
-            self.fault_phases(t)
-        } else {
-            [f64::NAN; 3]
-        };
+        let mut f = BallFrame::default();
+        self.frame_into(t, &mut f);
+        f
+    }
+
+    /// [`Self::frame`] written into `f` (no 0.8 kB copy; only the first `n_balls` entries
+    /// are touched). Bit-identical to [`Self::frame`].
+    #[inline]
+    pub fn frame_into(&self, t: f64, f: &mut BallFrame) {
+        f.n = self.n_balls;
+        f.hx = 0.0;
+        f.hy = 0.0;
+        let clearance = self.clearance;
+        let mut offs = [0.0; MAX_BALLS];
         self.for_each_ball(t, |j, c, s, a| {
             f.c[j] = c;
             f.s[j] = s;
-            if faults {
-                f.gap[j] += self.spall_drop(&ph, j, a);
-            }
+            f.gap[j] = clearance;
+            offs[j] = a;
         });
+        if self.has_faults() {
+            // Only balls that can be inside a spall get a drop; every other ball's drop is
+            // exactly 0 (see `spall_candidates`), so the gaps are the same as summing over all.
+            let ph = self.fault_phases(t);
+            let mut mask = self.spall_candidates(&ph);
+            while mask != 0 {
+                let j = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                f.gap[j] = clearance + self.spall_drop(&ph, j, offs[j]);
+            }
+        }
         for h in &self.harmonics {
             let (sn, cs) = (h.order as f64 * self.omega_s * t + h.phase_rad).sin_cos();
             f.hx += h.amplitude_n * cs;
             f.hy += h.amplitude_n * sn;
         }
-        f
+    }
+
+    /// Bit set of the balls that can touch a spall at the phases `ph`. Ball `j` is in a race
+    /// spall iff `wrap(ph + a_j) < Δφ` with `a_j = j·2π/n + ε_j`, `|ε_j| ≤ 0.1·2π/n` (slip is at
+    /// most 10 % of the spacing) and `Δφ < 2π/n` (validated), i.e. `j ∈ [q − 0.1, q + 1.1)`
+    /// with `q = (2π − ph)·n/2π`: the candidates `⌊q⌋ − 1 ..= ⌊q⌋ + 2` (mod n) cover it with a
+    /// margin. A ball spall is on ball 0.
+    #[inline(always)]
+    fn spall_candidates(&self, ph: &[f64; 3]) -> u32 {
+        let n = self.n_balls as i64;
+        let per = self.n_balls as f64 * (1.0 / TAU);
+        let mut mask = 0u32;
+        for (k, present) in [self.outer.is_some(), self.inner.is_some()]
+            .into_iter()
+            .enumerate()
+        {
+            if present && !ph[k].is_nan() {
+                let jf = floor_i64((TAU - ph[k]) * per);
+                for d in -1..=2 {
+                    mask |= 1 << (jf + d).rem_euclid(n);
+                }
+            }
+        }
+        if self.ball.is_some() {
+            mask |= 1;
+        }
+        mask
     }
 
     #[inline(always)]
@@ -691,6 +744,14 @@ impl BearingModel {
     }
 }
 
+/// `⌊x⌋` for `|x| < 2⁶³`, bit-identical to `f64::floor` there, without the libm call that
+/// baseline x86-64 (no SSE4.1 `roundsd`) makes for `floor`: one truncating conversion.
+#[inline(always)]
+fn floor_i64(x: f64) -> i64 {
+    let i = x as i64;
+    if (i as f64) > x { i - 1 } else { i }
+}
+
 /// Wrap an angle known to lie in `(−2π, 4π)` into `[0, 2π)` without a division.
 #[inline(always)]
 fn wrap_fast(x: f64) -> f64 {
@@ -707,12 +768,91 @@ fn wrap_fast(x: f64) -> f64 {
 /// Wrap any finite angle into `[0, 2π)`.
 #[inline(always)]
 fn wrap(x: f64) -> f64 {
-    let y = x - TAU * (x * (1.0 / TAU)).floor();
+    let y = x - TAU * floor_i64(x * (1.0 / TAU)) as f64;
     if y >= TAU {
         y - TAU
     } else if y < 0.0 {
         0.0
     } else {
         y
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{FaultClass, Scenario, Slip};
+
+    /// The frame as first written: every ball's spall drop summed, no candidate filter.
+    fn frame_all_balls(m: &BearingModel, t: f64) -> BallFrame {
+        let mut f = BallFrame {
+            n: m.n_balls,
+            gap: [m.clearance; MAX_BALLS],
+            ..BallFrame::default()
+        };
+        let ph = m.fault_phases(t);
+        m.for_each_ball(t, |j, c, s, a| {
+            f.c[j] = c;
+            f.s[j] = s;
+            f.gap[j] += m.spall_drop(&ph, j, a);
+        });
+        f
+    }
+
+    #[test]
+    fn candidate_filter_gives_bit_identical_gaps() {
+        for (class, size_in, slip) in [
+            (FaultClass::InnerOuterBall, 0.021, 0.1),
+            (FaultClass::InnerOuter, 0.007, 0.01),
+            (FaultClass::Outer, 0.014, 0.0),
+        ] {
+            let mut sc = Scenario::cwru(class, size_in, 1797.0).unwrap();
+            sc.spec.slip = if slip > 0.0 {
+                Slip::Random { fraction: slip }
+            } else {
+                Slip::Off
+            };
+            let m = sc.model().unwrap();
+            let mut f = BallFrame::default();
+            let mut in_spall = 0;
+            for i in 0..200_000 {
+                let t = -0.05 + i as f64 * 1.37e-6;
+                m.frame_into(t, &mut f);
+                let g = frame_all_balls(&m, t);
+                for j in 0..m.n_balls {
+                    assert_eq!(
+                        f.gap[j].to_bits(),
+                        g.gap[j].to_bits(),
+                        "{class} t {t} ball {j}"
+                    );
+                    assert_eq!(f.c[j].to_bits(), g.c[j].to_bits());
+                    assert_eq!(f.s[j].to_bits(), g.s[j].to_bits());
+                    in_spall += usize::from(g.gap[j] != m.clearance);
+                }
+            }
+            assert!(
+                in_spall > 1000,
+                "{class}: the test crosses spalls ({in_spall})"
+            );
+        }
+    }
+
+    #[test]
+    fn fast_floor_matches_floor() {
+        for x in [
+            -3.5,
+            -3.0,
+            -1e-300,
+            -0.0,
+            0.0,
+            1e-300,
+            0.5,
+            1.0,
+            2.999_999_999,
+            1e15 + 0.5,
+            -1e15 - 0.5,
+        ] {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x}");
+        }
     }
 }

@@ -1,0 +1,56 @@
+//! Simulated seconds per wall-clock second and per CPU second of `simulate`, one core.
+//!
+//! `cargo run --release -j 1 -p bearing-model --example sim_speed -- [default|reference] [seconds]`
+//!
+//! CWRU 6205, 0.007 in spalls, 1797 rpm, 1 % slip; healthy, outer, inner+outer+ball at 12 and
+//! 48 kHz. Simulated time counts the recorded duration plus the 50 ms settling. CPU time is
+//! this thread's on-CPU time from `/proc/thread-self/schedstat` (ns), so it is not inflated by
+//! other processes on a loaded machine the way wall time is.
+
+use bearing_model::{FaultClass, Scenario, SimConfig, Slip};
+use std::time::Instant;
+
+fn cpu_ns() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let which = args.get(1).map(String::as_str).unwrap_or("default");
+    let dur: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
+    for fs in [12_000.0, 48_000.0] {
+        for class in [
+            FaultClass::None,
+            FaultClass::Outer,
+            FaultClass::InnerOuterBall,
+        ] {
+            let mut sc = Scenario::cwru(class, 0.007, 1797.0)
+                .expect("valid scenario")
+                .with_slip(Slip::Random { fraction: 0.01 })
+                .with_fs(fs)
+                .with_duration(dur);
+            if which == "reference" {
+                sc.sim = SimConfig::reference(fs, dur);
+            }
+            let sim_s = dur + sc.sim.settle_s;
+            let c0 = cpu_ns();
+            let w0 = Instant::now();
+            let rec = sc.simulate().expect("simulates");
+            let wall = w0.elapsed().as_secs_f64();
+            let cpu = match (c0, cpu_ns()) {
+                (Some(a), Some(b)) => (b - a) as f64 * 1e-9,
+                _ => f64::NAN,
+            };
+            println!(
+                "{which:9} {:>2} kHz {:16}: {:6.1} sim s/wall s, {:6.1} sim s/CPU s ({} steps, mean {:.2} µs)",
+                fs / 1000.0,
+                class.name(),
+                sim_s / wall,
+                sim_s / cpu,
+                rec.steps,
+                sim_s / rec.steps as f64 * 1e6
+            );
+        }
+    }
+}
