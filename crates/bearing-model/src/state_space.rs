@@ -81,18 +81,32 @@ pub struct LinearParts {
 
 const SLIP_REVS: usize = 1024;
 
+/// Source of [`BearingModel`] ids (0 is "no model").
+static NEXT_MODEL_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
 /// Largest number of balls the model supports (fixed-size per-ball buffers).
 pub const MAX_BALLS: usize = 32;
 
 /// Everything about the balls that depends on time only (not on the state): their directions
-/// `(cos θ_j, sin θ_j)`, their gaps (clearance + spall drop), and the shaft-harmonic force.
-/// Computing it once per time instant lets RK4 share it between the two mid-step stages and
-/// between the end of one step and the start of the next.
+/// (the cage angle `θ_c` and each ball's offset `a_j` in the cage), their gaps (clearance +
+/// spall drop), and the shaft-harmonic force. Computing it once per time instant lets RK4
+/// share it between the two mid-step stages and between the end of one step and the start of
+/// the next. Refilling a frame with [`BearingModel::frame_into`] reuses the ball offsets when
+/// no ball's slip draw changed since the last fill by the same model.
 #[derive(Debug, Clone, Copy)]
 pub struct BallFrame {
     n: usize,
-    c: [f64; MAX_BALLS],
-    s: [f64; MAX_BALLS],
+    /// Which model filled `ca`, `sa`, `off` ([`BearingModel`]'s id, 0 = none) and for which
+    /// slip state (ball 0's revolution count, first ball one revolution ahead).
+    cache: (u64, i64, usize),
+    /// a_j = 2πj/n + slip.
+    off: [f64; MAX_BALLS],
+    /// cos θ_c, sin θ_c (cage angle of ball 0 without slip).
+    c0: f64,
+    s0: f64,
+    /// Ball directions in the cage frame: cos a_j, sin a_j (a_j = 2πj/n + slip).
+    ca: [f64; MAX_BALLS],
+    sa: [f64; MAX_BALLS],
     gap: [f64; MAX_BALLS],
     hx: f64,
     hy: f64,
@@ -103,8 +117,12 @@ impl Default for BallFrame {
     fn default() -> Self {
         Self {
             n: 0,
-            c: [0.0; MAX_BALLS],
-            s: [0.0; MAX_BALLS],
+            cache: (0, 0, 0),
+            off: [0.0; MAX_BALLS],
+            c0: 1.0,
+            s0: 0.0,
+            ca: [0.0; MAX_BALLS],
+            sa: [0.0; MAX_BALLS],
             gap: [0.0; MAX_BALLS],
             hx: 0.0,
             hy: 0.0,
@@ -144,9 +162,13 @@ pub struct BearingModel {
     ball_offsets: Vec<(f64, f64)>,
     /// 2πj/n.
     ball_nominal: Vec<f64>,
+    /// 1 − j/n: ball j's slip revolution count is one more than ball 0's past this fraction.
+    slip_threshold: Vec<f64>,
     /// Slip table: per ball, SLIP_REVS entries of (ε, cos(α_j+ε), sin(α_j+ε)).
     slip: Option<Vec<(f64, f64, f64)>>,
     slip_switch: f64,
+    /// Unique per [`BearingModel::new`] (clones share it: same tables), for [`BallFrame`]'s cache.
+    id: u64,
     inner: Option<SpallProfile>,
     outer: Option<SpallProfile>,
     ball: Option<(SpallProfile, SpallProfile)>,
@@ -258,8 +280,10 @@ impl BearingModel {
             n_balls: n,
             ball_offsets,
             ball_nominal: (0..n).map(|j| TAU * j as f64 / n as f64).collect(),
+            slip_threshold: (0..n).map(|j| 1.0 - j as f64 / n as f64).collect(),
             slip,
             slip_switch,
+            id: NEXT_MODEL_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             inner,
             outer,
             ball,
@@ -303,24 +327,59 @@ impl BearingModel {
     fn for_each_ball(&self, t: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
         let th = self.cage_angle(t);
         let (s0, c0) = th.sin_cos();
+        self.for_each_ball_in_cage(th, |j, ca, sa, a| {
+            f(j, c0 * ca - s0 * sa, s0 * ca + c0 * sa, a)
+        });
+    }
+
+    /// What the slip offsets of all balls depend on at cage angle `th`: ball 0's revolution
+    /// count `⌊b⌋` and the first ball `j*` whose count is one more (`frac(b) ≥ 1 − j/n` for
+    /// `j ≥ j*`, see [`Self::for_each_ball_in_cage`]). `(0, 0)` without slip.
+    #[inline(always)]
+    fn slip_state(&self, th: f64) -> (i64, usize) {
+        if self.slip.is_none() {
+            return (0, 0);
+        }
+        let b = (th - self.slip_switch) * (1.0 / TAU);
+        let r0 = floor_i64(b);
+        let fr = b - r0 as f64;
+        let first = self
+            .slip_threshold
+            .iter()
+            .take_while(|&&thr| fr < thr)
+            .count();
+        (r0, first)
+    }
+
+    /// Visit every ball in the cage frame (rotated by `−θ_c`): `(j, cos a_j, sin a_j, a_j)`.
+    ///
+    /// Slip: ball `j`'s offset is redrawn when `θ_c + 2πj/n` crosses `slip_switch` (mod 2π),
+    /// i.e. its revolution count is `⌊b + j/n⌋ = ⌊b⌋ + [frac(b) ≥ 1 − j/n]` with
+    /// `b = (θ_c − slip_switch)/2π`: one floor per evaluation instead of one per ball.
+    #[inline(always)]
+    fn for_each_ball_in_cage(&self, th: f64, mut f: impl FnMut(usize, f64, f64, f64)) {
         match &self.slip {
             None => {
                 for (j, (&(ca, sa), &a)) in
                     self.ball_offsets.iter().zip(&self.ball_nominal).enumerate()
                 {
-                    let c = c0 * ca - s0 * sa;
-                    let s = s0 * ca + c0 * sa;
-                    f(j, c, s, a);
+                    f(j, ca, sa, a);
                 }
             }
             Some(tab) => {
-                for (j, &a) in self.ball_nominal.iter().enumerate() {
-                    let rev = floor_i64((th + a - self.slip_switch) * (1.0 / TAU));
+                let b = (th - self.slip_switch) * (1.0 / TAU);
+                let r0 = floor_i64(b);
+                let fr = b - r0 as f64;
+                for (j, (&a, &thr)) in self
+                    .ball_nominal
+                    .iter()
+                    .zip(&self.slip_threshold)
+                    .enumerate()
+                {
+                    let rev = r0 + i64::from(fr >= thr);
                     let k = (rev & (SLIP_REVS as i64 - 1)) as usize;
                     let (e, ca, sa) = tab[j * SLIP_REVS + k];
-                    let c = c0 * ca - s0 * sa;
-                    let s = s0 * ca + c0 * sa;
-                    f(j, c, s, a + e);
+                    f(j, ca, sa, a + e);
                 }
             }
         }
@@ -390,26 +449,53 @@ impl BearingModel {
     /// are touched). Bit-identical to [`Self::frame`].
     #[inline]
     pub fn frame_into(&self, t: f64, f: &mut BallFrame) {
-        f.n = self.n_balls;
         f.hx = 0.0;
         f.hy = 0.0;
         let clearance = self.clearance;
-        let mut offs = [0.0; MAX_BALLS];
-        self.for_each_ball(t, |j, c, s, a| {
-            f.c[j] = c;
-            f.s[j] = s;
-            f.gap[j] = clearance;
-            offs[j] = a;
-        });
+        let th = self.cage_angle(t);
+        (f.s0, f.c0) = th.sin_cos();
+        let key = (self.id, self.slip_state(th));
+        if f.n != self.n_balls || (f.cache.0, (f.cache.1, f.cache.2)) != key {
+            self.for_each_ball_in_cage(th, |j, ca, sa, a| {
+                f.ca[j] = ca;
+                f.sa[j] = sa;
+                f.off[j] = a;
+            });
+            f.n = self.n_balls;
+            f.cache = (key.0, key.1.0, key.1.1);
+        }
+        f.gap[..self.n_balls].fill(clearance);
+        let offs = &f.off;
         if self.has_faults() {
-            // Only balls that can be inside a spall get a drop; every other ball's drop is
-            // exactly 0 (see `spall_candidates`), so the gaps are the same as summing over all.
+            // Each spall's drop is added only to the balls that can be inside it; every other
+            // ball's drop is exactly 0 (see `spall_candidates`), so the gaps are bit-identical
+            // to summing every spall over every ball (unit test).
             let ph = self.fault_phases(t);
-            let mut mask = self.spall_candidates(&ph);
-            while mask != 0 {
-                let j = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                f.gap[j] = clearance + self.spall_drop(&ph, j, offs[j]);
+            let mut drop = [0.0; MAX_BALLS];
+            let mut touched = 0u32;
+            for (k, p) in [(0, &self.outer), (1, &self.inner)] {
+                if let Some(p) = p {
+                    if !ph[k].is_nan() {
+                        let mut mask = self.spall_candidates(ph[k]);
+                        touched |= mask;
+                        while mask != 0 {
+                            let j = mask.trailing_zeros() as usize;
+                            mask &= mask - 1;
+                            drop[j] += p.drop(wrap_fast(ph[k] + offs[j]));
+                        }
+                    }
+                }
+            }
+            if let Some((po, pi)) = &self.ball {
+                if !ph[2].is_nan() {
+                    drop[0] += po.drop(ph[2]) + pi.drop(wrap_fast(ph[2] + PI));
+                    touched |= 1;
+                }
+            }
+            while touched != 0 {
+                let j = touched.trailing_zeros() as usize;
+                touched &= touched - 1;
+                f.gap[j] = clearance + drop[j];
             }
         }
         for h in &self.harmonics {
@@ -419,29 +505,26 @@ impl BearingModel {
         }
     }
 
-    /// Bit set of the balls that can touch a spall at the phases `ph`. Ball `j` is in a race
-    /// spall iff `wrap(ph + a_j) < Δφ` with `a_j = j·2π/n + ε_j`, `|ε_j| ≤ 0.1·2π/n` (slip is at
-    /// most 10 % of the spacing) and `Δφ < 2π/n` (validated), i.e. `j ∈ [q − 0.1, q + 1.1)`
-    /// with `q = (2π − ph)·n/2π`: the candidates `⌊q⌋ − 1 ..= ⌊q⌋ + 2` (mod n) cover it with a
-    /// margin. A ball spall is on ball 0.
+    /// Bit set of the balls that can be inside a race spall at phase `ph ∈ [0, 2π)` (from
+    /// [`Self::fault_phases`]). Ball `j` is inside iff `wrap(ph + a_j) < Δφ` with
+    /// `a_j = j·2π/n + ε_j`, `|ε_j| ≤ 0.1·2π/n` (slip is at most 10 % of the spacing) and
+    /// `Δφ < 2π/n` (validated), i.e. `j ∈ [q − 0.1, q + 1.1)` (mod n) with
+    /// `q = (2π − ph)·n/2π`: the candidates `⌊q⌋ − 1 ..= ⌊q⌋ + 2` cover it with a margin.
     #[inline(always)]
-    fn spall_candidates(&self, ph: &[f64; 3]) -> u32 {
+    fn spall_candidates(&self, ph: f64) -> u32 {
         let n = self.n_balls as i64;
-        let per = self.n_balls as f64 * (1.0 / TAU);
-        let mut mask = 0u32;
-        for (k, present) in [self.outer.is_some(), self.inner.is_some()]
-            .into_iter()
-            .enumerate()
-        {
-            if present && !ph[k].is_nan() {
-                let jf = floor_i64((TAU - ph[k]) * per);
-                for d in -1..=2 {
-                    mask |= 1 << (jf + d).rem_euclid(n);
-                }
-            }
+        let jf = floor_i64((TAU - ph) * (self.n_balls as f64 * (1.0 / TAU))).clamp(0, n);
+        let mut j = jf - 1;
+        if j < 0 {
+            j += n;
         }
-        if self.ball.is_some() {
-            mask |= 1;
+        let mut mask = 0u32;
+        for _ in 0..4 {
+            mask |= 1 << j;
+            j += 1;
+            if j >= n {
+                j -= n;
+            }
         }
         mask
     }
@@ -450,17 +533,22 @@ impl BearingModel {
     fn contact_force_frame(&self, f: &BallFrame, x: &State) -> (f64, f64) {
         let ex = x[idx::XS] - x[idx::XP];
         let ey = x[idx::YS] - x[idx::YP];
-        let (mut fx, mut fy) = (0.0, 0.0);
+        // In the cage frame: δ_j = e·n_j − gap_j = (R(−θ_c) e)·(cos a_j, sin a_j) − gap_j and
+        // F = R(θ_c) Σ Q_j (cos a_j, sin a_j).
+        let (c0, s0) = (f.c0, f.s0);
+        let eu = ex * c0 + ey * s0;
+        let ev = ey * c0 - ex * s0;
+        let (mut fu, mut fv) = (0.0, 0.0);
         for j in 0..f.n {
-            let (c, s) = (f.c[j], f.s[j]);
-            let d = ex * c + ey * s - f.gap[j];
+            let (ca, sa) = (f.ca[j], f.sa[j]);
+            let d = eu * ca + ev * sa - f.gap[j];
             if d > 0.0 {
                 let q = self.kb * d * d.sqrt();
-                fx += q * c;
-                fy += q * s;
+                fu += q * ca;
+                fv += q * sa;
             }
         }
-        (fx, fy)
+        (c0 * fu - s0 * fv, s0 * fu + c0 * fv)
     }
 
     /// Contact force on the pedestal `(F_x, F_y)` (eq. 2.9); the shaft gets the opposite.
@@ -783,24 +871,18 @@ mod tests {
     use super::*;
     use crate::{FaultClass, Scenario, Slip};
 
-    /// The frame as first written: every ball's spall drop summed, no candidate filter.
-    fn frame_all_balls(m: &BearingModel, t: f64) -> BallFrame {
-        let mut f = BallFrame {
-            n: m.n_balls,
-            gap: [m.clearance; MAX_BALLS],
-            ..BallFrame::default()
-        };
+    /// The frame as first written: every spall summed over every ball, no candidate filter.
+    fn gaps_all_balls(m: &BearingModel, t: f64) -> [f64; MAX_BALLS] {
+        let mut gap = [m.clearance; MAX_BALLS];
         let ph = m.fault_phases(t);
-        m.for_each_ball(t, |j, c, s, a| {
-            f.c[j] = c;
-            f.s[j] = s;
-            f.gap[j] += m.spall_drop(&ph, j, a);
+        m.for_each_ball(t, |j, _, _, a| {
+            gap[j] += m.spall_drop(&ph, j, a);
         });
-        f
+        gap
     }
 
     #[test]
-    fn candidate_filter_gives_bit_identical_gaps() {
+    fn candidate_filter_gives_bit_identical_gaps_and_cage_frame_the_same_directions() {
         for (class, size_in, slip) in [
             (FaultClass::InnerOuterBall, 0.021, 0.1),
             (FaultClass::InnerOuter, 0.007, 0.01),
@@ -818,22 +900,46 @@ mod tests {
             for i in 0..200_000 {
                 let t = -0.05 + i as f64 * 1.37e-6;
                 m.frame_into(t, &mut f);
-                let g = frame_all_balls(&m, t);
+                let g = gaps_all_balls(&m, t);
+                let mut dirs = [(0.0, 0.0); MAX_BALLS];
+                m.for_each_ball(t, |j, c, s, _| dirs[j] = (c, s));
                 for j in 0..m.n_balls {
+                    assert_eq!(f.gap[j].to_bits(), g[j].to_bits(), "{class} t {t} ball {j}");
+                    let c = f.c0 * f.ca[j] - f.s0 * f.sa[j];
+                    let s = f.s0 * f.ca[j] + f.c0 * f.sa[j];
                     assert_eq!(
-                        f.gap[j].to_bits(),
-                        g.gap[j].to_bits(),
-                        "{class} t {t} ball {j}"
+                        (c.to_bits(), s.to_bits()),
+                        (dirs[j].0.to_bits(), dirs[j].1.to_bits())
                     );
-                    assert_eq!(f.c[j].to_bits(), g.c[j].to_bits());
-                    assert_eq!(f.s[j].to_bits(), g.s[j].to_bits());
-                    in_spall += usize::from(g.gap[j] != m.clearance);
+                    in_spall += usize::from(g[j] != m.clearance);
                 }
             }
             assert!(
                 in_spall > 1000,
                 "{class}: the test crosses spalls ({in_spall})"
             );
+        }
+    }
+
+    #[test]
+    fn slip_revolution_count_is_the_per_ball_floor() {
+        let sc = Scenario::cwru(FaultClass::None, 0.007, 1797.0).unwrap();
+        let m = sc.model().unwrap();
+        let n = m.n_balls as f64;
+        for i in 0..100_000 {
+            let th = -3.0 + i as f64 * 1.1e-3;
+            let mut got = [0.0; MAX_BALLS];
+            m.for_each_ball_in_cage(th, |j, _, _, a| got[j] = a);
+            let tab = m.slip.as_ref().unwrap();
+            for j in 0..m.n_balls {
+                let a = TAU * j as f64 / n;
+                let x = (th + a - m.slip_switch) / TAU;
+                // away from the switching instant (within rounding) both counts agree
+                if (x - x.round()).abs() > 1e-12 {
+                    let k = (x.floor() as i64 & (SLIP_REVS as i64 - 1)) as usize;
+                    assert_eq!(got[j], a + tab[j * SLIP_REVS + k].0, "th {th} ball {j}");
+                }
+            }
         }
     }
 
