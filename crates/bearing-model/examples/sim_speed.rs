@@ -1,6 +1,6 @@
 //! Simulated seconds per wall-clock second and per CPU second of `simulate`, one core.
 //!
-//! `cargo run --release -j 1 -p bearing-model --example sim_speed -- [default|reference] [seconds]`
+//! `cargo run --release -j 1 -p bearing-model --example sim_speed -- [default|reference] [seconds] [class]`
 //!
 //! CWRU 6205, 0.007 in spalls, 1797 rpm, 1 % slip; healthy, outer, inner+outer+ball at 12 and
 //! 48 kHz. Simulated time counts the recorded duration plus the 50 ms settling. CPU time is
@@ -20,12 +20,16 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let which = args.get(1).map(String::as_str).unwrap_or("default");
     let dur: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
+    let only = args.get(3).map(String::as_str);
     for fs in [12_000.0, 48_000.0] {
         for class in [
             FaultClass::None,
             FaultClass::Outer,
             FaultClass::InnerOuterBall,
         ] {
+            if only.is_some_and(|o| o != class.name()) {
+                continue;
+            }
             let mut sc = Scenario::cwru(class, 0.007, 1797.0)
                 .expect("valid scenario")
                 .with_slip(Slip::Random { fraction: 0.01 })
