@@ -837,11 +837,12 @@ impl BearingModel {
 /// reduction by π/2 in two 33-bit parts (exact products for |x| < 2²⁰·π/2) and fdlibm's
 /// kernels on [−π/4, π/4], tail of the reduced argument included. libm for |x| ≥ 10⁵ rad.
 #[inline]
+#[allow(clippy::excessive_precision)] // fdlibm's constants, as published
 fn sin_cos(x: f64) -> (f64, f64) {
-    if !(x.abs() < 1e5) {
+    if x.is_nan() || x.abs() >= 1e5 {
         return x.sin_cos();
     }
-    const INV_PIO2: f64 = 6.366_197_723_675_813_824_33e-1;
+    const INV_PIO2: f64 = std::f64::consts::FRAC_2_PI;
     const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
     const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
     const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
