@@ -167,6 +167,8 @@ pub struct BearingModel {
     /// Slip table: per ball, SLIP_REVS entries of (ε, cos(α_j+ε), sin(α_j+ε)).
     slip: Option<Vec<(f64, f64, f64)>>,
     slip_switch: f64,
+    /// Slip amplitude as a fraction of the ball spacing (0 without slip).
+    slip_fraction: f64,
     /// Unique per [`BearingModel::new`] (clones share it: same tables), for [`BallFrame`]'s cache.
     id: u64,
     inner: Option<SpallProfile>,
@@ -283,6 +285,10 @@ impl BearingModel {
             slip_threshold: (0..n).map(|j| 1.0 - j as f64 / n as f64).collect(),
             slip,
             slip_switch,
+            slip_fraction: match spec.slip {
+                Slip::Off => 0.0,
+                Slip::Random { fraction } => fraction,
+            },
             id: NEXT_MODEL_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             inner,
             outer,
@@ -476,7 +482,7 @@ impl BearingModel {
             for (k, p) in [(0, &self.outer), (1, &self.inner)] {
                 if let Some(p) = p {
                     if !ph[k].is_nan() {
-                        let mut mask = self.spall_candidates(ph[k]);
+                        let mut mask = self.spall_candidates(ph[k], p.width_rad);
                         touched |= mask;
                         while mask != 0 {
                             let j = mask.trailing_zeros() as usize;
@@ -505,25 +511,35 @@ impl BearingModel {
         }
     }
 
-    /// Bit set of the balls that can be inside a race spall at phase `ph ∈ [0, 2π)` (from
-    /// [`Self::fault_phases`]). Ball `j` is inside iff `wrap(ph + a_j) < Δφ` with
-    /// `a_j = j·2π/n + ε_j`, `|ε_j| ≤ 0.1·2π/n` (slip is at most 10 % of the spacing) and
-    /// `Δφ < 2π/n` (validated), i.e. `j ∈ [q − 0.1, q + 1.1)` (mod n) with
-    /// `q = (2π − ph)·n/2π`: the candidates `⌊q⌋ − 1 ..= ⌊q⌋ + 2` cover it with a margin.
+    /// Bit set of the balls that can be inside a race spall of angular width `width` at phase
+    /// `ph ∈ [0, 2π)` (from [`Self::fault_phases`]). Ball `j` is inside iff
+    /// `wrap(ph + a_j) < width` with `a_j = j·s + ε_j`, `s = 2π/n`, `|ε_j| ≤ f·s` (`f` the slip
+    /// fraction, 0 without slip) and `width < s` (validated), i.e. (mod n)
+    /// `j ∈ [q − f, q + width/s + f)` with `q = (2π − ph)/s`. The candidates
+    /// `⌊q − f − 10⁻⁹⌋ ..= ⌊q + width/s + f + 10⁻⁹⌋` cover it (the 10⁻⁹ spacing absorbs
+    /// rounding): usually one or two balls.
     #[inline(always)]
-    fn spall_candidates(&self, ph: f64) -> u32 {
+    fn spall_candidates(&self, ph: f64, width: f64) -> u32 {
+        const MARGIN: f64 = 1e-9;
         let n = self.n_balls as i64;
-        let jf = floor_i64((TAU - ph) * (self.n_balls as f64 * (1.0 / TAU))).clamp(0, n);
-        let mut j = jf - 1;
-        if j < 0 {
-            j += n;
-        }
+        let per = self.n_balls as f64 * (1.0 / TAU);
+        let q = (TAU - ph) * per;
+        let lo = floor_i64(q - self.slip_fraction - MARGIN);
+        let hi = floor_i64(q + width * per + self.slip_fraction + MARGIN).min(lo + n - 1);
+        // q ∈ (0, n] and f ≤ 0.1, so lo ∈ [−1, n]
+        let mut j = if lo < 0 {
+            lo + n
+        } else if lo >= n {
+            lo - n
+        } else {
+            lo
+        };
         let mut mask = 0u32;
-        for _ in 0..4 {
+        for _ in lo..=hi {
             mask |= 1 << j;
             j += 1;
-            if j >= n {
-                j -= n;
+            if j == n {
+                j = 0;
             }
         }
         mask
