@@ -1,16 +1,31 @@
-//! Simulation: fixed-step RK4 at an internal rate that is an integer multiple of the output
-//! rate, a linear-phase anti-alias FIR (the acquisition chain), decimation, and seeded
-//! measurement noise.
+//! Simulation: integrate the model (adaptive Dormand–Prince 5(4) by default, fixed-step RK4 as
+//! the reference), evaluate the housing acceleration on an internal grid that is an integer
+//! multiple of the output rate, a linear-phase anti-alias FIR (the acquisition chain),
+//! decimation, and seeded measurement noise.
 //!
 //! # Integrator
 //!
 //! The ball contacts switch on and off, but the Hertz force `k_b δ^1.5` is C¹ in the state
-//! (its slope vanishes at δ = 0) and the spall profiles are continuous in time, so a
-//! fixed-step explicit RK4 converges; an adaptive or implicit scheme would only add cost
-//! (the stiffest mode, the housing resonance, is resolved with a few µs). The default
-//! maximum step is [`SimConfig::DEFAULT_MAX_STEP`] = 5 µs; the internal step is
-//! `h = 1/(m·fs)` with the smallest integer `m` giving `h ≤ max_step`. Halving the step
-//! changes the output by far less than 0.1 % relative RMS (test `convergence`).
+//! (its slope vanishes at δ = 0) and the spall profiles are continuous in time, so explicit
+//! Runge–Kutta schemes converge without event handling. The internal grid is
+//! `h = 1/(m·fs)` with the smallest integer `m` giving `h ≤` [`SimConfig::max_step_s`]
+//! (default [`SimConfig::DEFAULT_MAX_STEP`] = 5 µs).
+//!
+//! * [`Integrator::Adaptive`] (the default, [`Integrator::DEFAULT`]: `rtol` 2e-6, `atol`
+//!   1e-9 m/s²): Dormand–Prince 5(4) with FSAL, an embedded error estimate and step-size
+//!   control, and its 4th-order continuous extension evaluated at every grid time. Between
+//!   spall impacts the response is smooth and the step grows to 25–60 µs; around a ball
+//!   re-entering contact it shrinks to a few µs. The error estimate is weighted per DOF by
+//!   the tangent stiffness at the start (a position error of DOF i counts `max_j |∂q̈_j/∂q_i|`
+//!   times, a velocity error the square root of that), so it is in acceleration units, and
+//!   must stay below `atol + rtol · (largest |output| so far)`. It stays within 1e-3 relative
+//!   RMS of the reference (measured ≤ 2.6e-4 over healthy/outer/inner/ball/inner+outer+ball,
+//!   12 and 48 kHz, 300 and 1797 rpm: test `reference`), with 5–20× fewer steps.
+//! * [`Integrator::Rk4Fixed`] ([`SimConfig::reference`]): classical RK4 stepping on the grid
+//!   itself, the former default. Halving its step changes the output by far less than 0.1 %
+//!   relative RMS (test `halving_the_reference_step_changes_the_output_by_less_than_0_1_percent`).
+//!
+//! Both are deterministic: the same inputs give bit-identical output.
 
 use crate::error::{ModelError, Result, check_range};
 use crate::state_space::{BearingModel, Input, N_DOF, State};
