@@ -485,12 +485,19 @@ fn integrate_dp54(
         // [0.2, 10]); err^(1/5) for the 5th-order local error of the embedded estimate.
         let fac11 = err.powf(0.2);
         if err <= 1.0 || h <= h_min {
-            // continuous extension: x(t + θh) = r1 + θ(r2 + (1−θ)(r3 + θ(r4 + (1−θ) r5)))
-            let r2 = x_new - x;
-            let r3 = k1 * h - r2;
-            let r4 = r2 - k7 * h - r3;
-            let r5 = (k1 * D1 + k3 * D3 + k4 * D4 + k5 * D5 + k6 * D6 + k7 * D7) * h;
-            let (y1, y2, y3, y4, y5) = (dot(&x) + y0, dot(&r2), dot(&r3), dot(&r4), dot(&r5));
+            // continuous extension: x(t + θh) = r1 + θ(r2 + (1−θ)(r3 + θ(r4 + (1−θ) r5))),
+            // r1 = x, r2 = x_new − x, r3 = h k1 − r2, r4 = r2 − h k7 − r3, r5 = h Σ d_i k_i; the
+            // output is linear in the state, so its coefficients are the same combinations of
+            // H·x, H·x_new and H·k_i (the state vectors only when states are recorded).
+            let yx = dot(&x);
+            let yk = [dot(&k1), dot(&k3), dot(&k4), dot(&k5), dot(&k6), dot(&k7)];
+            let y2 = dot(&x_new) - yx;
+            let y3 = h * yk[0] - y2;
+            let y4 = y2 - h * yk[5] - y3;
+            let y5 =
+                h * (D1 * yk[0] + D3 * yk[1] + D4 * yk[2] + D5 * yk[3] + D6 * yk[4] + D7 * yk[5]);
+            let y1 = yx + y0;
+            let mut rs: Option<[State; 4]> = None;
             while next < g.n && (last || g.time(next) <= t_new) {
                 let th = (g.time(next) - t) / h;
                 let th1 = 1.0 - th;
@@ -499,6 +506,14 @@ fn integrate_dp54(
                 raw.push(y);
                 if let Some(st) = states.as_mut() {
                     if g.records_state(next) {
+                        let [r2, r3, r4, r5] = *rs.get_or_insert_with(|| {
+                            let r2 = x_new - x;
+                            let r3 = k1 * h - r2;
+                            let r4 = r2 - k7 * h - r3;
+                            let r5 =
+                                (k1 * D1 + k3 * D3 + k4 * D4 + k5 * D5 + k6 * D6 + k7 * D7) * h;
+                            [r2, r3, r4, r5]
+                        });
                         st.push(x + (r2 + (r3 + (r4 + r5 * th1) * th) * th1) * th);
                     }
                 }
