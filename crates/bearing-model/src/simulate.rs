@@ -20,7 +20,7 @@
 //!   times, a velocity error the square root of that), so it is in acceleration units, and
 //!   must stay below `atol + rtol · (largest |output| so far)`. It stays within 1e-3 relative
 //!   RMS of the reference (measured ≤ 2.6e-4 over healthy/outer/inner/ball/inner+outer+ball,
-//!   12 and 48 kHz, 300 and 1797 rpm: test `reference`), with 5–20× fewer steps.
+//!   12 and 48 kHz, 300 and 1797 rpm: test `reference`), with 5–23× fewer steps.
 //! * [`Integrator::Rk4Fixed`] ([`SimConfig::reference`]): classical RK4 stepping on the grid
 //!   itself, the former default. Halving its step changes the output by far less than 0.1 %
 //!   relative RMS (test `halving_the_reference_step_changes_the_output_by_less_than_0_1_percent`).
@@ -103,7 +103,7 @@ pub struct SimConfig {
 }
 
 impl SimConfig {
-    /// Default largest internal step: 5 µs.
+    /// Default bound on the internal grid step (the reference RK4 step): 5 µs.
     pub const DEFAULT_MAX_STEP: f64 = 5e-6;
 
     /// `duration_s` at `fs_hz`, default step, 50 ms settling, no noise, no states.

@@ -11,11 +11,11 @@
 //! | 300  | 2.6e-4  | 2.6e-4  |
 //! | 1797 | 2.5e-4  | 2.0e-4  |
 //!
-//! (healthy: 1.4e-4 at 300 rpm, where the signal is only 2.4e-6 m/s² RMS, and 8.8e-6 at
-//! 1797 rpm; the 5 µs reference is itself ~1.4e-4 from a 1.25 µs RK4, see
+//! (healthy: 1.4e-4 / 2.0e-4 at 300 rpm, where the signal is only 2.4e-6 m/s² RMS, and 8.8e-6
+//! at 1797 rpm; the 5 µs reference is itself ~1.4e-4 from a 1.25 µs RK4, see
 //! `examples/sim_converge.rs`). The envelope spectrum (2–5 kHz band) at each fault line of the
 //! class (BPFO; BPFI ± fr; ball-defect rate ± FTF) changes by less than 0.1 % of the line's
-//! height (measured ≤ 2.2e-4). The default path takes 5–20× fewer steps.
+//! height (measured ≤ 1.9e-4). The default path takes 5–23× fewer steps.
 
 mod common;
 
