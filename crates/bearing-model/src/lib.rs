@@ -48,7 +48,7 @@ pub use params::{
     Uncertainty,
 };
 pub use scenario::Scenario;
-pub use simulate::{Noise, Recording, SimConfig, simulate};
+pub use simulate::{Integrator, Noise, Recording, SimConfig, simulate};
 pub use state_space::{
     BallFrame, BearingModel, DofVector, Input, LinearParts, MAX_BALLS, N_DOF, STATE_DIM, State,
 };
