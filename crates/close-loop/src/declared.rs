@@ -225,6 +225,16 @@ pub trait DeclaredModel {
         None
     }
 
+    /// The model's random slip fraction, if it has slip.
+    fn slip_fraction(&self) -> Option<f64> {
+        None
+    }
+
+    /// The model with another slip fraction (`None` when it has no slip).
+    fn with_slip_fraction(&self, _fraction: f64) -> Option<Box<dyn DeclaredModel>> {
+        None
+    }
+
     /// The model's own measured-channel mode (frequency Hz, damping ratio), if it has one.
     fn housing_mode(&self) -> Option<(f64, f64)> {
         None

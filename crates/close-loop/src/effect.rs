@@ -26,6 +26,8 @@ pub enum EffectKind {
     ShaftComb,
     /// An equally spaced comb of lines not tied to the shaft (electrical interference, mains).
     LineComb,
+    /// Random ball slip other than declared: the spread of the impact times.
+    Slip,
 }
 
 impl EffectKind {
@@ -40,6 +42,7 @@ impl EffectKind {
             Self::StructuralPath => "structural_path",
             Self::ShaftComb => "shaft_comb",
             Self::LineComb => "line_comb",
+            Self::Slip => "slip",
         }
     }
 }
@@ -218,6 +221,13 @@ pub enum Effect {
         /// The fitted lines.
         lines: Vec<Line>,
     },
+    /// A re-simulated slip fraction.
+    Slip {
+        /// Fitted slip fraction (of the ball spacing).
+        fraction: f64,
+        /// Declared slip fraction.
+        declared: f64,
+    },
     /// Equally spaced lines not tied to the shaft.
     LineComb {
         /// Spacing, Hz.
@@ -262,6 +272,7 @@ impl Effect {
             Self::StructuralPath { .. } => EffectKind::StructuralPath,
             Self::ShaftComb { .. } => EffectKind::ShaftComb,
             Self::LineComb { .. } => EffectKind::LineComb,
+            Self::Slip { .. } => EffectKind::Slip,
         }
     }
 
@@ -271,7 +282,8 @@ impl Effect {
             Self::SpeedOffset { .. }
             | Self::ShaftHarmonic { force: Some(_), .. }
             | Self::Resonance { housing: true, .. }
-            | Self::StructuralPath { .. } => Placement::Physics,
+            | Self::StructuralPath { .. }
+            | Self::Slip { .. } => Placement::Physics,
             _ => Placement::Measurement,
         }
     }
@@ -282,7 +294,7 @@ impl Effect {
         match self {
             Self::Tone { line } | Self::ShaftHarmonic { line, .. } => Some(line.frequency_hz),
             Self::Resonance { mode, .. } => Some(mode.frequency_hz),
-            Self::SpeedOffset { .. } => None,
+            Self::SpeedOffset { .. } | Self::Slip { .. } => None,
             Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
             Self::StructuralPath { modes, .. } => dominant(modes).map(|m| m.frequency_hz),
             Self::ShaftComb { shaft_hz, .. } => Some(*shaft_hz),
@@ -366,6 +378,10 @@ impl Effect {
                     m.insert("strongest_amplitude".into(), l.amplitude());
                 }
             }
+            Self::Slip { fraction, declared } => {
+                m.insert("fraction".into(), *fraction);
+                m.insert("declared_fraction".into(), *declared);
+            }
             Self::LineComb { spacing_hz, lines } => {
                 m.insert("spacing_hz".into(), *spacing_hz);
                 m.insert("lines".into(), lines.len() as f64);
@@ -445,6 +461,11 @@ impl Effect {
                     o.join(", ")
                 )
             }
+            Self::Slip { fraction, declared } => format!(
+                "random slip {:.2} % of the ball spacing (declared {:.2} %)",
+                100.0 * fraction,
+                100.0 * declared
+            ),
             Self::LineComb { spacing_hz, lines } => {
                 let f: Vec<String> = lines
                     .iter()

@@ -50,6 +50,8 @@ pub(crate) struct State {
     /// The path the declared physics is seen through, when identified on this recording or
     /// given by a machine model's `physics_path`.
     pub phys_path: Option<Arc<PathPsd>>,
+    /// `phys_path` was identified on this recording (not inherited from a machine model).
+    pub phys_path_fitted: bool,
     /// ln of the channel gain.
     pub log_gain: f64,
     /// ln of the white floor (units²/Hz).
@@ -163,6 +165,31 @@ impl Ctx<'_> {
             psd,
             psd_hi,
         }))
+    }
+
+    /// The multiplier that puts the declared physics behind a structural path: its PSD is divided
+    /// by its own smooth level (lines replaced by the local median, ±60 Hz) and multiplied by the
+    /// path's power gain |1/A|², so the physics contributes its line structure (kinematic lines,
+    /// sidebands) and the path its resonances. The level is free (the physics gain is
+    /// calibrated).
+    pub fn physics_shape(&self, base_psd: &[f64], path: &StructuralPath) -> Vec<f64> {
+        let df = self.welch.df();
+        let half = ((60.0 / df).round() as usize).max(3);
+        let smooth = crate::path::line_free(base_psd, half, 3.0);
+        smooth
+            .iter()
+            .enumerate()
+            .map(|(k, sm)| path.power_gain(k as f64 * df) / sm.max(1e-300))
+            .collect()
+    }
+
+    /// Replace the state's simulation (another speed, slip, force or housing), re-deriving the
+    /// physics shaping from it when the physics is behind a path.
+    pub fn rebase(&self, st: &mut State, base: Arc<Base>) {
+        if let Some(p) = &st.phys_path {
+            st.phys_shape = Some(Arc::new(self.physics_shape(&base.psd, &p.path)));
+        }
+        st.base = base;
     }
 
     /// Path shaping, modulations, then modes applied to the base PSD (before gain and floor).

@@ -133,6 +133,16 @@ impl DeclaredModel for PhysicsModel {
         Some(Box::new(m))
     }
 
+    fn slip_fraction(&self) -> Option<f64> {
+        Some(self.slip_fraction)
+    }
+
+    fn with_slip_fraction(&self, fraction: f64) -> Option<Box<dyn DeclaredModel>> {
+        let mut m = self.clone();
+        m.slip_fraction = fraction;
+        Some(Box::new(m))
+    }
+
     fn housing_mode(&self) -> Option<(f64, f64)> {
         let h = self.effective_housing();
         Some((h.resonance_hz, h.damping_ratio))

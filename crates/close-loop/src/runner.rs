@@ -158,6 +158,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             path: None,
             phys_shape: None,
             phys_path: None,
+            phys_path_fitted: false,
             log_gain: 0.0,
             log_floor: 0.0,
             log_bg: 0.0,
@@ -386,9 +387,10 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         .as_ref()
         .or(m.path.as_ref())
         .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
+    let phys_path_fitted = false;
     let phys_shape = phys_path
         .as_ref()
-        .map(|p| Arc::new(physics_shape(ctx, &base.psd, &p.path)));
+        .map(|p| Arc::new(ctx.physics_shape(&base.psd, &p.path)));
     Ok(State {
         model: None,
         physics_lines: Vec::new(),
@@ -398,30 +400,12 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         lines,
         path,
         phys_shape,
-        phys_path: m.physics_path.as_ref().map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df))),
+        phys_path,
+        phys_path_fitted,
         log_gain: m.physics_gain.max(1e-300).ln(),
         log_floor: m.noise_floor_psd.max(1e-300).ln(),
         log_bg: m.path_level.max(1e-300).ln(),
     })
-}
-
-/// The multiplier that puts the declared physics behind a structural path: its PSD is divided by
-/// its own smooth level (lines replaced by the local median, ±60 Hz) and multiplied by the path's
-/// power gain |1/A|², so the physics contributes its line structure (kinematic lines, sidebands)
-/// and the path its resonances. The level is free (the physics gain is calibrated).
-pub(crate) fn physics_shape(
-    ctx: &Ctx<'_>,
-    base_psd: &[f64],
-    path: &crate::path::StructuralPath,
-) -> Vec<f64> {
-    let df = ctx.welch.df();
-    let half = ((60.0 / df).round() as usize).max(3);
-    let smooth = crate::path::line_free(base_psd, half, 3.0);
-    smooth
-        .iter()
-        .enumerate()
-        .map(|(k, sm)| path.power_gain(k as f64 * df) / sm.max(1e-300))
-        .collect()
 }
 
 /// Identify a structural path from the fitting segment's line-free PSD
@@ -449,12 +433,12 @@ fn identify_path(ctx: &Ctx<'_>, st: &State) -> Option<crate::path::StructuralPat
 /// The structural path as a candidate, in two places: when the model has no broadband path yet,
 /// the path rung by broadband excitation; when a fault is declared and its physics is not yet
 /// behind a path identified on this recording, the path the fault's impacts ring (the physics
-/// keeps its lines, the data gives the resonances: [`physics_shape`]).
+/// keeps its lines, the data gives the resonances: [`Ctx::physics_shape`]).
 fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     let n_bins = ctx.welch.n_bins();
     let df = ctx.welch.df();
     let want_broadband = st.path.is_none();
-    let want_physics = st.phys_path.is_none()
+    let want_physics = !st.phys_path_fitted
         && !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty();
     if !(want_broadband || want_physics) {
         return Vec::new();
@@ -482,8 +466,9 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     }
     if want_physics {
         let mut s2 = st.clone();
-        s2.phys_shape = Some(Arc::new(physics_shape(ctx, &st.base.psd, &pp.path)));
+        s2.phys_shape = Some(Arc::new(ctx.physics_shape(&st.base.psd, &pp.path)));
         s2.phys_path = Some(pp.clone());
+        s2.phys_path_fitted = true;
         let (s2, lsd) = ctx.calibrate(s2, true);
         out.push(Evaluated {
             effect: Effect::StructuralPath {
@@ -505,6 +490,7 @@ fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopErro
     out.extend(line_candidates(ctx, st, &lr));
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
+    out.extend(slip_candidate(ctx, st));
     out.extend(modulation_candidates(ctx, st));
     Ok(out)
 }
@@ -850,7 +836,7 @@ fn shaft_force_candidate(
     let (forced, base, resp, amp, phase) = run?;
     let mut s2 = st.clone();
     s2.model = Some(ModelRef(forced));
-    s2.base = base;
+    ctx.rebase(&mut s2, base);
     s2.physics_lines.push(resp);
     let (s2, lsd) = ctx.calibrate(s2, false);
     Some(Evaluated {
@@ -1054,7 +1040,7 @@ const HOUSING_SEARCH: f64 = 0.08;
 /// mode's frequency is biased by the dip the misplaced mode leaves).
 fn housing_candidate(ctx: &Ctx<'_>, st: &State, fitted: &Mode) -> Option<Evaluated> {
     // behind a path identified from data the model's own housing mode is divided out
-    // ([`physics_shape`]): moving it changes nothing that is seen
+    // ([`Ctx::physics_shape`]): moving it changes nothing that is seen
     if st.phys_shape.is_some() {
         return None;
     }
@@ -1069,7 +1055,7 @@ fn housing_candidate(ctx: &Ctx<'_>, st: &State, fitted: &Mode) -> Option<Evaluat
         let base = ctx.make_base_with(m.as_ref(), st.base.ratio).ok()?;
         let mut s2 = st.clone();
         s2.model = Some(ModelRef(m.clone()));
-        s2.base = base;
+        ctx.rebase(&mut s2, base);
         let (s2, lsd) = ctx.calibrate(s2, false);
         Some((s2, lsd, m))
     };
@@ -1182,7 +1168,7 @@ fn speed_candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLo
         }
         let base: Arc<Base> = ctx.make_base_with(ctx.model_of(st), ratio)?;
         let mut s2 = st.clone();
-        s2.base = base;
+        ctx.rebase(&mut s2, base);
         for l in &mut s2.physics_lines {
             l.frequency_hz *= s;
         }
@@ -1194,6 +1180,46 @@ fn speed_candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLo
         });
     }
     Ok(out)
+}
+
+/// Slip fractions tried, relative to the model's current one.
+const SLIP_FACTORS: [f64; 4] = [0.0, 0.25, 0.5, 2.0];
+
+/// Random ball slip (the spread of the impact times, which smears the fault lines): the declared
+/// physics re-simulated at slip fractions [`SLIP_FACTORS`] × the current one, the best on the
+/// fitting segment kept. Only with a declared fault and a model that has slip.
+fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
+    if crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty() {
+        return None;
+    }
+    let model = ctx.model_of(st);
+    let current = model.slip_fraction()?;
+    let mut best: Option<(Evaluated, f64)> = None;
+    for k in SLIP_FACTORS {
+        let frac = current * k;
+        let m: Arc<dyn DeclaredModel> = Arc::from(model.with_slip_fraction(frac)?);
+        let Ok(base) = ctx.make_base_with(m.as_ref(), st.base.ratio) else {
+            continue;
+        };
+        let mut s2 = st.clone();
+        s2.model = Some(ModelRef(m));
+        ctx.rebase(&mut s2, base);
+        let (s2, lsd) = ctx.calibrate(s2, false);
+        if best.as_ref().is_none_or(|b| lsd < b.0.fit_lsd) {
+            best = Some((
+                Evaluated {
+                    effect: Effect::Slip {
+                        fraction: frac,
+                        declared: current,
+                    },
+                    state: s2,
+                    fit_lsd: lsd,
+                },
+                frac,
+            ));
+        }
+    }
+    best.map(|b| b.0)
 }
 
 /// Speed step from the line pattern: the stretch s of the model's line-emphasised log spectrum
