@@ -7,6 +7,7 @@ mod chapters;
 mod close_loop;
 mod common;
 mod data;
+mod diagnose;
 mod identify;
 mod simulate;
 
@@ -42,6 +43,9 @@ enum Task {
     All(chapters::Args),
     /// Close the loop: residual -> missing effect -> augmented model, error before and after.
     CloseLoop(close_loop::Args),
+    /// Diagnose a recording (or a directory, or with --all-real every CWRU recording):
+    /// normal, inner, outer, ball or a combination, training-free.
+    Diagnose(diagnose::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -67,5 +71,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Task::Chapter5(a) => chapters::run(&ctx, &[5], a),
         Task::All(a) => chapters::run(&ctx, &[2, 3, 4, 5], a),
         Task::CloseLoop(a) => close_loop::run(&ctx, a),
+        Task::Diagnose(a) => diagnose::run(&ctx, a),
     }
 }

@@ -586,3 +586,8 @@ pub fn diagnose(
         envelope: sp.clone(),
     })
 }
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
