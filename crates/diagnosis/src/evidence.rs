@@ -26,12 +26,15 @@ pub struct Line {
     pub present: bool,
     /// A line of a stronger, detected hypothesis's family sits at `found_hz`; it does not count.
     pub explained_by: Option<Hypothesis>,
+    /// For harmonics: `found_hz` agrees with h × the fundamental implied by the most prominent
+    /// counting harmonic (always true for sidebands and shaft lines).
+    pub consistent: bool,
 }
 
 impl Line {
     /// Present and not explained by another hypothesis.
     pub fn counts(&self) -> bool {
-        self.present && self.explained_by.is_none()
+        self.present && self.explained_by.is_none() && self.consistent
     }
 }
 
@@ -122,6 +125,7 @@ impl EnvelopeSpectrum {
             prominence_db,
             present: prominence_db >= LINE_THRESHOLD_DB,
             explained_by: None,
+            consistent: true,
         }
     }
 }
@@ -133,7 +137,7 @@ pub struct HypothesisEvidence {
     pub hypothesis: Hypothesis,
     /// Kinematic fault frequency (harmonic 1) at the declared speed, Hz.
     pub fault_hz: f64,
-    /// The band this hypothesis was examined in (the one maximizing its score).
+    /// The band this hypothesis was examined in (the common band of the verdict).
     pub band_hz: [f64; 2],
     /// Spectral kurtosis of that band.
     pub band_spectral_kurtosis: f64,
@@ -154,7 +158,24 @@ pub struct HypothesisEvidence {
 impl HypothesisEvidence {
     /// Recount lines and apply the decision rule: at least two harmonics present, or harmonic 1
     /// present with at least one of its distinguishing sidebands.
-    pub(crate) fn decide(&mut self) {
+    pub(crate) fn decide(&mut self, df: f64) {
+        // one impact train has one fault frequency: a harmonic counts only when its found
+        // frequency is h × the fundamental implied by the most prominent counting harmonic
+        // (within max(1.5 bins, 0.3 %))
+        let best = self
+            .harmonics
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.present && l.explained_by.is_none())
+            .max_by(|a, b| a.1.prominence_db.total_cmp(&b.1.prominence_db))
+            .map(|(i, l)| l.found_hz / (i + 1) as f64);
+        for (i, l) in self.harmonics.iter_mut().enumerate() {
+            let h = (i + 1) as f64;
+            l.consistent = match best {
+                Some(f) => (l.found_hz - h * f).abs() <= (1.5 * df).max(0.003 * h * f),
+                None => true,
+            };
+        }
         self.harmonics_present = self.harmonics.iter().filter(|l| l.counts()).count();
         self.sidebands_present = self.sidebands.iter().filter(|l| l.counts()).count();
         let first = self.harmonics.first().is_some_and(Line::counts);
@@ -167,7 +188,13 @@ impl HypothesisEvidence {
         let f1 = self.harmonics.first().map_or(self.fault_hz, |l| l.found_hz);
         let mut v = Vec::new();
         match self.hypothesis {
-            Hypothesis::Outer => v.extend((1..=6).map(|k| k as f64 * f1)),
+            Hypothesis::Outer => {
+                for k in 1..=6 {
+                    for j in -2i32..=2 {
+                        v.push(k as f64 * f1 + f64::from(j) * fr);
+                    }
+                }
+            }
             Hypothesis::Inner => {
                 for k in 0..=HARMONICS {
                     for j in -3i32..=3 {
@@ -181,6 +208,7 @@ impl HypothesisEvidence {
                 for k in 1..=HARMONICS {
                     for j in -2i32..=2 {
                         v.push(k as f64 * f1 + f64::from(j) * ftf);
+                        v.push(k as f64 * f1 + f64::from(j) * fr);
                     }
                 }
                 // a ball defect enters and leaves the load zone once per cage turn, so its
@@ -270,14 +298,16 @@ pub(crate) fn evaluate(
         sidebands_present: 0,
         detected: false,
     };
-    ev.decide();
+    ev.decide(df);
     ev
 }
 
 /// Mark lines of weaker hypotheses that a stronger detected hypothesis's family explains, in
 /// order of decreasing score, and re-decide. A line at `f` is explained by a family frequency
-/// `g` when `|f − g| ≤ max(1.5 bins, 0.3 % of f)`.
-pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64, df: &[f64]) {
+/// `g` when `|f − g| ≤ max(1 bin, 0.1 % of f)` (unresolvable from it). Families: outer `k f₁ + j fr`; inner
+/// `k f₁ + j fr`; ball `k f₁ + j FTF`, `k f₁ + j fr` and the cage harmonics (shaft-rate
+/// modulation of every line is ubiquitous on real machines).
+pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64, df: f64) {
     let mut order: Vec<usize> = (0..ev.len()).collect();
     order.sort_by(|&a, &b| {
         ev[b].score_db
@@ -289,18 +319,18 @@ pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64,
         for &c in &confirmed {
             let fam = ev[c].family(fr, ftf_hz);
             let by = ev[c].hypothesis;
-            let tol_bins = 1.5 * df[i];
+            let tol_bins = df;
             for l in ev[i].harmonics.iter_mut().chain(ev[i].sidebands.iter_mut()) {
                 if l.explained_by.is_none()
                     && fam
                         .iter()
-                        .any(|g| (l.found_hz - g).abs() <= tol_bins.max(0.003 * l.found_hz))
+                        .any(|g| (l.found_hz - g).abs() <= tol_bins.max(0.001 * l.found_hz))
                 {
                     l.explained_by = Some(by);
                 }
             }
         }
-        ev[i].decide();
+        ev[i].decide(df);
         if ev[i].detected {
             confirmed.push(i);
         }

@@ -23,10 +23,13 @@
 //! 3. **Evidence** ([`evidence`]): for each hypothesis (BPFO, BPFI, ball-defect rate = CWRU's
 //!    BSF, twice the ball spin) the largest line in a slip-tolerant window around harmonics 1..3,
 //!    its prominence over the local median (dB), and the sidebands that tell faults apart (BPFI ±
-//!    fr, BSF ± FTF). Each hypothesis is examined in the band that maximizes its own score, as in
-//!    the IESFOgram (Mauricio et al., MSSP 2020) — the same search for every hypothesis, so no
-//!    label enters. Lines of a weaker hypothesis that a stronger detected one's family explains
-//!    (e.g. BPFI + 4 fr near 2 × BSF) do not count for it.
+//!    fr, BSF ± FTF). Only impulsive bands are eligible (spectral kurtosis above a Gaussian's by
+//!    [`SK_SIGMAS`] standard deviations); all hypotheses are read in the one eligible band where
+//!    the best of them scores highest (an envelope-based band choice, as in the IESFOgram of
+//!    Mauricio et al., MSSP 2020 — the same search for every hypothesis, so no label enters).
+//!    A harmonic counts only at h × the fundamental its strongest harmonic implies (one impact
+//!    train, one fault frequency), and lines of a weaker hypothesis that a stronger detected
+//!    one's family explains (e.g. BPFO + fr near BSF) do not count for it.
 //! 4. **Verdict**: a hypothesis is detected when at least [`MIN_LINES`] harmonics stand
 //!    [`LINE_THRESHOLD_DB`] above the local median, or harmonic 1 does together with one of its
 //!    sidebands. See `docs/equations/diagnosis.md` for the formulas and the reasoning behind the
@@ -95,6 +98,16 @@ pub const BACKGROUND_HALF_WIDTH_ORDERS: f64 = 2.0;
 pub const SEGMENT_TURNS_MAX: f64 = 32.0;
 /// … and at least this many (resolution fr/8), or the whole record when shorter.
 pub const SEGMENT_TURNS_MIN: f64 = 8.0;
+/// A band is impulsive (eligible for envelope analysis) when its spectral kurtosis exceeds a
+/// Gaussian's (0) by this many standard deviations of the estimator, `σ = 2/√(B·T)` for a band of
+/// width `B` over `T` seconds (delta method on `⟨|z|⁴⟩/⟨|z|²⟩²` with `B·T` independent samples).
+pub const SK_SIGMAS: f64 = 5.0;
+
+/// The spectral-kurtosis threshold of a band `width_hz` wide over `duration_s` seconds.
+pub fn sk_threshold(width_hz: f64, duration_s: f64) -> f64 {
+    SK_SIGMAS * 2.0 / (width_hz * duration_s).max(1.0).sqrt()
+}
+
 /// Band widths `fs/2 / d` of the filter bank.
 pub const BAND_DIVISORS: [f64; 9] = [2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0];
 
@@ -244,6 +257,8 @@ pub struct Thresholds {
     pub speed_offset: f64,
     /// [`SPEED_TOL`].
     pub speed_tolerance: f64,
+    /// [`SK_SIGMAS`].
+    pub sk_sigmas: f64,
     /// Plain-language rule.
     pub rule: String,
 }
@@ -257,8 +272,9 @@ impl Default for Thresholds {
             slip_max: SLIP_MAX,
             speed_offset: SPEED_OFFSET,
             speed_tolerance: SPEED_TOL,
+            sk_sigmas: SK_SIGMAS,
             rule: format!(
-                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS}, or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median of the squared envelope spectrum, not explained by a stronger detected fault"
+                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median of the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault"
             ),
         }
     }
@@ -279,7 +295,7 @@ pub struct Diagnosis {
     pub operating_point: OperatingPoint,
     /// The AR whitening model used.
     pub whitening: ArWhitener,
-    /// The band of the best detected hypothesis, or the kurtogram's band when none is detected.
+    /// The band all hypotheses were read in (see `chosen_by`).
     pub band: BandChoice,
     /// The band of maximal spectral kurtosis (fast-kurtogram choice), for reference.
     pub kurtogram_band: BandChoice,
@@ -486,35 +502,47 @@ pub fn diagnose(
             needed_hz: min_width,
         })?;
 
-    // 3. evidence: each hypothesis in the band maximizing its score
-    let mut evidence = Vec::new();
-    let mut band_of = Vec::new();
-    for h in Hypothesis::ALL {
-        let mut best: Option<(usize, HypothesisEvidence)> = None;
-        for (i, sp) in spectra.iter().enumerate() {
-            let ev = evidence::evaluate(h, sp, &o, fr);
-            let better = match &best {
-                None => true,
-                Some((j, b)) => {
-                    ev.score_db > b.score_db
-                        || (ev.score_db == b.score_db
-                            && sp.spectral_kurtosis > spectra[*j].spectral_kurtosis)
-                }
-            };
-            if better {
-                best = Some((i, ev));
+    // 3. evidence. Envelope analysis needs impulsive content: only bands whose spectral
+    //    kurtosis exceeds a Gaussian's by SK_SIGMAS standard deviations (σ = 2/√(B·T)) are
+    //    eligible; among them, the band where the best hypothesis scores highest is the one
+    //    band all hypotheses are read in.
+    let duration_s = e.len() as f64 / fs_hz;
+    let eligible: Vec<usize> = (0..spectra.len())
+        .filter(|&i| {
+            let w = spectra[i].band_hz[1] - spectra[i].band_hz[0];
+            spectra[i].spectral_kurtosis > sk_threshold(w, duration_s)
+        })
+        .collect();
+    let eval_all = |i: usize| -> Vec<HypothesisEvidence> {
+        Hypothesis::ALL
+            .iter()
+            .map(|&h| evidence::evaluate(h, &spectra[i], &o, fr))
+            .collect()
+    };
+    let best_score = |v: &[HypothesisEvidence]| v.iter().map(|e| e.score_db).fold(0.0, f64::max);
+    let mut chosen: Option<(usize, Vec<HypothesisEvidence>)> = None;
+    for &i in &eligible {
+        let ev = eval_all(i);
+        let better = match &chosen {
+            None => true,
+            Some((j, b)) => {
+                let (x, y) = (best_score(&ev), best_score(b));
+                x > y || (x == y && spectra[i].spectral_kurtosis > spectra[*j].spectral_kurtosis)
             }
+        };
+        if better {
+            chosen = Some((i, ev));
         }
-        let (i, ev) = best.ok_or(DiagnosisError::SampleRateTooLow {
-            fs_hz,
-            rpm,
-            needed_hz: min_width,
-        })?;
-        band_of.push(i);
-        evidence.push(ev);
     }
-    let dfs: Vec<f64> = band_of.iter().map(|&i| spectra[i].resolution_hz).collect();
-    evidence::cross_explain(&mut evidence, fr, o.ftf * fr, &dfs);
+    let impulsive = chosen.is_some();
+    let (bi, mut evidence) = chosen.unwrap_or_else(|| (sk_best, eval_all(sk_best)));
+    let df = spectra[bi].resolution_hz;
+    evidence::cross_explain(&mut evidence, fr, o.ftf * fr, df);
+    if !impulsive {
+        for ev in &mut evidence {
+            ev.detected = false;
+        }
+    }
 
     // 4. verdict
     let detected: Vec<Hypothesis> = evidence
@@ -531,14 +559,15 @@ pub fn diagnose(
             .collect::<Vec<_>>()
             .join("+")
     };
-    let top = evidence
-        .iter()
-        .zip(&band_of)
-        .filter(|(e, _)| e.detected)
-        .max_by(|a, b| a.0.score_db.total_cmp(&b.0.score_db))
-        .map(|(e, &i)| (i, format!("largest {} score among detected faults", e.hypothesis.as_str())));
-    let (bi, chosen_by) =
-        top.unwrap_or((sk_best, "maximum spectral kurtosis (no fault detected)".into()));
+    let chosen_by = if impulsive {
+        format!(
+            "largest hypothesis score among the {} of {} bands with significant spectral kurtosis",
+            eligible.len(),
+            spectra.len()
+        )
+    } else {
+        "no band has significant spectral kurtosis (no impulsive content): evidence shown in the maximum-SK band, not used".to_string()
+    };
     let sp = &spectra[bi];
     let choice = |i: usize, by: String| BandChoice {
         low_hz: spectra[i].band_hz[0],

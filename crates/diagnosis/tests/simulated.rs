@@ -9,7 +9,7 @@ use bearing_model::{
 use diagnosis::{Baseline, BearingSpec, Diagnosis, DiagnosisError, Reference, diagnose};
 
 const SNR_DB: f64 = 10.0;
-const DURATION_S: f64 = 1.0;
+const DURATION_S: f64 = 2.0;
 
 fn scenario(
     geometry: BearingGeometry,
