@@ -4,8 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    HARMONICS, Hypothesis, LINE_THRESHOLD_DB, SLIP_MAX, SPEED_OFFSET, SPEED_TOL,
-    BACKGROUND_HALF_WIDTH_ORDERS,
+    BACKGROUND_HALF_WIDTH_ORDERS, CFAR_QUANTILE, HARMONICS, Hypothesis, LINE_THRESHOLD_DB,
+    SLIP_MAX, SPEED_OFFSET, SPEED_TOL,
 };
 use bearing_model::FaultOrders;
 
@@ -22,7 +22,7 @@ pub struct Line {
     pub found_hz: f64,
     /// `10 log10(peak / local median)` of the squared envelope spectrum, dB.
     pub prominence_db: f64,
-    /// `prominence_db ≥ LINE_THRESHOLD_DB`.
+    /// `prominence_db ≥` the spectrum's line threshold (≥ `LINE_THRESHOLD_DB`).
     pub present: bool,
     /// A line of a stronger, detected hypothesis's family sits at `found_hz`; it does not count.
     pub explained_by: Option<Hypothesis>,
@@ -51,6 +51,8 @@ pub struct EnvelopeSpectrum {
     pub spectral_kurtosis: f64,
     /// Welch segments averaged.
     pub segments: usize,
+    /// Prominence a line needs in this spectrum, dB (see `set_threshold`).
+    pub line_threshold_db: f64,
 }
 
 impl EnvelopeSpectrum {
@@ -100,8 +102,15 @@ impl EnvelopeSpectrum {
         let hi = hi.max(expected + 0.6 * df);
         let k0 = (lo / df).ceil() as usize;
         let k1 = ((hi / df).floor() as usize).min(self.power.len().saturating_sub(1));
+        // a line is a local maximum of the spectrum: the largest bin of a window whose edge
+        // cuts the skirt of a strong line outside it is not a line of its own
         let best = (k0..=k1)
-            .filter(|&k| k >= 1 && k < self.power.len() && !(guard && self.guarded(k, fr)))
+            .filter(|&k| {
+                k >= 1
+                    && k < self.power.len()
+                    && !(guard && self.guarded(k, fr))
+                    && self.is_peak(k)
+            })
             .max_by(|&a, &b| self.power[a].total_cmp(&self.power[b]).then(b.cmp(&a)));
         let (found_hz, prominence_db) = match best {
             Some(k) => {
@@ -123,9 +132,49 @@ impl EnvelopeSpectrum {
             search_hz: [lo, hi],
             found_hz,
             prominence_db,
-            present: prominence_db >= LINE_THRESHOLD_DB,
+            present: prominence_db >= self.line_threshold_db,
             explained_by: None,
             consistent: true,
+        }
+    }
+
+    /// Bin `k` is a local maximum (≥ both neighbours, > at least one).
+    fn is_peak(&self, k: usize) -> bool {
+        let p = self.power[k];
+        let l = if k > 0 { self.power[k - 1] } else { f64::NEG_INFINITY };
+        let r = self.power.get(k + 1).copied().unwrap_or(f64::NEG_INFINITY);
+        p >= l && p >= r && (p > l || p > r)
+    }
+
+    /// Set the line threshold of this spectrum: [`LINE_THRESHOLD_DB`], raised to the
+    /// [`CFAR_QUANTILE`] of the prominences of the local maxima between fr/2 and `top_hz` that no
+    /// bearing kinematics explains (none of the `kinematic` frequencies — every hypothesis's line
+    /// family and the shaft harmonics — within a bin): a rank CFAR, so a fault line must stand
+    /// out among the spectrum's unexplained lines (mains, interference), not only over its noise.
+    pub(crate) fn set_threshold(&mut self, fr: f64, top_hz: f64, kinematic: &[f64]) {
+        let df = self.resolution_hz;
+        let k0 = ((0.5 * fr / df).ceil() as usize).max(1);
+        let k1 = ((top_hz / df).floor() as usize).min(self.power.len().saturating_sub(2));
+        let mut proms: Vec<f64> = (k0..=k1)
+            .filter(|&k| self.is_peak(k))
+            .filter(|&k| {
+                let f = self.freq(k);
+                !kinematic
+                    .iter()
+                    .any(|g| (f - g).abs() <= df.max(0.001 * f))
+            })
+            .filter_map(|k| {
+                let bg = self.background(self.freq(k), BACKGROUND_HALF_WIDTH_ORDERS * fr);
+                let p = self.power[k];
+                (bg > 0.0 && p > 0.0).then(|| 10.0 * (p / bg).log10())
+            })
+            .filter(|v| v.is_finite())
+            .collect();
+        self.line_threshold_db = LINE_THRESHOLD_DB;
+        if proms.len() >= 10 {
+            proms.sort_by(f64::total_cmp);
+            let i = ((CFAR_QUANTILE * proms.len() as f64).ceil() as usize).min(proms.len()) - 1;
+            self.line_threshold_db = LINE_THRESHOLD_DB.max(proms[i]);
         }
     }
 }

@@ -108,6 +108,18 @@ pub fn sk_threshold(width_hz: f64, duration_s: f64) -> f64 {
     SK_SIGMAS * 2.0 / (width_hz * duration_s).max(1.0).sqrt()
 }
 
+/// Rank CFAR: a line's prominence must also reach this quantile of the prominences of the local
+/// maxima of the same envelope spectrum (up to [`analysis_top_hz`]) that no bearing kinematics
+/// explains: in a spectrum of noise the quantile sits below [`LINE_THRESHOLD_DB`] and changes
+/// nothing; in a spectrum crowded with unexplained lines (mains, interference, beats) a
+/// candidate must be stronger than nine in ten of them.
+pub const CFAR_QUANTILE: f64 = 0.9;
+
+/// Highest envelope frequency examined: 3.4 × the highest fault line + fr.
+pub fn analysis_top_hz(orders: &FaultOrders, fr: f64) -> f64 {
+    (3.4 * orders.bpfo.max(orders.bpfi).max(orders.ball_defect) + 1.0) * fr
+}
+
 /// Band widths `fs/2 / d` of the filter bank.
 pub const BAND_DIVISORS: [f64; 9] = [2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0];
 
@@ -259,6 +271,8 @@ pub struct Thresholds {
     pub speed_tolerance: f64,
     /// [`SK_SIGMAS`].
     pub sk_sigmas: f64,
+    /// [`CFAR_QUANTILE`].
+    pub cfar_quantile: f64,
     /// Plain-language rule.
     pub rule: String,
 }
@@ -273,8 +287,10 @@ impl Default for Thresholds {
             speed_offset: SPEED_OFFSET,
             speed_tolerance: SPEED_TOL,
             sk_sigmas: SK_SIGMAS,
+            cfar_quantile: CFAR_QUANTILE,
             rule: format!(
-                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median of the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault"
+                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault",
+                100.0 * (1.0 - CFAR_QUANTILE)
             ),
         }
     }
@@ -481,13 +497,27 @@ pub fn diagnose(
         } else {
             0
         };
-        spectra.push(EnvelopeSpectrum {
+        let mut sp = EnvelopeSpectrum {
             band_hz: [be.band.low_hz(), be.band.high_hz()],
             resolution_hz: psd.resolution_hz,
             power: psd.values,
             spectral_kurtosis: if sk.is_finite() { sk } else { 0.0 },
             segments,
-        });
+            line_threshold_db: LINE_THRESHOLD_DB,
+        };
+        // clutter for the rank CFAR: local maxima no kinematic family explains
+        let top_hz = analysis_top_hz(&o, fr);
+        let mut kinematic: Vec<f64> = Hypothesis::ALL
+            .iter()
+            .flat_map(|&h| evidence::evaluate(h, &sp, &o, fr).family(fr, o.ftf * fr))
+            .collect();
+        let mut j = 1.0;
+        while j * fr <= top_hz {
+            kinematic.push(j * fr);
+            j += 1.0;
+        }
+        sp.set_threshold(fr, top_hz, &kinematic);
+        spectra.push(sp);
     }
     let sk_best = (0..spectra.len())
         .max_by(|&a, &b| {
