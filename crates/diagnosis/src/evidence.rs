@@ -72,7 +72,8 @@ impl EnvelopeSpectrum {
     fn background(&self, f: f64, half_width: f64) -> f64 {
         let df = self.resolution_hz;
         let lo = ((f - half_width) / df).ceil().max(1.0) as usize;
-        let hi = (((f + half_width) / df).floor().max(0.0) as usize).min(self.power.len().saturating_sub(1));
+        let hi = (((f + half_width) / df).floor().max(0.0) as usize)
+            .min(self.power.len().saturating_sub(1));
         if lo > hi {
             return 0.0;
         }
@@ -106,10 +107,7 @@ impl EnvelopeSpectrum {
         // cuts the skirt of a strong line outside it is not a line of its own
         let best = (k0..=k1)
             .filter(|&k| {
-                k >= 1
-                    && k < self.power.len()
-                    && !(guard && self.guarded(k, fr))
-                    && self.is_peak(k)
+                k >= 1 && k < self.power.len() && !(guard && self.guarded(k, fr)) && self.is_peak(k)
             })
             .max_by(|&a, &b| self.power[a].total_cmp(&self.power[b]).then(b.cmp(&a)));
         let (found_hz, prominence_db) = match best {
@@ -141,7 +139,11 @@ impl EnvelopeSpectrum {
     /// Bin `k` is a local maximum (≥ both neighbours, > at least one).
     fn is_peak(&self, k: usize) -> bool {
         let p = self.power[k];
-        let l = if k > 0 { self.power[k - 1] } else { f64::NEG_INFINITY };
+        let l = if k > 0 {
+            self.power[k - 1]
+        } else {
+            f64::NEG_INFINITY
+        };
         let r = self.power.get(k + 1).copied().unwrap_or(f64::NEG_INFINITY);
         p >= l && p >= r && (p > l || p > r)
     }
@@ -159,9 +161,7 @@ impl EnvelopeSpectrum {
             .filter(|&k| self.is_peak(k))
             .filter(|&k| {
                 let f = self.freq(k);
-                !kinematic
-                    .iter()
-                    .any(|g| (f - g).abs() <= df.max(0.001 * f))
+                !kinematic.iter().any(|g| (f - g).abs() <= df.max(0.001 * f))
             })
             .filter_map(|k| {
                 let bg = self.background(self.freq(k), BACKGROUND_HALF_WIDTH_ORDERS * fr);
@@ -228,8 +228,8 @@ impl HypothesisEvidence {
         self.harmonics_present = self.harmonics.iter().filter(|l| l.counts()).count();
         self.sidebands_present = self.sidebands.iter().filter(|l| l.counts()).count();
         let first = self.harmonics.first().is_some_and(Line::counts);
-        self.detected = self.harmonics_present >= crate::MIN_LINES
-            || (first && self.sidebands_present >= 1);
+        self.detected =
+            self.harmonics_present >= crate::MIN_LINES || (first && self.sidebands_present >= 1);
     }
 
     /// Frequencies of this hypothesis's line family (for explaining other hypotheses' lines).
@@ -333,8 +333,15 @@ pub(crate) fn evaluate(
             })
             .collect(),
     };
-    let score_db = harmonics.iter().map(|l| l.prominence_db.max(0.0)).sum::<f64>()
-        + 0.5 * sidebands.iter().map(|l| l.prominence_db.max(0.0)).sum::<f64>();
+    let score_db = harmonics
+        .iter()
+        .map(|l| l.prominence_db.max(0.0))
+        .sum::<f64>()
+        + 0.5
+            * sidebands
+                .iter()
+                .map(|l| l.prominence_db.max(0.0))
+                .sum::<f64>();
     let mut ev = HypothesisEvidence {
         hypothesis: h,
         fault_hz: f0,
@@ -358,11 +365,7 @@ pub(crate) fn evaluate(
 /// modulation of every line is ubiquitous on real machines).
 pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64, df: f64) {
     let mut order: Vec<usize> = (0..ev.len()).collect();
-    order.sort_by(|&a, &b| {
-        ev[b].score_db
-            .total_cmp(&ev[a].score_db)
-            .then(a.cmp(&b))
-    });
+    order.sort_by(|&a, &b| ev[b].score_db.total_cmp(&ev[a].score_db).then(a.cmp(&b)));
     let mut confirmed: Vec<usize> = Vec::new();
     for &i in &order {
         for &c in &confirmed {

@@ -229,6 +229,8 @@ pub struct BandChoice {
     pub high_hz: f64,
     /// Spectral kurtosis of the band's complex envelope.
     pub spectral_kurtosis: f64,
+    /// Prominence a line needs in this band's envelope spectrum, dB (6 dB or the rank-CFAR level).
+    pub line_threshold_db: f64,
     /// How it was chosen.
     pub chosen_by: String,
 }
@@ -417,7 +419,8 @@ pub fn diagnose(
         });
     }
     let turns = x.len() as f64 / fs_hz * fr;
-    let needed = (MIN_TURNS / fr * fs_hz).ceil() as usize + whiten::ORDERS[whiten::ORDERS.len() - 1];
+    let needed =
+        (MIN_TURNS / fr * fs_hz).ceil() as usize + whiten::ORDERS[whiten::ORDERS.len() - 1];
     if x.len() < needed {
         return Err(DiagnosisError::TooShort {
             samples: x.len(),
@@ -603,6 +606,7 @@ pub fn diagnose(
         low_hz: spectra[i].band_hz[0],
         high_hz: spectra[i].band_hz[1],
         spectral_kurtosis: spectra[i].spectral_kurtosis,
+        line_threshold_db: spectra[i].line_threshold_db,
         chosen_by: by,
     };
     let shaft_harmonics = (1..=HARMONICS)

@@ -39,10 +39,11 @@ impl BearingSpec {
     /// # Errors
     /// [`DiagnosisError::InvalidBearingSpec`] when the geometry is not physical.
     pub fn from_geometry(g: BearingGeometry) -> Result<Self> {
-        g.validate().map_err(|e| DiagnosisError::InvalidBearingSpec {
-            spec: g.name.to_string(),
-            reason: e.to_string(),
-        })?;
+        g.validate()
+            .map_err(|e| DiagnosisError::InvalidBearingSpec {
+                spec: g.name.to_string(),
+                reason: e.to_string(),
+            })?;
         Ok(Self {
             name: g.name.to_string(),
             geometry: Some(g),
@@ -94,7 +95,11 @@ impl BearingSpec {
                 let (_, v) = pairs
                     .iter()
                     .find(|(k, _)| k.eq_ignore_ascii_case(name))
-                    .ok_or_else(|| bad(format!("missing `{name}` (give all of bpfo, bpfi, ftf, bsf)")))?;
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "missing `{name}` (give all of bpfo, bpfi, ftf, bsf)"
+                        ))
+                    })?;
                 vals[i] = v
                     .parse::<f64>()
                     .map_err(|_| bad(format!("`{name}={v}` is not a number")))?;
@@ -122,14 +127,14 @@ impl BearingSpec {
                 "unknown key `{k}` (n, d, D, angle; or bpfo, bpfi, ftf, bsf)"
             )));
         }
-        let n_text = get(&["n", "balls"]).ok_or_else(|| bad("missing `n` (number of balls)".into()))?;
+        let n_text =
+            get(&["n", "balls"]).ok_or_else(|| bad("missing `n` (number of balls)".into()))?;
         let n: usize = n_text
             .parse()
             .map_err(|_| bad(format!("`n={n_text}` is not a whole number")))?;
-        let d = length_m(
-            get(&["d", "ball"]).ok_or_else(|| bad("missing `d` (ball diameter)".into()))?,
-        )
-        .map_err(|r| bad(format!("d: {r}")))?;
+        let d =
+            length_m(get(&["d", "ball"]).ok_or_else(|| bad("missing `d` (ball diameter)".into()))?)
+                .map_err(|r| bad(format!("d: {r}")))?;
         let pitch = length_m(
             get(&["D", "pitch"]).ok_or_else(|| bad("missing `D` (pitch diameter)".into()))?,
         )
@@ -138,8 +143,8 @@ impl BearingSpec {
             Some(a) => angle_rad(a).map_err(|r| bad(format!("angle: {r}")))?,
             None => 0.0,
         };
-        let g = BearingGeometry::from_dimensions(n, d, pitch, angle)
-            .map_err(|e| bad(e.to_string()))?;
+        let g =
+            BearingGeometry::from_dimensions(n, d, pitch, angle).map_err(|e| bad(e.to_string()))?;
         Ok(Self {
             name: format!("n={n},d={d:.6}m,D={pitch:.6}m,angle={angle:.4}rad"),
             geometry: Some(g),
@@ -241,12 +246,12 @@ mod tests {
     #[test]
     fn malformed_specs_are_typed_errors() {
         for bad in [
-            "n=9,d=0.3126,D=1.537in",               // no unit
-            "n=9,d=2in,D=1.537in",                  // ball larger than pitch
-            "n=9,D=1.537in",                        // missing d
-            "n=x,d=1mm,D=10mm",                     // not a number
-            "n=9,d=1mm,D=10mm,w=3",                 // unknown key
-            "bpfo=3.58,bpfi=5.41,ftf=0.398",        // missing bsf
+            "n=9,d=0.3126,D=1.537in",                // no unit
+            "n=9,d=2in,D=1.537in",                   // ball larger than pitch
+            "n=9,D=1.537in",                         // missing d
+            "n=x,d=1mm,D=10mm",                      // not a number
+            "n=9,d=1mm,D=10mm,w=3",                  // unknown key
+            "bpfo=3.58,bpfi=5.41,ftf=0.398",         // missing bsf
             "bpfo=5.41,bpfi=3.58,ftf=0.398,bsf=4.7", // swapped
             "bpfo=3.58,bpfi=5.41,ftf=0.398,bsf=nan",
             "n=9,n=9,d=1mm,D=10mm",

@@ -24,10 +24,7 @@ fn scenario(
         .with_noise(Noise::SnrDb(SNR_DB))
         .with_seed(seed)
         .with_slip(Slip::Random { fraction: 0.01 });
-    s.spec = ModelSpec {
-        geometry,
-        ..s.spec
-    };
+    s.spec = ModelSpec { geometry, ..s.spec };
     s.spec.faults = FaultSet::of_class(
         class,
         Spall::new(0.014 * 0.0254).with_depth(bearing_model::scenario::CWRU_DEPTH_M),
@@ -51,9 +48,8 @@ fn run(
     baseline: bool,
 ) -> Diagnosis {
     let x = sim(geometry, class, rpm, fs, 7);
-    let b = baseline.then(|| {
-        Baseline::prepare(&sim(geometry, FaultClass::None, rpm, fs, 99), fs).unwrap()
-    });
+    let b = baseline
+        .then(|| Baseline::prepare(&sim(geometry, FaultClass::None, rpm, fs, 99), fs).unwrap());
     let d = diagnose(&x, fs, rpm, spec, b.as_ref()).unwrap();
     eprintln!(
         "{class:?} {rpm} rpm {fs} Hz {} -> {} (scores i {:.1} o {:.1} b {:.1}; band {:.0}-{:.0})",

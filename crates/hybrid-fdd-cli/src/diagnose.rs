@@ -50,7 +50,8 @@ pub struct Loaded {
 }
 
 /// Unit statement for CWRU `.mat` samples.
-pub const CWRU_UNIT: &str = "file units (CWRU accelerometer data; the data README states no unit, commonly read as g)";
+pub const CWRU_UNIT: &str =
+    "file units (CWRU accelerometer data; the data README states no unit, commonly read as g)";
 
 /// Load one channel of a `.mat` (CWRU record or CWRU-style variables) or one-column CSV file.
 ///
@@ -120,6 +121,9 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
     }
 }
 
+/// A prepared baseline and a note saying how it was made (rate, decimation).
+pub type Prepared = Arc<(Baseline, String)>;
+
 /// A healthy baseline's samples, prepared on demand for each recording rate it is asked for.
 #[derive(Debug)]
 pub struct BaselineSource {
@@ -127,7 +131,7 @@ pub struct BaselineSource {
     pub path: PathBuf,
     samples: Vec<f64>,
     fs_hz: f64,
-    prepared: Mutex<Vec<(u64, Arc<(Baseline, String)>)>>,
+    prepared: Mutex<Vec<(u64, Prepared)>>,
 }
 
 impl BaselineSource {
@@ -156,7 +160,7 @@ impl BaselineSource {
     /// # Errors
     /// A rate that is neither equal nor an integer fraction of the baseline's (the library's
     /// typed mismatch error), or a baseline the AR fit rejects.
-    pub fn at(&self, fs_hz: f64) -> anyhow::Result<Arc<(Baseline, String)>> {
+    pub fn at(&self, fs_hz: f64) -> anyhow::Result<Prepared> {
         let key = fs_hz.to_bits();
         let mut cache = self
             .prepared
@@ -238,7 +242,10 @@ pub fn diagnose_loaded(
                 Some(b.1.clone()),
             )
         }
-        None => (diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, None)?, None),
+        None => (
+            diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, None)?,
+            None,
+        ),
     };
     Ok(Outcome {
         diagnosis: d,
@@ -307,11 +314,12 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         _ => format!("- kurtosis / 3 (Gaussian): ×{:.2}\n", s.kurtosis_ratio),
     };
     m += &format!(
-        "- band (Hz): {:.0}–{:.0}, {} (SK {:.2}); kurtogram band {:.0}–{:.0} (SK {:.2})\n\n",
+        "- band (Hz): {:.0}–{:.0}, {} (SK {:.2}, line threshold {:.1} dB); kurtogram band {:.0}–{:.0} (SK {:.2})\n\n",
         d.band.low_hz,
         d.band.high_hz,
         d.band.chosen_by,
         d.band.spectral_kurtosis,
+        d.band.line_threshold_db,
         d.kurtogram_band.low_hz,
         d.kurtogram_band.high_hz,
         d.kurtogram_band.spectral_kurtosis
@@ -332,9 +340,10 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             } else {
                 " | | | ".to_string()
             };
-            let counts = match (l.present, l.explained_by) {
-                (true, None) => "yes".to_string(),
-                (true, Some(h)) => format!("no, explained by {}", h.as_str()),
+            let counts = match (l.present, l.explained_by, l.consistent) {
+                (true, None, true) => "yes".to_string(),
+                (true, Some(h), _) => format!("no, explained by {}", h.as_str()),
+                (true, None, false) => "no, off the common fundamental".to_string(),
                 _ => "no".to_string(),
             };
             m += &format!(
@@ -433,14 +442,19 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let results: Vec<(PathBuf, anyhow::Result<Outcome>)> = files
         .par_iter()
         .map(|p| {
-            let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("recording");
+            let stem = p
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("recording");
             let r = one(p, &report.join(format!("{stem}.json")));
             bar.inc(1);
             (p.clone(), r)
         })
         .collect();
     bar.finish_and_clear();
-    let mut csv = String::from("file,verdict,reference,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,error\n");
+    let mut csv = String::from(
+        "file,verdict,reference,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,error\n",
+    );
     let mut failed = 0;
     for (p, r) in &results {
         let name = p.file_name().and_then(|s| s.to_str()).unwrap_or("");
@@ -451,7 +465,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 csv += &format!(
                     "{name},{},{},{:.2},{:.2},{:.2},{:.0},{:.0},\n",
                     d.verdict,
-                    if o.baseline_note.is_some() { "baseline" } else { "self" },
+                    if o.baseline_note.is_some() {
+                        "baseline"
+                    } else {
+                        "self"
+                    },
                     d.scores.inner,
                     d.scores.outer,
                     d.scores.ball,

@@ -140,7 +140,12 @@ pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Resul
         if e.band_hz != env.band_hz {
             continue;
         }
-        for l in e.harmonics.iter().chain(&e.sidebands).filter(|l| l.counts()) {
+        for l in e
+            .harmonics
+            .iter()
+            .chain(&e.sidebands)
+            .filter(|l| l.counts())
+        {
             let k = (l.found_hz / env.resolution_hz).round() as usize;
             if let Some(p) = env.power.get(k) {
                 let y = 10.0 * (p.max(1e-300) / median).log10();
