@@ -7,6 +7,7 @@ mod chapters;
 mod close_loop;
 mod common;
 mod data;
+mod diagnose;
 mod identify;
 mod simulate;
 
@@ -44,6 +45,9 @@ enum Task {
     CloseLoop(close_loop::Args),
     /// Calibrate a machine model on a healthy recording (the loop's result, saved as JSON).
     Calibrate(close_loop::CalibrateArgs),
+    /// Diagnose a recording (or a directory, or with --all-real every CWRU recording):
+    /// normal, inner, outer, ball or a combination, training-free.
+    Diagnose(diagnose::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -70,5 +74,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Task::All(a) => chapters::run(&ctx, &[2, 3, 4, 5], a),
         Task::CloseLoop(a) => close_loop::run(&ctx, a),
         Task::Calibrate(a) => close_loop::calibrate(&ctx, a),
+        Task::Diagnose(a) => diagnose::run(&ctx, a),
     }
 }

@@ -82,6 +82,30 @@ impl BearingGeometry {
         }
     }
 
+    /// A bearing of the given dimensions (named `"custom"`), validated with
+    /// [`BearingGeometry::validate`]: `n_balls` rolling elements of diameter `ball_diameter_m` on
+    /// a pitch circle of diameter `pitch_diameter_m`, contact angle `contact_angle_rad`.
+    ///
+    /// # Errors
+    /// [`ModelError`] when the geometry is not physical (see [`BearingGeometry::validate`]) or a
+    /// value is not finite.
+    pub fn from_dimensions(
+        n_balls: usize,
+        ball_diameter_m: f64,
+        pitch_diameter_m: f64,
+        contact_angle_rad: f64,
+    ) -> Result<Self> {
+        let g = Self {
+            name: "custom",
+            n_balls,
+            ball_diameter_m,
+            pitch_diameter_m,
+            contact_angle_rad,
+        };
+        g.validate()?;
+        Ok(g)
+    }
+
     /// Check that the geometry is physical: at least 3 balls, `0 < d < D`, balls fit on the
     /// pitch circle, contact angle in `[0, π/2)`.
     pub fn validate(&self) -> Result<()> {
@@ -162,6 +186,35 @@ pub struct FaultOrders {
 }
 
 impl FaultOrders {
+    /// Orders given directly as multiples of the shaft frequency (a manufacturer's table),
+    /// with `ball_defect` in CWRU's convention (twice the ball spin; `ball_spin` is set to half
+    /// of it). Every value must be finite and positive, `ftf < 1` (the cage turns slower than the
+    /// shaft) and `bpfo < bpfi`.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] (or the positivity error) naming the offending multiple.
+    pub fn from_multiples(bpfo: f64, bpfi: f64, ftf: f64, ball_defect: f64) -> Result<Self> {
+        check_positive("bpfo", bpfo)?;
+        check_positive("bpfi", bpfi)?;
+        check_positive("ftf", ftf)?;
+        check_positive("bsf", ball_defect)?;
+        check_range("ftf", ftf, 0.0, 1.0 - 1e-9, "0 < ftf < 1")?;
+        if bpfo >= bpfi {
+            return Err(ModelError::OutOfRange {
+                name: "bpfo",
+                value: bpfo,
+                expected: "smaller than bpfi",
+            });
+        }
+        Ok(Self {
+            ftf,
+            bpfo,
+            bpfi,
+            ball_spin: 0.5 * ball_defect,
+            ball_defect,
+        })
+    }
+
     /// The same frequencies in Hz at shaft frequency `fr_hz`.
     pub fn at(&self, fr_hz: f64) -> FaultOrders {
         FaultOrders {
@@ -213,6 +266,20 @@ mod tests {
         let o = g.orders();
         assert!((o.bpfo + o.bpfi - 9.0).abs() < 1e-12);
         assert!((o.bpfo - 9.0 * o.ftf).abs() < 1e-12);
+    }
+
+    #[test]
+    fn from_dimensions_and_multiples() {
+        let g = BearingGeometry::from_dimensions(9, 0.3126 * INCH, 1.537 * INCH, 0.0).unwrap();
+        assert_eq!(g.orders(), BearingGeometry::skf_6205().orders());
+        assert!(BearingGeometry::from_dimensions(9, 0.05, 0.04, 0.0).is_err());
+        assert!(BearingGeometry::from_dimensions(2, 0.005, 0.04, 0.0).is_err());
+        assert!(BearingGeometry::from_dimensions(9, f64::NAN, 0.04, 0.0).is_err());
+        let o = FaultOrders::from_multiples(3.5848, 5.4152, 0.39828, 4.7135).unwrap();
+        assert!((o.ball_spin - 2.35675).abs() < 1e-9);
+        assert!(FaultOrders::from_multiples(5.4, 3.5, 0.4, 4.7).is_err());
+        assert!(FaultOrders::from_multiples(3.5, 5.4, 1.4, 4.7).is_err());
+        assert!(FaultOrders::from_multiples(3.5, 5.4, 0.4, -1.0).is_err());
     }
 
     #[test]

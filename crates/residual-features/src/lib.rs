@@ -40,8 +40,9 @@ pub use features::{
     FeatureTable,
 };
 pub use spectral::{
-    Band, SpectralEngine, SpectralPeak, Spectrum, Taper, WelchConfig, amplitude_spectrum,
-    band_energy, bandpass_fft, envelope_spectrum, hilbert_envelope, welch_psd,
+    Band, BandEnvelope, SpectralEngine, SpectralPeak, Spectrum, Taper, WelchConfig,
+    amplitude_spectrum, band_energy, band_squared_envelopes, bandpass_fft, envelope_spectrum,
+    hilbert_envelope, welch_psd,
 };
 pub use stats::{crest_factor, energy, kurtosis, peak, rms, skewness};
 pub use window::{TailPolicy, WindowPlan, WindowSet, Windowing};

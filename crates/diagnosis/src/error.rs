@@ -1,0 +1,123 @@
+//! The crate's single error type.
+
+use thiserror::Error;
+
+/// Everything that can go wrong when diagnosing a recording. Every message is one line and
+/// names the offending value; nothing in this crate panics on data or returns NaN.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum DiagnosisError {
+    /// The bearing designation is not known.
+    #[error(
+        "unknown bearing `{0}` (expected 6205, 6203, a geometry like `n=9,d=0.3126in,D=1.537in,angle=0deg` or multiples like `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`)"
+    )]
+    UnknownBearing(String),
+    /// A geometry or multiples spec that does not parse or is not physical.
+    #[error("invalid bearing spec `{spec}`: {reason}")]
+    InvalidBearingSpec {
+        /// The spec as given.
+        spec: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// Shaft speed outside the accepted range.
+    #[error("shaft speed {rpm} rpm out of range ({min}..={max} rpm)")]
+    RpmOutOfRange {
+        /// Given speed.
+        rpm: f64,
+        /// Smallest accepted speed.
+        min: f64,
+        /// Largest accepted speed.
+        max: f64,
+    },
+    /// Sampling rate outside the accepted range.
+    #[error("sampling rate {fs_hz} Hz out of range ({min}..={max} Hz)")]
+    SampleRateOutOfRange {
+        /// Given rate.
+        fs_hz: f64,
+        /// Smallest accepted rate.
+        min: f64,
+        /// Largest accepted rate.
+        max: f64,
+    },
+    /// The sampling rate is too low for the fault lines at this speed.
+    #[error(
+        "sampling rate {fs_hz} Hz too low for {rpm} rpm: a demodulation band at least {needed_hz:.0} Hz wide (3 harmonics of the highest fault line) must fit between {needed_hz:.0} Hz and fs/2"
+    )]
+    SampleRateTooLow {
+        /// Given rate.
+        fs_hz: f64,
+        /// Given speed.
+        rpm: f64,
+        /// Narrowest demodulation band needed, Hz.
+        needed_hz: f64,
+    },
+    /// The recording is too short for the envelope spectrum to resolve the fault lines.
+    #[error(
+        "recording too short: {samples} samples = {turns:.1} shaft turns, needs at least {min_turns} turns ({needed} samples)"
+    )]
+    TooShort {
+        /// Samples given.
+        samples: usize,
+        /// Samples needed.
+        needed: usize,
+        /// Shaft turns given.
+        turns: f64,
+        /// Shaft turns needed.
+        min_turns: f64,
+    },
+    /// The baseline is too short to fit the AR model.
+    #[error("baseline too short: {samples} samples, needs at least {needed}")]
+    BaselineTooShort {
+        /// Samples given.
+        samples: usize,
+        /// Samples needed.
+        needed: usize,
+    },
+    /// A NaN or infinite sample.
+    #[error("{what} has a non-finite sample {value} at index {index}")]
+    NonFinite {
+        /// `"recording"` or `"baseline"`.
+        what: &'static str,
+        /// Index of the first offending sample.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// Baseline and recording were sampled at different rates.
+    #[error(
+        "baseline sampled at {baseline_hz} Hz but the recording at {recording_hz} Hz (resample the baseline first)"
+    )]
+    SampleRateMismatch {
+        /// Recording's rate.
+        recording_hz: f64,
+        /// Baseline's rate.
+        baseline_hz: f64,
+    },
+    /// The signal is constant or otherwise cannot be modelled.
+    #[error("{what} is degenerate: {reason}")]
+    Degenerate {
+        /// `"recording"` or `"baseline"`.
+        what: &'static str,
+        /// Why.
+        reason: String,
+    },
+    /// A spectral computation failed (should not happen after validation; reported, not panicked).
+    #[error("spectral computation failed: {0}")]
+    Spectral(#[from] residual_features::FeatureError),
+}
+
+/// Result with [`DiagnosisError`].
+pub type Result<T> = std::result::Result<T, DiagnosisError>;
+
+/// First non-finite sample of `x`, as an error naming `what`.
+pub(crate) fn check_finite(what: &'static str, x: &[f64]) -> Result<()> {
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(DiagnosisError::NonFinite {
+            what,
+            index,
+            value: x[index],
+        }),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,390 @@
+//! Lines in a squared envelope spectrum: search windows, prominence over the local median,
+//! hypothesis scores and the cross-explanation of lines between hypotheses.
+
+use serde::{Deserialize, Serialize};
+
+use crate::{
+    BACKGROUND_HALF_WIDTH_ORDERS, CFAR_QUANTILE, HARMONICS, Hypothesis, LINE_THRESHOLD_DB,
+    SLIP_MAX, SPEED_OFFSET, SPEED_TOL,
+};
+use bearing_model::FaultOrders;
+
+/// One searched line of the squared envelope spectrum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Line {
+    /// What it is, e.g. `BPFI×2`, `BPFI×1+fr`, `BSF×1−FTF`, `fr×1`.
+    pub label: String,
+    /// Kinematic frequency at the declared speed, Hz.
+    pub expected_hz: f64,
+    /// Searched window `[low, high]`, Hz.
+    pub search_hz: [f64; 2],
+    /// Frequency of the largest bin in the window, Hz.
+    pub found_hz: f64,
+    /// `10 log10(peak / local median)` of the squared envelope spectrum, dB.
+    pub prominence_db: f64,
+    /// `prominence_db ≥` the spectrum's line threshold (≥ `LINE_THRESHOLD_DB`).
+    pub present: bool,
+    /// A line of a stronger, detected hypothesis's family sits at `found_hz`; it does not count.
+    pub explained_by: Option<Hypothesis>,
+    /// For harmonics: `found_hz` agrees with h × the fundamental implied by the most prominent
+    /// counting harmonic (always true for sidebands and shaft lines).
+    pub consistent: bool,
+}
+
+impl Line {
+    /// Present and not explained by another hypothesis.
+    pub fn counts(&self) -> bool {
+        self.present && self.explained_by.is_none() && self.consistent
+    }
+}
+
+/// A Welch power spectrum of the squared envelope of one band, with the search helpers.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct EnvelopeSpectrum {
+    /// Demodulation band `[low, high]`, Hz.
+    pub band_hz: [f64; 2],
+    /// Bin spacing, Hz.
+    pub resolution_hz: f64,
+    /// Power per bin (arbitrary units²/Hz; only ratios are used).
+    pub power: Vec<f64>,
+    /// Spectral kurtosis of the band, `⟨|z|⁴⟩/⟨|z|²⟩² − 2`.
+    pub spectral_kurtosis: f64,
+    /// Welch segments averaged.
+    pub segments: usize,
+    /// Prominence a line needs in this spectrum, dB (see `set_threshold`).
+    pub line_threshold_db: f64,
+}
+
+impl EnvelopeSpectrum {
+    fn freq(&self, k: usize) -> f64 {
+        k as f64 * self.resolution_hz
+    }
+
+    /// Within half a bin of a shaft harmonic `j·fr`, `j ≥ 1`: not eligible as a fault line
+    /// (envelope lines at shaft harmonics have many causes).
+    fn guarded(&self, k: usize, fr: f64) -> bool {
+        let f = self.freq(k);
+        let j = (f / fr).round();
+        j >= 1.0 && (f - j * fr).abs() < 0.5 * self.resolution_hz
+    }
+
+    /// Median power within `± half_width` of `f` (bins ≥ 1).
+    fn background(&self, f: f64, half_width: f64) -> f64 {
+        let df = self.resolution_hz;
+        let lo = ((f - half_width) / df).ceil().max(1.0) as usize;
+        let hi = (((f + half_width) / df).floor().max(0.0) as usize)
+            .min(self.power.len().saturating_sub(1));
+        if lo > hi {
+            return 0.0;
+        }
+        let mut v: Vec<f64> = self.power[lo..=hi].to_vec();
+        let mid = v.len() / 2;
+        let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
+        *m
+    }
+
+    /// Search `[lo, hi]` (widened to at least ± 0.6 bin around `expected`) for the largest
+    /// eligible bin and measure its prominence.
+    pub(crate) fn line(
+        &self,
+        label: String,
+        expected: f64,
+        lo: f64,
+        hi: f64,
+        fr: f64,
+        guard: bool,
+    ) -> Line {
+        let df = self.resolution_hz;
+        // when the kinematics put the line itself on a shaft harmonic (the 6203's ball-defect
+        // rate is 3.987 fr), the guard would hide it: it applies only to lines clear of one
+        let j = (expected / fr).round();
+        let guard = guard && (j < 1.0 || (expected - j * fr).abs() > 1.5 * df);
+        let lo = lo.min(expected - 0.6 * df).max(df);
+        let hi = hi.max(expected + 0.6 * df);
+        let k0 = (lo / df).ceil() as usize;
+        let k1 = ((hi / df).floor() as usize).min(self.power.len().saturating_sub(1));
+        // a line is a local maximum of the spectrum: the largest bin of a window whose edge
+        // cuts the skirt of a strong line outside it is not a line of its own
+        let best = (k0..=k1)
+            .filter(|&k| {
+                k >= 1 && k < self.power.len() && !(guard && self.guarded(k, fr)) && self.is_peak(k)
+            })
+            .max_by(|&a, &b| self.power[a].total_cmp(&self.power[b]).then(b.cmp(&a)));
+        let (found_hz, prominence_db) = match best {
+            Some(k) => {
+                let f = self.freq(k);
+                let bg = self.background(f, BACKGROUND_HALF_WIDTH_ORDERS * fr);
+                let p = self.power[k];
+                let db = if bg > 0.0 && p > 0.0 {
+                    10.0 * (p / bg).log10()
+                } else {
+                    0.0
+                };
+                (f, if db.is_finite() { db } else { 0.0 })
+            }
+            None => (expected, 0.0),
+        };
+        Line {
+            label,
+            expected_hz: expected,
+            search_hz: [lo, hi],
+            found_hz,
+            prominence_db,
+            present: prominence_db >= self.line_threshold_db,
+            explained_by: None,
+            consistent: true,
+        }
+    }
+
+    /// Bin `k` is a local maximum (≥ both neighbours, > at least one).
+    fn is_peak(&self, k: usize) -> bool {
+        let p = self.power[k];
+        let l = if k > 0 {
+            self.power[k - 1]
+        } else {
+            f64::NEG_INFINITY
+        };
+        let r = self.power.get(k + 1).copied().unwrap_or(f64::NEG_INFINITY);
+        p >= l && p >= r && (p > l || p > r)
+    }
+
+    /// Set the line threshold of this spectrum: [`LINE_THRESHOLD_DB`], raised to the
+    /// [`CFAR_QUANTILE`] of the prominences of the local maxima between fr/2 and `top_hz` that no
+    /// bearing kinematics explains (none of the `kinematic` frequencies — every hypothesis's line
+    /// family and the shaft harmonics — within a bin): a rank CFAR, so a fault line must stand
+    /// out among the spectrum's unexplained lines (mains, interference), not only over its noise.
+    pub(crate) fn set_threshold(&mut self, fr: f64, top_hz: f64, kinematic: &[f64]) {
+        let df = self.resolution_hz;
+        let k0 = ((0.5 * fr / df).ceil() as usize).max(1);
+        let k1 = ((top_hz / df).floor() as usize).min(self.power.len().saturating_sub(2));
+        let mut proms: Vec<f64> = (k0..=k1)
+            .filter(|&k| self.is_peak(k))
+            .filter(|&k| {
+                let f = self.freq(k);
+                !kinematic.iter().any(|g| (f - g).abs() <= df.max(0.001 * f))
+            })
+            .filter_map(|k| {
+                let bg = self.background(self.freq(k), BACKGROUND_HALF_WIDTH_ORDERS * fr);
+                let p = self.power[k];
+                (bg > 0.0 && p > 0.0).then(|| 10.0 * (p / bg).log10())
+            })
+            .filter(|v| v.is_finite())
+            .collect();
+        self.line_threshold_db = LINE_THRESHOLD_DB;
+        if proms.len() >= 10 {
+            proms.sort_by(f64::total_cmp);
+            let i = ((CFAR_QUANTILE * proms.len() as f64).ceil() as usize).min(proms.len()) - 1;
+            self.line_threshold_db = LINE_THRESHOLD_DB.max(proms[i]);
+        }
+    }
+}
+
+/// The evidence for one fault hypothesis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HypothesisEvidence {
+    /// Which fault.
+    pub hypothesis: Hypothesis,
+    /// Kinematic fault frequency (harmonic 1) at the declared speed, Hz.
+    pub fault_hz: f64,
+    /// The band this hypothesis was examined in (the common band of the verdict).
+    pub band_hz: [f64; 2],
+    /// Spectral kurtosis of that band.
+    pub band_spectral_kurtosis: f64,
+    /// Harmonics 1..=3 of the fault frequency.
+    pub harmonics: Vec<Line>,
+    /// Sidebands around harmonic 1 that tell the faults apart: ± fr (inner), ± FTF (ball).
+    pub sidebands: Vec<Line>,
+    /// `Σ_h max(0, P_h) + ½ Σ_s max(0, P_s)`, dB (P = prominence; h harmonics, s sidebands).
+    pub score_db: f64,
+    /// Harmonics that count (present, not explained by another hypothesis).
+    pub harmonics_present: usize,
+    /// Sidebands that count.
+    pub sidebands_present: usize,
+    /// The decision rule holds (see the crate documentation).
+    pub detected: bool,
+}
+
+impl HypothesisEvidence {
+    /// Recount lines and apply the decision rule: at least two harmonics present, or harmonic 1
+    /// present with at least one of its distinguishing sidebands.
+    pub(crate) fn decide(&mut self, df: f64) {
+        // one impact train has one fault frequency: a harmonic counts only when its found
+        // frequency is h × the fundamental implied by the most prominent counting harmonic
+        // (within max(1.5 bins, 0.3 %))
+        let best = self
+            .harmonics
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.present && l.explained_by.is_none())
+            .max_by(|a, b| a.1.prominence_db.total_cmp(&b.1.prominence_db))
+            .map(|(i, l)| l.found_hz / (i + 1) as f64);
+        for (i, l) in self.harmonics.iter_mut().enumerate() {
+            let h = (i + 1) as f64;
+            l.consistent = match best {
+                Some(f) => (l.found_hz - h * f).abs() <= (1.5 * df).max(0.003 * h * f),
+                None => true,
+            };
+        }
+        self.harmonics_present = self.harmonics.iter().filter(|l| l.counts()).count();
+        self.sidebands_present = self.sidebands.iter().filter(|l| l.counts()).count();
+        let first = self.harmonics.first().is_some_and(Line::counts);
+        self.detected =
+            self.harmonics_present >= crate::MIN_LINES || (first && self.sidebands_present >= 1);
+    }
+
+    /// Frequencies of this hypothesis's line family (for explaining other hypotheses' lines).
+    pub(crate) fn family(&self, fr: f64, ftf_hz: f64) -> Vec<f64> {
+        let f1 = self.harmonics.first().map_or(self.fault_hz, |l| l.found_hz);
+        let mut v = Vec::new();
+        match self.hypothesis {
+            Hypothesis::Outer => {
+                for k in 1..=6 {
+                    for j in -2i32..=2 {
+                        v.push(k as f64 * f1 + f64::from(j) * fr);
+                    }
+                }
+            }
+            Hypothesis::Inner => {
+                for k in 0..=HARMONICS {
+                    for j in -3i32..=3 {
+                        v.push(k as f64 * f1 + f64::from(j) * fr);
+                    }
+                }
+            }
+            Hypothesis::Ball => {
+                // the cage rate as slipped by the same ratio as the found ball line
+                let ftf = ftf_hz * f1 / self.fault_hz.max(f64::MIN_POSITIVE);
+                for k in 1..=HARMONICS {
+                    for j in -2i32..=2 {
+                        v.push(k as f64 * f1 + f64::from(j) * ftf);
+                        v.push(k as f64 * f1 + f64::from(j) * fr);
+                    }
+                }
+                // a ball defect enters and leaves the load zone once per cage turn, so its
+                // envelope holds cage harmonics; BPFO = n·FTF is one of them
+                let top = (HARMONICS as f64 + 1.0) * f1;
+                let mut j = 1.0;
+                while j * ftf <= top && ftf > 0.0 {
+                    v.push(j * ftf);
+                    j += 1.0;
+                }
+            }
+        }
+        v.retain(|f| *f > 0.0);
+        v
+    }
+}
+
+/// Search window ratios `[lo, hi]` (found / kinematic) for a hypothesis: slip of up to
+/// [`SLIP_MAX`] lowers the cage, outer-race and ball rates and raises BPFI by
+/// `SLIP_MAX · BPFO/BPFI`; the ~[`SPEED_OFFSET`] speed-reference offset raises all; ± [`SPEED_TOL`]
+/// for speed measurement.
+pub(crate) fn window_ratio(h: Hypothesis, o: &FaultOrders) -> (f64, f64) {
+    match h {
+        Hypothesis::Inner => (
+            1.0 - SPEED_TOL,
+            1.0 + SLIP_MAX * o.bpfo / o.bpfi + SPEED_OFFSET + SPEED_TOL,
+        ),
+        Hypothesis::Outer | Hypothesis::Ball => {
+            (1.0 - SLIP_MAX - SPEED_TOL, 1.0 + SPEED_OFFSET + SPEED_TOL)
+        }
+    }
+}
+
+/// Evaluate hypothesis `h` in one band's envelope spectrum.
+pub(crate) fn evaluate(
+    h: Hypothesis,
+    env: &EnvelopeSpectrum,
+    o: &FaultOrders,
+    fr: f64,
+) -> HypothesisEvidence {
+    let (name, order) = match h {
+        Hypothesis::Inner => ("BPFI", o.bpfi),
+        Hypothesis::Outer => ("BPFO", o.bpfo),
+        Hypothesis::Ball => ("BSF", o.ball_defect),
+    };
+    let f0 = order * fr;
+    let (rlo, rhi) = window_ratio(h, o);
+    let harmonics: Vec<Line> = (1..=HARMONICS)
+        .map(|k| {
+            let e = k as f64 * f0;
+            env.line(format!("{name}×{k}"), e, e * rlo, e * rhi, fr, true)
+        })
+        .collect();
+    let f1 = harmonics[0].found_hz;
+    let df = env.resolution_hz;
+    let ftf_hz = o.ftf * fr;
+    let sidebands: Vec<Line> = match h {
+        Hypothesis::Outer => Vec::new(),
+        Hypothesis::Inner => [(-1.0, "−fr"), (1.0, "+fr")]
+            .iter()
+            .map(|&(s, tag)| {
+                let c = f1 + s * fr;
+                let tol = (0.6 * df).max(0.005 * c);
+                env.line(format!("{name}×1{tag}"), c, c - tol, c + tol, fr, true)
+            })
+            .collect(),
+        Hypothesis::Ball => [(-1.0, "−FTF"), (1.0, "+FTF")]
+            .iter()
+            .map(|&(s, tag)| {
+                let c = f1 + s * ftf_hz;
+                let tol = (0.6 * df).max(0.005 * c + (SLIP_MAX + SPEED_TOL) * ftf_hz);
+                env.line(format!("{name}×1{tag}"), c, c - tol, c + tol, fr, true)
+            })
+            .collect(),
+    };
+    let score_db = harmonics
+        .iter()
+        .map(|l| l.prominence_db.max(0.0))
+        .sum::<f64>()
+        + 0.5
+            * sidebands
+                .iter()
+                .map(|l| l.prominence_db.max(0.0))
+                .sum::<f64>();
+    let mut ev = HypothesisEvidence {
+        hypothesis: h,
+        fault_hz: f0,
+        band_hz: env.band_hz,
+        band_spectral_kurtosis: env.spectral_kurtosis,
+        harmonics,
+        sidebands,
+        score_db,
+        harmonics_present: 0,
+        sidebands_present: 0,
+        detected: false,
+    };
+    ev.decide(df);
+    ev
+}
+
+/// Mark lines of weaker hypotheses that a stronger detected hypothesis's family explains, in
+/// order of decreasing score, and re-decide. A line at `f` is explained by a family frequency
+/// `g` when `|f − g| ≤ max(1 bin, 0.1 % of f)` (unresolvable from it). Families: outer `k f₁ + j fr`; inner
+/// `k f₁ + j fr`; ball `k f₁ + j FTF`, `k f₁ + j fr` and the cage harmonics (shaft-rate
+/// modulation of every line is ubiquitous on real machines).
+pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64, df: f64) {
+    let mut order: Vec<usize> = (0..ev.len()).collect();
+    order.sort_by(|&a, &b| ev[b].score_db.total_cmp(&ev[a].score_db).then(a.cmp(&b)));
+    let mut confirmed: Vec<usize> = Vec::new();
+    for &i in &order {
+        for &c in &confirmed {
+            let fam = ev[c].family(fr, ftf_hz);
+            let by = ev[c].hypothesis;
+            let tol_bins = df;
+            for l in ev[i].harmonics.iter_mut().chain(ev[i].sidebands.iter_mut()) {
+                if l.explained_by.is_none()
+                    && fam
+                        .iter()
+                        .any(|g| (l.found_hz - g).abs() <= tol_bins.max(0.001 * l.found_hz))
+                {
+                    l.explained_by = Some(by);
+                }
+            }
+        }
+        ev[i].decide(df);
+        if ev[i].detected {
+            confirmed.push(i);
+        }
+    }
+}

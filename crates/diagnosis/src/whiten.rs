@@ -1,0 +1,151 @@
+//! Linear prediction (AR) pre-whitening: the residual of a healthy model.
+//!
+//! An AR model `x(k) ≈ Σ_{i=1}^{p} a_i x(k−i)` is fitted by least squares (`laguerre-id`'s ARX
+//! identification in AR form, faer QR) on a healthy baseline, or on the recording itself when no
+//! baseline is given (self-reference: the AR pre-whitening of Sawalhi & Randall 2007). Its
+//! prediction-error filter `e(k) = x(k) − Σ a_i x(k−i)` removes what is predictable from the
+//! past — the structural resonances, the shaft and mains lines the fitted signal holds — and
+//! keeps what is not: the onsets of fault impacts. The order is chosen among [`ORDERS`] by the
+//! one-step prediction error on a held-out part of the fitted signal.
+
+use laguerre_id::{ArxModel, ArxOrders, IdentError};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{DiagnosisError, Result};
+
+/// Candidate AR orders.
+pub const ORDERS: [usize; 6] = [8, 16, 24, 32, 48, 64];
+/// At most this many samples (from the start) are used to fit and validate the model.
+pub const MAX_FIT_SAMPLES: usize = 48_000;
+/// Fewest samples a signal needs to fit the AR model.
+pub const MIN_FIT_SAMPLES: usize = 2_000;
+/// Parsimony: the smallest order whose held-out error is within this factor of the best wins.
+pub const ORDER_TOLERANCE: f64 = 1.01;
+
+/// Held-out score of one candidate order.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct OrderScore {
+    /// AR order.
+    pub order: usize,
+    /// Held-out one-step prediction error variance / held-out signal variance.
+    pub heldout_error_ratio: f64,
+}
+
+/// A fitted AR prediction-error (whitening) filter.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ArWhitener {
+    /// Chosen order `p`.
+    pub order: usize,
+    /// `a_1 … a_p`.
+    pub coefficients: Vec<f64>,
+    /// Sampling rate of the fitted signal, Hz.
+    pub fs_hz: f64,
+    /// Samples used to fit.
+    pub fit_samples: usize,
+    /// Samples used to choose the order (after the fitted ones).
+    pub heldout_samples: usize,
+    /// Every candidate's held-out score.
+    pub selection: Vec<OrderScore>,
+}
+
+fn ident(what: &'static str) -> impl Fn(IdentError) -> DiagnosisError {
+    move |e| DiagnosisError::Degenerate {
+        what,
+        reason: format!("AR fit failed: {e}"),
+    }
+}
+
+impl ArWhitener {
+    /// Fit on `x` (finite, at least [`MIN_FIT_SAMPLES`] samples): the first two thirds of the
+    /// first [`MAX_FIT_SAMPLES`] samples fit each order of [`ORDERS`], the last third scores it.
+    ///
+    /// # Errors
+    /// [`DiagnosisError::BaselineTooShort`] below [`MIN_FIT_SAMPLES`];
+    /// [`DiagnosisError::Degenerate`] for a constant or rank-deficient signal.
+    pub fn fit(x: &[f64], fs_hz: f64, what: &'static str) -> Result<Self> {
+        crate::error::check_finite(what, x)?;
+        if x.len() < MIN_FIT_SAMPLES {
+            return Err(DiagnosisError::BaselineTooShort {
+                samples: x.len(),
+                needed: MIN_FIT_SAMPLES,
+            });
+        }
+        let l = x.len().min(MAX_FIT_SAMPLES);
+        let n_fit = 2 * l / 3;
+        let (fit, _) = x.split_at(n_fit);
+        let held = &x[n_fit..l];
+        let mean = held.iter().sum::<f64>() / held.len() as f64;
+        let var = held.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / held.len() as f64;
+        if var <= f64::MIN_POSITIVE {
+            return Err(DiagnosisError::Degenerate {
+                what,
+                reason: "zero variance".into(),
+            });
+        }
+        let mut best: Option<(usize, Vec<f64>, f64)> = None;
+        let mut selection = Vec::new();
+        let mut fits = Vec::new();
+        for &p in ORDERS.iter().filter(|&&p| n_fit >= 20 * p) {
+            let m = ArxModel::identify(fit, None, ArxOrders::new(p, 0).map_err(ident(what))?)
+                .map_err(ident(what))?;
+            // held-out one-step error, history from the samples before each predicted one
+            let mut se = 0.0;
+            for k in n_fit..l {
+                let pred: f64 = m.a.iter().enumerate().map(|(i, a)| a * x[k - 1 - i]).sum();
+                se += (x[k] - pred).powi(2);
+            }
+            let ratio = se / (held.len() as f64 * var);
+            if !ratio.is_finite() {
+                return Err(DiagnosisError::Degenerate {
+                    what,
+                    reason: "non-finite prediction error".into(),
+                });
+            }
+            selection.push(OrderScore {
+                order: p,
+                heldout_error_ratio: ratio,
+            });
+            fits.push(m.a);
+        }
+        let min = selection
+            .iter()
+            .map(|s| s.heldout_error_ratio)
+            .fold(f64::INFINITY, f64::min);
+        for (s, a) in selection.iter().zip(fits) {
+            if s.heldout_error_ratio <= ORDER_TOLERANCE * min {
+                best = Some((s.order, a, s.heldout_error_ratio));
+                break;
+            }
+        }
+        let (order, coefficients, _) = best.ok_or_else(|| DiagnosisError::Degenerate {
+            what,
+            reason: "no AR order could be fitted".into(),
+        })?;
+        Ok(Self {
+            order,
+            coefficients,
+            fs_hz,
+            fit_samples: n_fit,
+            heldout_samples: l - n_fit,
+            selection,
+        })
+    }
+
+    /// The prediction error `e(k) = x(k) − Σ a_i x(k−i)` for `k = p … len−1` (the first `p`
+    /// samples have no full history and are not returned).
+    pub fn residual(&self, x: &[f64]) -> Vec<f64> {
+        let p = self.order;
+        if x.len() <= p {
+            return Vec::new();
+        }
+        (p..x.len())
+            .map(|k| {
+                let mut s = x[k];
+                for (i, a) in self.coefficients.iter().enumerate() {
+                    s -= a * x[k - 1 - i];
+                }
+                s
+            })
+            .collect()
+    }
+}

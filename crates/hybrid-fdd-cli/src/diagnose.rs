@@ -1,0 +1,498 @@
+//! `diagnose`: one recording or a directory of them → JSON + Markdown + PNG per recording.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use anyhow::{Context as _, bail};
+use diagnosis::{Baseline, BearingSpec, Diagnosis, diagnose};
+use rayon::prelude::*;
+
+/// Flags of `diagnose`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct Args {
+    /// Recording: a CWRU `.mat` file (named by its number, e.g. `130.mat`), a one-column `.csv`,
+    /// or a directory: every `.mat`/`.csv` in it is diagnosed, in parallel.
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// Channel of a `.mat` file: DE, FE or BA.
+    #[arg(long, default_value = "DE")]
+    pub channel: String,
+    /// Sampling rate, Hz (required for CSV; a CWRU file's own rate otherwise).
+    #[arg(long)]
+    pub fs: Option<f64>,
+    /// Shaft speed, rpm (a CWRU file's stored speed, else its nominal one, when omitted).
+    #[arg(long)]
+    pub rpm: Option<f64>,
+    /// Bearing: `6205`, `6203`, `n=9,d=0.3126in,D=1.537in,angle=0deg` or
+    /// `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`.
+    #[arg(long)]
+    pub bearing: Option<String>,
+    /// Healthy recording of the same machine (same formats); resampled by an integer factor
+    /// with an anti-aliasing FIR when its rate is a multiple of the recording's.
+    #[arg(long)]
+    pub baseline: Option<PathBuf>,
+    /// JSON report path (Markdown and PNG beside it); with a directory input, an output directory.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+}
+
+/// A loaded recording.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    /// Samples of the chosen channel.
+    pub samples: Vec<f64>,
+    /// Sampling rate, Hz.
+    pub fs_hz: f64,
+    /// Speed stored in (or catalogued for) the file, rpm.
+    pub rpm: Option<f64>,
+    /// Unit of the samples, as far as known.
+    pub unit: &'static str,
+}
+
+/// Unit statement for CWRU `.mat` samples.
+pub const CWRU_UNIT: &str =
+    "file units (CWRU accelerometer data; the data README states no unit, commonly read as g)";
+
+/// Load one channel of a `.mat` (CWRU record or CWRU-style variables) or one-column CSV file.
+///
+/// # Errors
+/// Unreadable files, unknown channel or extension, missing `--fs` where the file has no rate.
+pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loaded> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let end = match channel.to_ascii_uppercase().as_str() {
+        "DE" => bearing_data::SensorEnd::DriveEnd,
+        "FE" => bearing_data::SensorEnd::FanEnd,
+        "BA" => bearing_data::SensorEnd::Base,
+        other => bail!("unknown channel `{other}` (DE, FE or BA)"),
+    };
+    match ext.as_str() {
+        "mat" => {
+            let bytes =
+                std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+            let number = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .and_then(|s| s.parse::<u32>().ok());
+            if let Some(number) = number
+                && let Ok(rec) = bearing_data::parse_record(&bytes, number)
+            {
+                let x = rec
+                    .channel(end)
+                    .with_context(|| format!("{} has no {channel} channel", path.display()))?
+                    .to_vec();
+                return Ok(Loaded {
+                    samples: x,
+                    fs_hz: fs.unwrap_or(rec.fs_hz()),
+                    rpm: Some(rec.rpm().value),
+                    unit: CWRU_UNIT,
+                });
+            }
+            let set = bearing_data::select_set(bearing_data::read_variable_sets(&bytes)?, None)?;
+            let x = set
+                .channel(end)
+                .with_context(|| format!("{} has no {channel} channel", path.display()))?
+                .to_vec();
+            let fs = fs.context("--fs is required for a .mat file that is not a CWRU record")?;
+            Ok(Loaded {
+                samples: x,
+                fs_hz: fs,
+                rpm: set.rpm,
+                unit: CWRU_UNIT,
+            })
+        }
+        "csv" | "txt" => {
+            let fs = fs.context("--fs is required for a CSV recording")?;
+            let sig = bearing_data::read_csv_file(
+                path,
+                &bearing_data::CsvOptions::new(fs, bearing_data::Column::Single),
+            )?;
+            Ok(Loaded {
+                samples: sig.into_samples(),
+                fs_hz: fs,
+                rpm: None,
+                unit: "CSV units (m/s² for `cargo xtask simulate` output)",
+            })
+        }
+        other => bail!("unsupported input extension `{other}` (.mat or .csv)"),
+    }
+}
+
+/// A prepared baseline and a note saying how it was made (rate, decimation).
+pub type Prepared = Arc<(Baseline, String)>;
+
+/// A healthy baseline's samples, prepared on demand for each recording rate it is asked for.
+#[derive(Debug)]
+pub struct BaselineSource {
+    /// Where it came from.
+    pub path: PathBuf,
+    samples: Vec<f64>,
+    fs_hz: f64,
+    prepared: Mutex<Vec<(u64, Prepared)>>,
+}
+
+impl BaselineSource {
+    /// Load a baseline file.
+    ///
+    /// # Errors
+    /// As [`load`].
+    pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Self> {
+        let l = load(path, channel, fs).with_context(|| format!("baseline {}", path.display()))?;
+        Ok(Self::from_samples(path, l.samples, l.fs_hz))
+    }
+
+    /// A baseline from samples already in memory.
+    pub fn from_samples(path: &Path, samples: Vec<f64>, fs_hz: f64) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            samples,
+            fs_hz,
+            prepared: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The baseline prepared at `fs_hz` (decimated by an integer factor when needed) and a note
+    /// saying how; prepared once per rate.
+    ///
+    /// # Errors
+    /// A rate that is neither equal nor an integer fraction of the baseline's (the library's
+    /// typed mismatch error), or a baseline the AR fit rejects.
+    pub fn at(&self, fs_hz: f64) -> anyhow::Result<Prepared> {
+        let key = fs_hz.to_bits();
+        let mut cache = self
+            .prepared
+            .lock()
+            .map_err(|_| anyhow::anyhow!("baseline cache poisoned"))?;
+        if let Some((_, b)) = cache.iter().find(|(k, _)| *k == key) {
+            return Ok(b.clone());
+        }
+        let name = self.path.display();
+        let ratio = self.fs_hz / fs_hz;
+        let (x, fs_b, note) = if ratio > 1.0 + 1e-9 && (ratio - ratio.round()).abs() < 1e-9 {
+            let q = ratio.round() as usize;
+            let d = bearing_data::Decimator::new(bearing_data::DecimatorParams::new(q))?;
+            (
+                d.decimate(&self.samples)?,
+                fs_hz,
+                format!(
+                    "{name}, {} Hz decimated by {q} (bearing-data anti-aliasing FIR) to {fs_hz} Hz",
+                    self.fs_hz
+                ),
+            )
+        } else {
+            // equal rates, or a mismatch the library reports as its typed error
+            (
+                self.samples.clone(),
+                self.fs_hz,
+                format!("{name} at {} Hz", self.fs_hz),
+            )
+        };
+        let b = Baseline::prepare(&x, fs_b).with_context(|| format!("baseline {name}"))?;
+        let b = Arc::new((b, note));
+        cache.push((key, b.clone()));
+        Ok(b)
+    }
+}
+
+/// Options shared by every recording of a run.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Channel.
+    pub channel: String,
+    /// Sampling rate override.
+    pub fs: Option<f64>,
+    /// Speed override.
+    pub rpm: Option<f64>,
+    /// Bearing.
+    pub bearing: BearingSpec,
+}
+
+/// One recording diagnosed: the diagnosis, the baseline note, the unit statement.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The result.
+    pub diagnosis: Diagnosis,
+    /// How the baseline was used (`None` = self-referenced).
+    pub baseline_note: Option<String>,
+    /// Unit of the samples.
+    pub unit: &'static str,
+}
+
+/// Diagnose samples already loaded.
+///
+/// # Errors
+/// Missing speed, or the library's typed errors.
+pub fn diagnose_loaded(
+    l: &Loaded,
+    plan: &Plan,
+    baseline: Option<&BaselineSource>,
+) -> anyhow::Result<Outcome> {
+    let rpm = plan
+        .rpm
+        .or(l.rpm)
+        .context("--rpm is required (the file stores no speed)")?;
+    let (d, note) = match baseline {
+        Some(src) => {
+            let b = src.at(l.fs_hz)?;
+            (
+                diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, Some(&b.0))?,
+                Some(b.1.clone()),
+            )
+        }
+        None => (
+            diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, None)?,
+            None,
+        ),
+    };
+    Ok(Outcome {
+        diagnosis: d,
+        baseline_note: note,
+        unit: l.unit,
+    })
+}
+
+/// Write `<report>.json`, `.md` and `.png`.
+///
+/// # Errors
+/// File system or drawing errors.
+pub fn write_reports(o: &Outcome, report: &Path, title: &str) -> anyhow::Result<()> {
+    if let Some(parent) = report.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent)?;
+    }
+    std::fs::write(
+        report.with_extension("json"),
+        serde_json::to_string_pretty(&o.diagnosis)? + "\n",
+    )?;
+    std::fs::write(report.with_extension("md"), markdown(o, title))?;
+    crate::figure::envelope_figure(&o.diagnosis, &report.with_extension("png"), title)?;
+    Ok(())
+}
+
+/// The Markdown report.
+pub fn markdown(o: &Outcome, title: &str) -> String {
+    let d = &o.diagnosis;
+    let op = &d.operating_point;
+    let s = &d.statistics;
+    let mut m = format!("# Diagnosis of {title}\n\n**Verdict: {}**\n\n", d.verdict);
+    m += &format!(
+        "- reference: {} ({})\n- operating point: {:.1} rpm (fr = {:.3} Hz), fs = {} Hz, bearing {}\n\
+         - fault frequencies (Hz): BPFO {:.2}, BPFI {:.2}, BSF (ball-defect rate, 2× spin) {:.2}, FTF {:.2}\n\
+         - samples: {}; spectra are of the squared envelope, so line prominences are power ratios (dB) and do not depend on the unit\n\
+         - residual: AR({}) prediction error; RMS {:.4e} {}; kurtosis {:.2} (signal {:.2})\n",
+        match d.reference {
+            diagnosis::Reference::Baseline => "baseline",
+            diagnosis::Reference::SelfReference => "self",
+        },
+        o.baseline_note
+            .as_deref()
+            .unwrap_or("AR model fitted on the recording itself"),
+        op.rpm,
+        op.shaft_hz,
+        op.fs_hz,
+        op.bearing,
+        op.frequencies_hz.bpfo,
+        op.frequencies_hz.bpfi,
+        op.frequencies_hz.ball_defect,
+        op.frequencies_hz.ftf,
+        o.unit,
+        d.whitening.order,
+        s.residual_rms,
+        o.unit.split(' ').next().unwrap_or(""),
+        s.residual_kurtosis,
+        s.signal_kurtosis,
+    );
+    m += &match (s.energy_ratio_db, &d.reference) {
+        (Some(db), _) => format!(
+            "- against the baseline residual: energy {db:+.1} dB, kurtosis ×{:.2}\n",
+            s.kurtosis_ratio
+        ),
+        _ => format!("- kurtosis / 3 (Gaussian): ×{:.2}\n", s.kurtosis_ratio),
+    };
+    m += &format!(
+        "- band (Hz): {:.0}–{:.0}, {} (SK {:.2}, line threshold {:.1} dB); kurtogram band {:.0}–{:.0} (SK {:.2})\n\n",
+        d.band.low_hz,
+        d.band.high_hz,
+        d.band.chosen_by,
+        d.band.spectral_kurtosis,
+        d.band.line_threshold_db,
+        d.kurtogram_band.low_hz,
+        d.kurtogram_band.high_hz,
+        d.kurtogram_band.spectral_kurtosis
+    );
+    m += &format!("Rule: {}.\n\n", d.thresholds.rule);
+    m += "| hypothesis | score (dB) | detected | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | counts |\n|---|---:|---|---|---|---:|---:|---:|---|\n";
+    for e in &d.evidence {
+        for (i, l) in e.harmonics.iter().chain(&e.sidebands).enumerate() {
+            let head = if i == 0 {
+                format!(
+                    "{} | {:.1} | {} | {:.0}–{:.0}",
+                    e.hypothesis.as_str(),
+                    e.score_db,
+                    if e.detected { "**yes**" } else { "no" },
+                    e.band_hz[0],
+                    e.band_hz[1]
+                )
+            } else {
+                " | | | ".to_string()
+            };
+            let counts = match (l.present, l.explained_by, l.consistent) {
+                (true, None, true) => "yes".to_string(),
+                (true, Some(h), _) => format!("no, explained by {}", h.as_str()),
+                (true, None, false) => "no, off the common fundamental".to_string(),
+                _ => "no".to_string(),
+            };
+            m += &format!(
+                "| {head} | {} | {:.2} | {:.2} | {:.1} | {counts} |\n",
+                l.label, l.expected_hz, l.found_hz, l.prominence_db
+            );
+        }
+    }
+    m += "\nShaft harmonics in the band's envelope spectrum: ";
+    m += &d
+        .shaft_harmonics
+        .iter()
+        .map(|l| format!("{} {:.1} dB", l.label, l.prominence_db))
+        .collect::<Vec<_>>()
+        .join(", ");
+    m += "\n";
+    m
+}
+
+/// Files a directory input expands to (`.mat`, `.csv`, sorted).
+fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    if !input.is_dir() {
+        return Ok(vec![input.to_path_buf()]);
+    }
+    let mut v: Vec<PathBuf> = std::fs::read_dir(input)
+        .with_context(|| format!("reading {}", input.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| e.eq_ignore_ascii_case("mat") || e.eq_ignore_ascii_case("csv"))
+        })
+        .collect();
+    v.sort();
+    if v.is_empty() {
+        bail!("{} holds no .mat or .csv file", input.display());
+    }
+    Ok(v)
+}
+
+/// Run `diagnose` with these flags (one file, or a directory in parallel with a progress bar).
+///
+/// # Errors
+/// Missing flags, unreadable files, the library's typed errors (one line each).
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let input = args.input.as_deref().context("--input is required")?;
+    let report = args.report.as_deref().context("--report is required")?;
+    let spec = args
+        .bearing
+        .as_deref()
+        .context("--bearing is required (6205, 6203, a geometry or the four multiples)")?;
+    let plan = Plan {
+        channel: args.channel.clone(),
+        fs: args.fs,
+        rpm: args.rpm,
+        bearing: BearingSpec::parse(spec)?,
+    };
+    let baseline = args
+        .baseline
+        .as_deref()
+        .map(|p| BaselineSource::load(p, &args.channel, None))
+        .transpose()?;
+    let files = expand(input)?;
+    let one = |path: &Path, out: &Path| -> anyhow::Result<Outcome> {
+        let l = load(path, &plan.channel, plan.fs)?;
+        let o = diagnose_loaded(&l, &plan, baseline.as_ref())
+            .with_context(|| path.display().to_string())?;
+        let title = path
+            .file_name()
+            .and_then(|s| s.to_str())
+            .unwrap_or("recording");
+        write_reports(&o, out, title)?;
+        Ok(o)
+    };
+    if !input.is_dir() {
+        let o = one(input, report)?;
+        println!(
+            "{}: {} ({} reference) -> {}",
+            input.display(),
+            o.diagnosis.verdict,
+            if o.baseline_note.is_some() {
+                "baseline"
+            } else {
+                "self"
+            },
+            report.display()
+        );
+        return Ok(());
+    }
+    std::fs::create_dir_all(report)?;
+    let bar = indicatif::ProgressBar::new(files.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let results: Vec<(PathBuf, anyhow::Result<Outcome>)> = files
+        .par_iter()
+        .map(|p| {
+            let stem = p
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("recording");
+            let r = one(p, &report.join(format!("{stem}.json")));
+            bar.inc(1);
+            (p.clone(), r)
+        })
+        .collect();
+    bar.finish_and_clear();
+    let mut csv = String::from(
+        "file,verdict,reference,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,error\n",
+    );
+    let mut failed = 0;
+    for (p, r) in &results {
+        let name = p.file_name().and_then(|s| s.to_str()).unwrap_or("");
+        match r {
+            Ok(o) => {
+                let d = &o.diagnosis;
+                println!("{name}: {}", d.verdict);
+                csv += &format!(
+                    "{name},{},{},{:.2},{:.2},{:.2},{:.0},{:.0},\n",
+                    d.verdict,
+                    if o.baseline_note.is_some() {
+                        "baseline"
+                    } else {
+                        "self"
+                    },
+                    d.scores.inner,
+                    d.scores.outer,
+                    d.scores.ball,
+                    d.band.low_hz,
+                    d.band.high_hz
+                );
+            }
+            Err(e) => {
+                failed += 1;
+                let msg = format!("{e:#}").replace([',', '\n'], ";");
+                eprintln!("{name}: error: {msg}");
+                csv += &format!("{name},,,,,,,,{msg}\n");
+            }
+        }
+    }
+    std::fs::write(report.join("summary.csv"), csv)?;
+    println!(
+        "{} recordings, {failed} failed; reports in {}",
+        results.len(),
+        report.display()
+    );
+    if failed == results.len() {
+        bail!("every recording failed");
+    }
+    Ok(())
+}

@@ -1,0 +1,162 @@
+//! The report figure: the residual's squared envelope spectrum in the chosen band, with the
+//! BPFO, BPFI, BSF (ball-defect rate), FTF and fr harmonics and the distinguishing sidebands
+//! (BPFI ± fr, BSF ± FTF) overlaid and labelled. Used by `hybrid-fdd diagnose` and
+//! `cargo xtask diagnose`.
+
+use std::path::Path;
+
+use diagnosis::Diagnosis;
+use plotters::prelude::*;
+
+/// Figure size, pixels.
+const W: u32 = 900;
+/// Figure height, pixels.
+const H: u32 = 480;
+
+/// Register DejaVu Sans with plotters if it exists; `false` means draw without text.
+fn font_available() -> bool {
+    static ONCE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *ONCE.get_or_init(|| {
+        let path = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+        match std::fs::read(path) {
+            Ok(bytes) => {
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok()
+            }
+            Err(_) => false,
+        }
+    })
+}
+
+/// Draw the envelope-spectrum figure of `d` into `path` (PNG).
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Result<()> {
+    let text = font_available();
+    let env = &d.envelope;
+    let f = &d.operating_point.frequencies_hz;
+    let fr = d.operating_point.shaft_hz;
+    let top = 3.4 * f.bpfo.max(f.bpfi).max(f.ball_defect) + fr;
+    let pts: Vec<(f64, f64)> = env
+        .power
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(k, p)| (k as f64 * env.resolution_hz, *p))
+        .take_while(|(x, _)| *x <= top)
+        .collect();
+    let mut sorted: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted
+        .get(sorted.len() / 2)
+        .copied()
+        .filter(|m| *m > 0.0)
+        .unwrap_or(1.0);
+    let db: Vec<(f64, f64)> = pts
+        .iter()
+        .map(|(x, p)| (*x, 10.0 * (p.max(1e-300) / median).log10()))
+        .collect();
+    let ymax = db.iter().map(|p| p.1).fold(10.0f64, f64::max) + 8.0;
+    let ymin = db.iter().map(|p| p.1).fold(0.0f64, f64::min).max(-20.0);
+
+    let root = BitMapBackend::new(path, (W, H)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut b = ChartBuilder::on(&root);
+    b.margin(12);
+    if text {
+        b.caption(
+            format!(
+                "{title}: {} — squared envelope spectrum of the residual, band {:.0}–{:.0} Hz ({} reference)",
+                d.verdict,
+                d.band.low_hz,
+                d.band.high_hz,
+                match d.reference {
+                    diagnosis::Reference::Baseline => "baseline",
+                    diagnosis::Reference::SelfReference => "self",
+                }
+            ),
+            ("sans-serif", 14),
+        )
+        .x_label_area_size(40)
+        .y_label_area_size(55);
+    }
+    let mut c = b.build_cartesian_2d(0.0..top, ymin..ymax)?;
+    let mut mesh = c.configure_mesh();
+    mesh.light_line_style(TRANSPARENT);
+    if text {
+        mesh.x_desc("envelope frequency (Hz)")
+            .y_desc("power re median (dB)");
+    } else {
+        mesh.x_labels(0).y_labels(0);
+    }
+    mesh.draw()?;
+    // marker families: (label, frequency, colour, dashed sideband?)
+    let blue = RGBColor(31, 119, 180);
+    let red = RGBColor(214, 39, 40);
+    let green = RGBColor(44, 160, 44);
+    let purple = RGBColor(148, 103, 189);
+    let gray = RGBColor(150, 150, 150);
+    let mut marks: Vec<(String, f64, RGBColor, bool)> = Vec::new();
+    for k in 1..=3 {
+        let kf = k as f64;
+        marks.push((format!("fr×{k}"), kf * fr, gray, false));
+        marks.push((format!("BPFO×{k}"), kf * f.bpfo, blue, false));
+        marks.push((format!("BPFI×{k}"), kf * f.bpfi, red, false));
+        marks.push((format!("BSF×{k}"), kf * f.ball_defect, green, false));
+        marks.push((format!("FTF×{k}"), kf * f.ftf, purple, false));
+    }
+    for s in [-1.0, 1.0] {
+        marks.push((String::new(), f.bpfi + s * fr, red, true));
+        marks.push((String::new(), f.ball_defect + s * f.ftf, green, true));
+    }
+    for (i, (label, x, col, side)) in marks.iter().enumerate() {
+        if *x <= 0.0 || *x >= top {
+            continue;
+        }
+        let style = if *side {
+            col.mix(0.45).stroke_width(1)
+        } else {
+            col.mix(0.8).stroke_width(1)
+        };
+        c.draw_series(LineSeries::new(vec![(*x, ymin), (*x, ymax)], style))?;
+        if text && !label.is_empty() {
+            let y = ymax - 1.5 - 2.2 * (i % 5) as f64;
+            c.draw_series(std::iter::once(Text::new(
+                label.clone(),
+                (*x, y),
+                ("sans-serif", 10).into_font().color(col),
+            )))?;
+        }
+    }
+    c.draw_series(LineSeries::new(db, &BLACK))?;
+    // found lines of each hypothesis, as dots where they count
+    for e in &d.evidence {
+        let col = match e.hypothesis {
+            diagnosis::Hypothesis::Inner => red,
+            diagnosis::Hypothesis::Outer => blue,
+            diagnosis::Hypothesis::Ball => green,
+        };
+        if e.band_hz != env.band_hz {
+            continue;
+        }
+        for l in e
+            .harmonics
+            .iter()
+            .chain(&e.sidebands)
+            .filter(|l| l.counts())
+        {
+            let k = (l.found_hz / env.resolution_hz).round() as usize;
+            if let Some(p) = env.power.get(k) {
+                let y = 10.0 * (p.max(1e-300) / median).log10();
+                c.draw_series(std::iter::once(Circle::new(
+                    (l.found_hz, y),
+                    4,
+                    col.filled(),
+                )))?;
+            }
+        }
+    }
+    root.present()?;
+    Ok(())
+}

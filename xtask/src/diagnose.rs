@@ -1,0 +1,449 @@
+//! `cargo xtask diagnose`: the `hybrid-fdd diagnose` command (same flags, same code, from the
+//! `hybrid-fdd-cli` library), plus `--all-real`: every recording of the shared CWRU data
+//! diagnosed against the healthy baseline 97.mat and self-referenced, beside its label and
+//! Smith & Randall's grade → `results/diagnosis/`.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::Context as _;
+use bearing_data::{LoadOptions, load_record};
+use diagnosis::{BearingSpec, Diagnosis};
+use hybrid_fdd_cli::diagnose::{BaselineSource, CWRU_UNIT, Loaded, Outcome, Plan, diagnose_loaded};
+use rayon::prelude::*;
+
+use crate::common::Context;
+
+/// Flags of this task.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    cmd: hybrid_fdd_cli::diagnose::Args,
+    /// Diagnose every recording of the shared CWRU data (97, the 60 12 kHz and 13 48 kHz
+    /// drive-end records) into `results/diagnosis/`.
+    #[arg(long)]
+    all_real: bool,
+}
+
+/// Smith & Randall's grades, embedded with their provenance (see the file's header).
+const GRADES: &str = include_str!("smith_randall_grades.csv");
+
+/// Hand-written reading of the wrong verdicts and the design history (kept honest: the rules
+/// were changed after the first CWRU run, without moving a threshold constant).
+const NOTES: &str = "
+## Reading the wrong verdicts
+
+- **OR014@6 (197–200, 201)**: no BPFO series stands out in any impulsive band; the data README's
+  sanity check finds no clear BPFO line in these files either (Smith & Randall grade 198–200 P/N).
+- **Ball faults B007 and B014 (118–121, 185–188, 122, 189)**: the ball-defect series is at or
+  below the line threshold; several read `outer` (BPFO series) or `normal`. The data README finds
+  no clear ball line in B007 and only cage modulation in B014; Smith & Randall grade them N/P
+  except 121.
+- **B021 (222–226)**: the envelope holds a clear BPFI series with ± fr sidebands — an inner-race
+  signature — so the verdict is `inner`. The rule reads what the spectrum shows; whether the seeded
+  bearing also had inner-race damage cannot be decided from these files.
+- **IR028 (3001–3004) and B028 (3005–3008)**: NTN-equivalent bearings whose geometry CWRU does
+  not publish, analysed with SKF 6205 kinematics and the nominal speed (the files store none); the
+  data README notes that 3001–3004 show BPFO rather than BPFI.
+- **174** (1.33 s, IR014 at 48 kHz): no line in 40 shaft turns.
+- **97 (normal)**: a false alarm: three BPFI-window lines at 6–8 dB, just over the 6 dB floor, in
+  one of ~200 impulsive 48 kHz bands searched — the multiple-comparison cost of the band search,
+  which the 6 dB floor (derived for noise-like spectra) does not fully pay.
+
+## Design history (what was changed after seeing CWRU results)
+
+The thresholds (6 dB, 2 of 3 harmonics) and the slip windows were fixed on simulated data before
+any CWRU run and never changed. The first CWRU run (each hypothesis in its own best band, any
+largest bin as a line, 6 dB) was right on 6/44 Y records with the baseline and 6/44 self-referenced,
+7/74 overall: real envelope spectra are crowded with lines (shaft and mains modulation, sidebands
+of the true fault), and weak coincidences made nearly every record a combination. The rules were
+then changed on physical grounds, not on labels: only impulsive bands (spectral kurtosis
+significant against a Gaussian's), one common band for all hypotheses, a harmonic must sit at
+h × the series' own fundamental, shaft-rate sidebands join every line family (17/44 and 23/44 Y);
+then a line must be a local maximum (a window edge cutting a strong neighbour's skirt is not a
+line) and must beat nine in ten of the spectrum's kinematically unexplained lines (rank CFAR).
+The CWRU labels were never used to choose a number, but they were seen between these steps, so
+the result below is not a blind test.
+";
+
+/// Records whose figure goes into `results/diagnosis/figures/`.
+const FIGURES: [u32; 5] = [97, 105, 130, 222, 3005];
+
+/// Run the task.
+pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
+    if !args.all_real {
+        return hybrid_fdd_cli::diagnose::run(&args.cmd);
+    }
+    let Some(dir) = ctx.data_dir_or_skip()? else {
+        println!("diagnose: no data directory found; skipping the real-data batch");
+        return Ok(());
+    };
+    all_real(dir, &ctx.root.join("results/diagnosis"))
+}
+
+fn grades() -> BTreeMap<u32, char> {
+    GRADES
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("record"))
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            Some((f.first()?.parse().ok()?, f.last()?.chars().next()?))
+        })
+        .collect()
+}
+
+/// A record selector for the accuracy table.
+type Pick = Box<dyn Fn(&Row) -> bool>;
+
+/// One record's two diagnoses.
+struct Row {
+    number: u32,
+    fs: f64,
+    class: String,
+    label: &'static str,
+    load_hp: u8,
+    rpm: f64,
+    grade: Option<char>,
+    base: Result<Outcome, String>,
+    own: Result<Outcome, String>,
+}
+
+fn verdict(r: &Result<Outcome, String>) -> &str {
+    match r {
+        Ok(o) => &o.diagnosis.verdict,
+        Err(_) => "error",
+    }
+}
+
+fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
+    let entries: Vec<_> = bearing_data::catalog()
+        .filter(|e| e.in_shared_copy)
+        .collect();
+    let grades = grades();
+    let b97 = load_record(dir, 97, &LoadOptions::default()).context("loading 97.mat")?;
+    let baseline =
+        BaselineSource::from_samples(Path::new("97.mat"), b97.de().to_vec(), b97.fs_hz());
+    let plan = Plan {
+        channel: "DE".into(),
+        fs: None,
+        rpm: None,
+        bearing: BearingSpec::parse("6205")?,
+    };
+    // prepare both rates first (serially), so the parallel part only reads the cache
+    baseline.at(48_000.0)?;
+    baseline.at(12_000.0)?;
+    let bar = indicatif::ProgressBar::new(entries.len() as u64);
+    let rows: Vec<Row> = entries
+        .par_iter()
+        .map(|e| -> anyhow::Result<Row> {
+            let rec = load_record(dir, e.number, &LoadOptions::default())
+                .with_context(|| format!("loading {}", e.number))?;
+            let l = Loaded {
+                samples: rec.de().to_vec(),
+                fs_hz: rec.fs_hz(),
+                rpm: Some(rec.rpm().value),
+                unit: CWRU_UNIT,
+            };
+            let base = diagnose_loaded(&l, &plan, Some(&baseline)).map_err(|e| format!("{e:#}"));
+            let own = diagnose_loaded(&l, &plan, None).map_err(|e| format!("{e:#}"));
+            bar.inc(1);
+            Ok(Row {
+                number: e.number,
+                fs: rec.fs_hz(),
+                class: e.class_name(),
+                label: e.fault.as_str(),
+                load_hp: e.load_hp,
+                rpm: rec.rpm().value,
+                grade: grades.get(&e.number).copied(),
+                base,
+                own,
+            })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    bar.finish_and_clear();
+    std::fs::create_dir_all(out.join("figures"))?;
+    for r in rows.iter().filter(|r| FIGURES.contains(&r.number)) {
+        if let Ok(o) = &r.base {
+            hybrid_fdd_cli::figure::envelope_figure(
+                &o.diagnosis,
+                &out.join(format!("figures/{}_baseline.png", r.number)),
+                &format!("{}.mat ({})", r.number, r.class),
+            )?;
+        }
+    }
+    write_outputs(&rows, out)?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// (right, total) over rows matching `pick`, for the baseline and the self-referenced run.
+fn tally(rows: &[Row], pick: impl Fn(&Row) -> bool) -> ((usize, usize), (usize, usize)) {
+    let sel: Vec<&Row> = rows.iter().filter(|r| pick(r)).collect();
+    let right = |f: &dyn Fn(&Row) -> &str| sel.iter().filter(|r| f(r) == r.label).count();
+    (
+        (right(&|r| verdict(&r.base)), sel.len()),
+        (right(&|r| verdict(&r.own)), sel.len()),
+    )
+}
+
+fn pct((a, n): (usize, usize)) -> String {
+    if n == 0 {
+        "–".into()
+    } else {
+        format!("{a}/{n} ({:.1} %)", 100.0 * a as f64 / n as f64)
+    }
+}
+
+/// Why a verdict differs from the label, from the evidence.
+fn reason(r: &Row, o: &Result<Outcome, String>) -> String {
+    let d: &Diagnosis = match o {
+        Ok(o) => &o.diagnosis,
+        Err(e) => return format!("error: {e}"),
+    };
+    let ev = |h: &str| d.evidence.iter().find(|e| e.hypothesis.as_str() == h);
+    let lines = |h: &str| {
+        ev(h).map_or(String::new(), |e| {
+            e.harmonics
+                .iter()
+                .chain(&e.sidebands)
+                .map(|l| {
+                    format!(
+                        "{} {:.1}{}{}",
+                        l.label,
+                        l.prominence_db,
+                        if l.explained_by.is_some() { "ₓ" } else { "" },
+                        if l.consistent { "" } else { "≠" }
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+    };
+    let mut s = String::new();
+    if r.label != "normal" && !d.detected.iter().any(|h| h.as_str() == r.label) {
+        let _ = write!(
+            s,
+            "{} lines short of the rule (line threshold in band {:.0}–{:.0} Hz: {:.1} dB): {}",
+            r.label,
+            d.band.low_hz,
+            d.band.high_hz,
+            d.band.line_threshold_db,
+            lines(r.label)
+        );
+    }
+    for h in &d.detected {
+        if h.as_str() != r.label {
+            if !s.is_empty() {
+                s += "; ";
+            }
+            let _ = write!(s, "{} detected: {}", h.as_str(), lines(h.as_str()));
+        }
+    }
+    s
+}
+
+fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
+    // CSV
+    let mut csv = String::from(
+        "record,fs_hz,class,label,load_hp,rpm,grade,verdict_baseline,right_baseline,verdict_self,right_self,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,energy_ratio_db,kurtosis_ratio,residual_kurtosis\n",
+    );
+    for r in rows {
+        let (si, so, sb, bl, bh, e, k, rk) = match &r.base {
+            Ok(o) => {
+                let d = &o.diagnosis;
+                (
+                    format!("{:.2}", d.scores.inner),
+                    format!("{:.2}", d.scores.outer),
+                    format!("{:.2}", d.scores.ball),
+                    format!("{:.0}", d.band.low_hz),
+                    format!("{:.0}", d.band.high_hz),
+                    d.statistics
+                        .energy_ratio_db
+                        .map_or(String::new(), |v| format!("{v:.2}")),
+                    format!("{:.3}", d.statistics.kurtosis_ratio),
+                    format!("{:.3}", d.statistics.residual_kurtosis),
+                )
+            }
+            Err(_) => Default::default(),
+        };
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{},{si},{so},{sb},{bl},{bh},{e},{k},{rk}",
+            r.number,
+            r.fs,
+            r.class,
+            r.label,
+            r.load_hp,
+            r.rpm,
+            r.grade.map_or(String::new(), String::from),
+            verdict(&r.base),
+            verdict(&r.base) == r.label,
+            verdict(&r.own),
+            verdict(&r.own) == r.label,
+        );
+    }
+    std::fs::write(out.join("records.csv"), csv)?;
+    // JSON (AR coefficients left out to keep the file small; the order is kept)
+    let strip = |o: &Result<Outcome, String>| -> serde_json::Value {
+        match o {
+            Ok(o) => {
+                let mut d = o.diagnosis.clone();
+                d.whitening.coefficients.clear();
+                serde_json::json!({ "baseline": o.baseline_note, "diagnosis": d })
+            }
+            Err(e) => serde_json::json!({ "error": e }),
+        }
+    };
+    let json: Vec<serde_json::Value> = rows
+        .iter()
+        .map(|r| {
+            serde_json::json!({
+                "record": r.number, "fs_hz": r.fs, "class": r.class, "label": r.label,
+                "load_hp": r.load_hp, "rpm": r.rpm,
+                "grade": r.grade.map(String::from),
+                "baseline_reference": strip(&r.base),
+                "self_reference": strip(&r.own),
+            })
+        })
+        .collect();
+    std::fs::write(
+        out.join("records.json"),
+        serde_json::to_string(&json)? + "\n",
+    )?;
+
+    // README
+    let mut m = String::from(
+        "# Training-free diagnosis of every CWRU recording\n\n\
+         Generated by `cargo xtask diagnose --all-real`; do not edit. Method: the `diagnosis` crate \
+         (AR residual of a healthy model → kurtogram filter bank → squared envelope spectrum → \
+         fault-line evidence with fixed thresholds; see `crates/diagnosis/README.md` and \
+         `docs/equations/diagnosis.md`). Nothing was trained or tuned on these labels: the \
+         thresholds (a line ≥ 6 dB over the local median at ≥ 2 of 3 harmonics, or at harmonic 1 \
+         with a distinguishing sideband) were fixed on simulated recordings before this run.\n\n\
+         - **baseline**: AR model fitted on the healthy 97.mat (0 hp, 48 kHz; decimated by 4 with \
+         `bearing-data`'s anti-aliasing FIR for the 12 kHz records). 97 diagnosed against itself \
+         is a consistency check, not a test.\n\
+         - **self**: AR model fitted on the recording itself (AR pre-whitening), no baseline.\n\
+         - Drive-end channel, speed stored in the file (nominal for 3001–3008, which store none), \
+         SKF 6205 kinematics for every record (3001–3008 are NTN-equivalent bearings whose \
+         geometry CWRU does not give). Samples are in file units (the data README states none; \
+         commonly read as g); the decision uses power ratios only.\n\
+         - Grades: Smith & Randall (MSSP 64–65, 2015), Y = clearly diagnosable by envelope \
+         analysis, P = partly, N = not; embedded in `xtask/src/smith_randall_grades.csv` from \
+         `shared/data/cwru/smith_randall_grades.csv` (the table in `shared/docs/references.md`).\n\
+         - A verdict is right when it equals the label exactly (`inner+outer` for an inner \
+         record is wrong).\n\n## Accuracy\n\n| records | baseline reference | self reference |\n|---|---|---|\n",
+    );
+    let twelve = |r: &Row| r.fs == 12_000.0 && r.label != "normal";
+    let groups: Vec<(&str, Pick)> = vec![
+        (
+            "12 kHz DE, grade Y (44)",
+            Box::new(move |r: &Row| twelve(r) && r.grade == Some('Y')),
+        ),
+        (
+            "12 kHz DE, grade P (6)",
+            Box::new(move |r: &Row| twelve(r) && r.grade == Some('P')),
+        ),
+        (
+            "12 kHz DE, grade N (10)",
+            Box::new(move |r: &Row| twelve(r) && r.grade == Some('N')),
+        ),
+        ("12 kHz DE, all 60", Box::new(twelve)),
+        (
+            "48 kHz DE, 0 hp (13)",
+            Box::new(|r: &Row| r.fs == 48_000.0 && r.label != "normal"),
+        ),
+        ("normal 97.mat", Box::new(|r: &Row| r.label == "normal")),
+        ("overall (74)", Box::new(|_: &Row| true)),
+    ];
+    for (name, f) in &groups {
+        let (b, s) = tally(rows, f);
+        let _ = writeln!(m, "| {name} | {} | {} |", pct(b), pct(s));
+    }
+    for (name, pick) in [("baseline", 0usize), ("self", 1)] {
+        let _ = write!(
+            m,
+            "\n## Confusion matrix, {name} reference (rows: label, columns: verdict)\n\n"
+        );
+        let cols = ["normal", "inner", "outer", "ball", "combination", "error"];
+        m += "| label | ";
+        m += &cols.join(" | ");
+        m += " |\n|---|---:|---:|---:|---:|---:|---:|\n";
+        for label in ["normal", "inner", "outer", "ball"] {
+            let mut counts = [0usize; 6];
+            for r in rows.iter().filter(|r| r.label == label) {
+                let v = verdict(if pick == 0 { &r.base } else { &r.own });
+                let c = cols.iter().position(|c| *c == v).unwrap_or(4);
+                counts[c] += 1;
+            }
+            let _ = writeln!(
+                m,
+                "| {label} | {} |",
+                counts
+                    .iter()
+                    .map(|c| c.to_string())
+                    .collect::<Vec<_>>()
+                    .join(" | ")
+            );
+        }
+    }
+    m += "\n## Every record\n\n| record | fs (kHz) | class | load (hp) | rpm | grade | label | verdict (baseline) | verdict (self) | scores i/o/b (dB, baseline) | band (Hz, baseline) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for r in rows {
+        let mark = |v: &str| {
+            if v == r.label {
+                format!("{v} ✓")
+            } else {
+                format!("**{v}** ✗")
+            }
+        };
+        let (sc, band) = match &r.base {
+            Ok(o) => (
+                format!(
+                    "{:.0}/{:.0}/{:.0}",
+                    o.diagnosis.scores.inner, o.diagnosis.scores.outer, o.diagnosis.scores.ball
+                ),
+                format!(
+                    "{:.0}–{:.0}",
+                    o.diagnosis.band.low_hz, o.diagnosis.band.high_hz
+                ),
+            ),
+            Err(_) => ("–".into(), "–".into()),
+        };
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {sc} | {band} |",
+            r.number,
+            r.fs / 1000.0,
+            r.class,
+            r.load_hp,
+            r.rpm,
+            r.grade.map_or("–".to_string(), String::from),
+            r.label,
+            mark(verdict(&r.base)),
+            mark(verdict(&r.own)),
+        );
+    }
+    m += "\n## Wrong verdicts (baseline reference) and why\n\nLine prominences in dB over the local median of the squared envelope spectrum of the common band; ₓ = explained by a stronger detected fault, ≠ = not at h × the fundamental of the strongest harmonic.\n\n";
+    for r in rows.iter().filter(|r| verdict(&r.base) != r.label) {
+        let _ = writeln!(
+            m,
+            "- **{}** ({}, grade {}): {} — {}",
+            r.number,
+            r.class,
+            r.grade.map_or("–".to_string(), String::from),
+            verdict(&r.base),
+            reason(r, &r.base)
+        );
+    }
+    m += NOTES;
+    m += "\nFigures (baseline reference): `figures/<record>_baseline.png` for ";
+    m += &FIGURES
+        .iter()
+        .map(|n| n.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    m += ". Per-record numbers: `records.csv`; every diagnosis in full: `records.json`.\n";
+    std::fs::write(out.join("README.md"), m)?;
+    Ok(())
+}
