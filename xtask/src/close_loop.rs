@@ -224,11 +224,11 @@ fn effect_list(o: &Outcome) -> String {
                 .map_or(String::new(), |k| format!(" {k}x"));
             match e.frequency_hz {
                 Some(f) => format!("{}{order} {:.1} Hz ({p})", e.kind.as_str(), f),
-                None => format!(
-                    "{} x{:.4} ({p})",
-                    e.kind.as_str(),
-                    e.parameters.get("ratio").copied().unwrap_or(f64::NAN)
-                ),
+                None => match (e.parameters.get("ratio"), e.parameters.get("fraction")) {
+                    (Some(r), _) => format!("{} x{r:.4} ({p})", e.kind.as_str()),
+                    (None, Some(f)) => format!("{} {:.2} % ({p})", e.kind.as_str(), 100.0 * f),
+                    _ => format!("{} ({p})", e.kind.as_str()),
+                },
             }
         })
         .collect();
@@ -305,7 +305,7 @@ fn all_real(ctx: &Context, dir: &Path, args: &Args) -> anyhow::Result<()> {
     }
     let records: Vec<&bearing_data::CatalogEntry> = bearing_data::catalog()
         .filter(|e| e.number != 97 && e.fault_end() == Some(bearing_data::SensorEnd::DriveEnd))
-        .filter(|e| bearing_data::record_path(dir, e.number).is_ok())
+        .filter(|e| bearing_data::record_path(dir, e.number).is_ok_and(|p| p.exists()))
         .collect();
     let bar = indicatif::ProgressBar::new(records.len() as u64);
     let done: Vec<anyhow::Result<(u32, String, String, f64, f64, Outcome)>> = records

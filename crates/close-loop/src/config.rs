@@ -75,7 +75,7 @@ impl Default for LoopConfig {
             floor_db: -30.0,
             noise_stop_factor: 1.25,
             min_improvement_db: 0.03,
-            max_path_order: 64,
+            max_path_order: 128,
         }
     }
 }

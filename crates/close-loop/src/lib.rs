@@ -10,6 +10,9 @@
 //!   the ALPIO observer runs on).
 //! - `observers`: ALPIO / HOSTSMO, which give the observer-residual RMS metric.
 //! - `serde`: the ledger is written as JSON by `cargo xtask close-loop`.
+//! - `serde_json`: the machine model ([`machine::MachineModel`]) reads and writes itself.
+//! - `nalgebra`: eigenvalues of the AR companion matrix (the structural modes of [`path`]) and
+//!   the small normal equations of the gain / path level / floor fit.
 //! - `thiserror`: the crate's one error enum.
 //! - `bearing-model`: the 5-DOF physics model behind [`physics::PhysicsModel`].
 //!

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// Orders tried when the path is identified.
-pub const ORDERS: [usize; 10] = [2, 4, 8, 12, 16, 24, 32, 40, 48, 64];
+pub const ORDERS: [usize; 12] = [2, 4, 8, 12, 16, 24, 32, 40, 48, 64, 96, 128];
 
 /// One structural mode of the path (a complex pole pair of `1/A(z)`, or a real pole).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

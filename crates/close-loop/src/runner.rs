@@ -438,8 +438,8 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     let n_bins = ctx.welch.n_bins();
     let df = ctx.welch.df();
     let want_broadband = st.path.is_none();
-    let want_physics = !st.phys_path_fitted
-        && !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty();
+    let want_physics =
+        !st.phys_path_fitted && !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty();
     if !(want_broadband || want_physics) {
         return Vec::new();
     }

@@ -203,7 +203,9 @@ impl<'a> PeakRefiner<'a> {
         let n = (4 * xw.len().max(1)).next_power_of_two();
         let mut buf: Vec<Complex<f64>> = xw.iter().map(|&v| Complex::new(v, 0.0)).collect();
         buf.resize(n, Complex::new(0.0, 0.0));
-        rustfft::FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+        rustfft::FftPlanner::new()
+            .plan_fft_forward(n)
+            .process(&mut buf);
         let power = buf[..n / 2 + 1].iter().map(|c| c.norm_sqr()).collect();
         Self {
             xw,
