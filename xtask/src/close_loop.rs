@@ -253,6 +253,9 @@ fn grades(dir: &Path) -> std::collections::BTreeMap<u32, String> {
     m
 }
 
+/// One row of the batch table: record, class, grade, rpm, fs, outcome.
+type Row = (u32, String, String, f64, f64, Outcome);
+
 /// Every recording of the shared data: 97 calibrated into the rig's machine model (48 kHz, and
 /// decimated by 4 for the 12 kHz records), every fault record from the model of its rate.
 fn all_real(ctx: &Context, dir: &Path, args: &Args) -> anyhow::Result<()> {
@@ -281,7 +284,7 @@ fn all_real(ctx: &Context, dir: &Path, args: &Args) -> anyhow::Result<()> {
     // the rig, calibrated on the healthy record at both rates
     let normal = bearing_data::record_path(dir, 97)?;
     let mut rigs: Vec<(f64, MachineModel)> = Vec::new();
-    let mut rows: Vec<(u32, String, String, f64, f64, Outcome)> = Vec::new();
+    let mut rows: Vec<Row> = Vec::new();
     for (dec, name) in [(4usize, "rig-12k"), (1, "rig-48k")] {
         let t = Instant::now();
         let mut a = base(normal.clone(), out_dir.join(format!("{name}.report.json")));
@@ -308,7 +311,7 @@ fn all_real(ctx: &Context, dir: &Path, args: &Args) -> anyhow::Result<()> {
         .filter(|e| bearing_data::record_path(dir, e.number).is_ok_and(|p| p.exists()))
         .collect();
     let bar = indicatif::ProgressBar::new(records.len() as u64);
-    let done: Vec<anyhow::Result<(u32, String, String, f64, f64, Outcome)>> = records
+    let done: Vec<anyhow::Result<Row>> = records
         .par_iter()
         .map(|e| {
             let fault = match e.fault {
