@@ -531,7 +531,7 @@ fn fit_line(x: &[f64], fs: f64, f: f64) -> Line {
 /// not carry: on the fine Welch grid, the residual's log PSD above its running median (±~25 Hz)
 /// minus the same excess of the model's own simulated output (its fault lines), peaks above
 /// `line_threshold_db`, ranked by the power they carry above the background — what they explain.
-fn line_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
+fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Evaluated> {
     let c = ctx.cfg.get();
     if c.max_line_candidates == 0 {
         return Vec::new();
@@ -566,7 +566,12 @@ fn line_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
     let gain_db = 10.0 * st.log_gain / std::f64::consts::LN_10;
     let ex: Vec<f64> = (0..ly.len())
         .map(|i| {
-            let model_ex = if lm[i] + gain_db > my[i] - 3.0 {
+            // the model's own line counts only where the model holds the measured power there
+            // (log ratio on the metric grid under 3 dB)
+            let f = ctx.welch_hi.frequency(bins.start + i);
+            let km = ((f / ctx.welch.df()).round() as usize).saturating_sub(ctx.bins.start);
+            let explained = lr.get(km).is_none_or(|v| *v < 3.0);
+            let model_ex = if explained && lm[i] + gain_db > my[i] - 3.0 {
                 (lm[i] - mm[i]).max(0.0)
             } else {
                 0.0
@@ -627,6 +632,9 @@ fn line_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Vec<Evaluated> {
     out
 }
 
+/// Largest distance of a comb member from its shaft order, in orders.
+const COMB_ORDER_TOLERANCE: f64 = 0.05;
+
 /// Fewest lines that make a comb.
 const MIN_COMB_LINES: usize = 4;
 
@@ -645,8 +653,10 @@ fn shaft_comb_candidate(
     let mut members: Vec<(f64, f64, f64)> = Vec::new(); // (order, f, power)
     for &(f, p) in refined {
         let k = (f / fr).round();
+        // within 5 % of an order: at high orders a relative tolerance would take in the
+        // fault's own lines (k·BPFI ± m·fr falls within 0.4 % of some shaft order)
         if k >= 1.0
-            && (f - k * fr).abs() <= (c.harmonic_tolerance * f).min(0.25 * fr)
+            && (f - k * fr).abs() <= (c.harmonic_tolerance * f).min(COMB_ORDER_TOLERANCE * fr)
             && !line_near_mains(f, fr, c)
             && members.iter().all(|m| m.0 != k)
         {

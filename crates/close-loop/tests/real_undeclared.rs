@@ -1,0 +1,127 @@
+//! Measured data with undeclared effects: real CWRU recordings with known effects added — a
+//! tone, a shaft order, a speed change by resampling — each to be named with its parameters, and
+//! the untouched recording as the control. Skipped with a message when the data is absent; a
+//! failure under `CI=true`.
+
+use std::path::{Path, PathBuf};
+
+use bearing_data::{DataLocation, LoadOptions, load_record};
+use close_loop::physics::PhysicsModel;
+use close_loop::scenario::add_tone;
+use close_loop::{
+    BearingRates, DeclaredFault, EffectKind, LoopConfig, OperatingPoint, Outcome, close_loop,
+};
+
+fn data_dir() -> Option<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let loc = DataLocation::resolve(None, &root).ok()?;
+    match loc.required() {
+        Ok(dir) => Some(dir.to_path_buf()),
+        Err(e) => {
+            assert!(
+                std::env::var("CI").as_deref() != Ok("true"),
+                "CWRU data required under CI=true: {e}"
+            );
+            eprintln!("skipping real-data close-loop test: {e}");
+            None
+        }
+    }
+}
+
+fn run(y: &[f64], rpm: f64, fault: DeclaredFault) -> Outcome {
+    let op = OperatingPoint::new(rpm, BearingRates::skf6205(), fault).unwrap();
+    let cfg = LoopConfig {
+        line_frequency_hz: Some(60.0),
+        ..LoopConfig::default()
+    }
+    .check()
+    .unwrap();
+    close_loop(&PhysicsModel::default(), y, 12_000.0, &op, &cfg).unwrap()
+}
+
+fn near(o: &Outcome, f: f64) -> Option<&close_loop::EffectEntry> {
+    o.ledger
+        .effects
+        .iter()
+        .find(|e| e.frequency_hz.is_some_and(|g| (g / f - 1.0).abs() < 0.005))
+}
+
+/// 209 (inner race 0.021 in, 0 hp, 12 kHz, grade Y): a 287.3 Hz tone at 40 % of the record's RMS
+/// is named (kind, frequency within 0.5 %, amplitude within 20 %); the untouched record names
+/// neither it nor a 3× order.
+#[test]
+fn tone_and_shaft_order_added_to_209() {
+    let Some(dir) = data_dir() else { return };
+    let r = load_record(&dir, 209, &LoadOptions::default()).unwrap();
+    let rpm = r.rpm().value;
+    let y0 = r.de().to_vec();
+    let a = close_loop::metric::rms(&y0);
+    let f3 = 3.0 * rpm / 60.0;
+    let control = run(&y0, rpm, DeclaredFault::Inner);
+    assert!(near(&control, 287.3).is_none());
+    assert!(
+        control
+            .ledger
+            .effects
+            .iter()
+            .all(|e| e.parameters.get("order") != Some(&3.0)),
+        "{:#?}",
+        control.ledger.effects
+    );
+    let mut y = y0.clone();
+    add_tone(&mut y, 12_000.0, 287.3, 0.4 * a, 0.5);
+    add_tone(&mut y, 12_000.0, f3, 0.35 * a, 2.0);
+    let o = run(&y, rpm, DeclaredFault::Inner);
+    let t = near(&o, 287.3).expect("tone not named");
+    assert_eq!(t.kind, EffectKind::Tone);
+    assert!((t.parameters["amplitude"] / (0.4 * a) - 1.0).abs() < 0.2);
+    // Known miss (closing note of the issue): the 3× shaft line at 35 % RMS added to 209 is not
+    // yet named on this record (it is on the model's own simulation,
+    // `own_model::plain_tone_and_shaft_line_are_named`).
+}
+
+/// 130 (outer race 0.007 in @6, 0 hp, grade Y) resampled so that it plays 1.5 % faster: the loop,
+/// told the logged speed, names a speed offset of 1.5 % (on top of the rig's ~0.33 %).
+#[test]
+fn speed_change_by_resampling_130() {
+    let Some(dir) = data_dir() else { return };
+    let r = load_record(&dir, 130, &LoadOptions::default()).unwrap();
+    let rpm = r.rpm().value;
+    let x = r.de();
+    let control = run(x, rpm, DeclaredFault::Outer);
+    let ratio0 = control
+        .ledger
+        .effects
+        .iter()
+        .filter(|e| e.kind == EffectKind::SpeedOffset)
+        .map(|e| e.parameters["ratio"])
+        .next_back()
+        .unwrap_or(1.0);
+    // y(k) = x(1.015·k), linear interpolation (the band of interest is far below Nyquist)
+    let s = 1.015;
+    let n = ((x.len() - 2) as f64 / s) as usize;
+    let y: Vec<f64> = (0..n)
+        .map(|k| {
+            let t = k as f64 * s;
+            let i = t.floor() as usize;
+            let f = t - i as f64;
+            x[i] * (1.0 - f) + x[i + 1] * f
+        })
+        .collect();
+    let o = run(&y, rpm, DeclaredFault::Outer);
+    let ratio = o
+        .ledger
+        .effects
+        .iter()
+        .filter(|e| e.kind == EffectKind::SpeedOffset)
+        .map(|e| e.parameters["ratio"])
+        .next_back()
+        .expect("no speed offset named");
+    // the rig's own fault lines sit ~0.33 % above the logged speed (references.md), so the
+    // named ratio is 1.015 × (1 … 1.0045)
+    let rel = ratio / s - 1.0;
+    assert!(
+        (-0.001..0.0045).contains(&rel),
+        "ratio {ratio}, control {ratio0}"
+    );
+}
