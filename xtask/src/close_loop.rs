@@ -389,115 +389,10 @@ fn all_real(ctx: &Context, dir: &Path, args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A loaded recording.
-struct Loaded {
-    samples: Vec<f64>,
-    fs: f64,
-    rpm: Option<f64>,
-    units: &'static str,
-    /// CWRU fault diameter, inches, when the file is a catalogued record.
-    fault_size_in: Option<f64>,
-}
-
-/// Load the signal.
-fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loaded> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    let end = match channel.to_ascii_uppercase().as_str() {
-        "DE" => bearing_data::SensorEnd::DriveEnd,
-        "FE" => bearing_data::SensorEnd::FanEnd,
-        "BA" => bearing_data::SensorEnd::Base,
-        other => bail!("unknown channel `{other}` (DE, FE or BA)"),
-    };
-    match ext.as_str() {
-        "mat" => {
-            let bytes =
-                std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-            let number = path
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .and_then(|s| s.parse::<u32>().ok());
-            if let Some(number) = number
-                && let Ok(rec) = bearing_data::parse_record(&bytes, number)
-            {
-                let x = rec
-                    .channel(end)
-                    .with_context(|| format!("{} has no {channel} channel", path.display()))?
-                    .to_vec();
-                return Ok(Loaded {
-                    samples: x,
-                    fs: fs.unwrap_or(rec.fs_hz()),
-                    rpm: Some(rec.rpm().value),
-                    units: "g",
-                    fault_size_in: bearing_data::entry(number).and_then(|e| e.fault_diameter_in()),
-                });
-            }
-            let set = bearing_data::select_set(bearing_data::read_variable_sets(&bytes)?, None)?;
-            let x = set
-                .channel(end)
-                .with_context(|| format!("{} has no {channel} channel", path.display()))?
-                .to_vec();
-            let fs = fs.context("--fs is required for a .mat file that is not a CWRU record")?;
-            Ok(Loaded {
-                samples: x,
-                fs,
-                rpm: set.rpm,
-                units: "unknown",
-                fault_size_in: None,
-            })
-        }
-        "csv" | "txt" => {
-            // `cargo xtask simulate` writes `time_s,accel` (m/s²): take `accel`, and fs from time
-            let head = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            let mut lines = head.lines();
-            let header: Vec<String> = lines
-                .next()
-                .unwrap_or("")
-                .split(',')
-                .map(|h| h.trim().to_ascii_lowercase())
-                .collect();
-            let has_accel = header.iter().any(|h| h == "accel");
-            let fs = match fs {
-                Some(f) => f,
-                None if header.first().map(String::as_str) == Some("time_s") => {
-                    let t: Vec<f64> = lines
-                        .take(2)
-                        .filter_map(|l| l.split(',').next()?.trim().parse().ok())
-                        .collect();
-                    match t.as_slice() {
-                        [a, b] if b > a => 1.0 / (b - a),
-                        _ => bail!("cannot infer fs from the `time_s` column; give --fs"),
-                    }
-                }
-                None => bail!("--fs is required for a CSV recording without a `time_s` column"),
-            };
-            let column = if has_accel {
-                bearing_data::Column::Name("accel".into())
-            } else {
-                bearing_data::Column::Single
-            };
-            let sig =
-                bearing_data::read_csv_file(path, &bearing_data::CsvOptions::new(fs, column))?;
-            Ok(Loaded {
-                samples: sig.into_samples(),
-                fs,
-                rpm: None,
-                units: if has_accel { "m/s^2" } else { "unknown" },
-                fault_size_in: None,
-            })
-        }
-        other => bail!("unsupported input extension `{other}` (.mat or .csv)"),
-    }
-}
-
 fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Outcome, f64, f64)> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
-    let loaded = load(input, &args.channel, args.fs)?;
+    let loaded = hybrid_fdd_cli::diagnose::load(input, &args.channel, args.fs)?;
     let units = args
         .units
         .clone()
@@ -505,7 +400,7 @@ fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Outcome
     if !matches!(units.as_str(), "g" | "m/s^2" | "unknown") {
         bail!("unknown units `{units}` (g, m/s^2 or unknown)");
     }
-    let (mut y, mut fs) = (loaded.samples, loaded.fs);
+    let (mut y, mut fs) = (loaded.samples, loaded.fs_hz);
     if args.decimate > 1 {
         y = bearing_data::decimate(&y, args.decimate)?;
         fs /= args.decimate as f64;

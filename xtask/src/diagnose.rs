@@ -144,6 +144,8 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
                 fs_hz: rec.fs_hz(),
                 rpm: Some(rec.rpm().value),
                 unit: CWRU_UNIT,
+                units: "g",
+                fault_size_in: e.fault_diameter_in(),
             };
             let base = diagnose_loaded(&l, &plan, Some(&baseline)).map_err(|e| format!("{e:#}"));
             let own = diagnose_loaded(&l, &plan, None).map_err(|e| format!("{e:#}"));

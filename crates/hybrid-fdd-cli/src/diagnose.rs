@@ -45,15 +45,21 @@ pub struct Loaded {
     pub fs_hz: f64,
     /// Speed stored in (or catalogued for) the file, rpm.
     pub rpm: Option<f64>,
-    /// Unit of the samples, as far as known.
+    /// Unit of the samples, as far as known (a sentence for reports).
     pub unit: &'static str,
+    /// The same as a short code: "g", "m/s^2" or "unknown".
+    pub units: &'static str,
+    /// Catalogued fault diameter, inches, for a CWRU record.
+    pub fault_size_in: Option<f64>,
 }
 
 /// Unit statement for CWRU `.mat` samples.
 pub const CWRU_UNIT: &str =
     "file units (CWRU accelerometer data; the data README states no unit, commonly read as g)";
 
-/// Load one channel of a `.mat` (CWRU record or CWRU-style variables) or one-column CSV file.
+/// Load one channel of a `.mat` (CWRU record or CWRU-style variables), a one-column CSV file or
+/// `cargo xtask simulate`'s CSV (its `accel` column, m/s², fs from `time_s` when not given).
+/// The one recording loader of the command-line tools (`hybrid-fdd`, `cargo xtask`).
 ///
 /// # Errors
 /// Unreadable files, unknown channel or extension, missing `--fs` where the file has no rate.
@@ -89,6 +95,8 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
                     fs_hz: fs.unwrap_or(rec.fs_hz()),
                     rpm: Some(rec.rpm().value),
                     unit: CWRU_UNIT,
+                    units: "g",
+                    fault_size_in: bearing_data::entry(number).and_then(|e| e.fault_diameter_in()),
                 });
             }
             let set = bearing_data::select_set(bearing_data::read_variable_sets(&bytes)?, None)?;
@@ -102,19 +110,53 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
                 fs_hz: fs,
                 rpm: set.rpm,
                 unit: CWRU_UNIT,
+                units: "unknown",
+                fault_size_in: None,
             })
         }
         "csv" | "txt" => {
-            let fs = fs.context("--fs is required for a CSV recording")?;
-            let sig = bearing_data::read_csv_file(
-                path,
-                &bearing_data::CsvOptions::new(fs, bearing_data::Column::Single),
-            )?;
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            let mut lines = text.lines();
+            let header: Vec<String> = lines
+                .next()
+                .unwrap_or("")
+                .split(',')
+                .map(|h| h.trim().to_ascii_lowercase())
+                .collect();
+            let has_accel = header.iter().any(|h| h == "accel");
+            let fs = match fs {
+                Some(f) => f,
+                None if header.first().map(String::as_str) == Some("time_s") => {
+                    let t: Vec<f64> = lines
+                        .take(2)
+                        .filter_map(|l| l.split(',').next()?.trim().parse().ok())
+                        .collect();
+                    match t.as_slice() {
+                        [a, b] if b > a => 1.0 / (b - a),
+                        _ => bail!("cannot infer fs from the `time_s` column; give --fs"),
+                    }
+                }
+                None => bail!("--fs is required for a CSV recording without a `time_s` column"),
+            };
+            let column = if has_accel {
+                bearing_data::Column::Name("accel".into())
+            } else {
+                bearing_data::Column::Single
+            };
+            let sig =
+                bearing_data::read_csv_file(path, &bearing_data::CsvOptions::new(fs, column))?;
             Ok(Loaded {
                 samples: sig.into_samples(),
                 fs_hz: fs,
                 rpm: None,
-                unit: "CSV units (m/s² for `cargo xtask simulate` output)",
+                unit: if has_accel {
+                    "m/s² (`cargo xtask simulate` output)"
+                } else {
+                    "CSV units (not stated in the file)"
+                },
+                units: if has_accel { "m/s^2" } else { "unknown" },
+                fault_size_in: None,
             })
         }
         other => bail!("unsupported input extension `{other}` (.mat or .csv)"),
