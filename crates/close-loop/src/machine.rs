@@ -11,6 +11,33 @@ use crate::path::{PathMode, StructuralPath};
 use crate::report::EffectEntry;
 use serde::{Deserialize, Serialize};
 
+/// Calibrate a machine model on a healthy recording `y` (sampled at `fs` Hz, shaft at `rpm`,
+/// `bearing` of the 5-DOF model): the loop from the declared healthy 5-DOF physics with default
+/// slip, and the [`MachineModel`] it ends with (what `cargo xtask calibrate` writes). The loop
+/// fits on the first part of `y` and scores on the rest ([`crate::fit_len`]); pass only data the
+/// caller may fit on.
+///
+/// # Errors
+/// As [`crate::close_loop`].
+pub fn calibrate(
+    y: &[f64],
+    fs: f64,
+    rpm: f64,
+    bearing: bearing_model::Bearing,
+    cfg: &crate::CheckedConfig,
+) -> Result<MachineModel, CloseLoopError> {
+    let rates = match bearing {
+        bearing_model::Bearing::Skf6203 => crate::BearingRates::skf6203(),
+        _ => crate::BearingRates::skf6205(),
+    };
+    let op = crate::OperatingPoint::new(rpm, rates, bearing_model::FaultClass::None)?;
+    let model = crate::physics::PhysicsModel {
+        bearing,
+        ..crate::physics::PhysicsModel::default()
+    };
+    Ok(crate::close_loop(&model, y, fs, &op, cfg)?.machine)
+}
+
 /// The `format` string of a machine model file.
 pub const FORMAT: &str = "hybrid-fdd/machine-model";
 /// The current `version`.
@@ -203,6 +230,23 @@ impl MachineModel {
                 MachineLine::Tone { frequency_hz, .. } => frequency_hz,
             })
             .collect()
+    }
+
+    /// The calibrated structural path as an observer model: the AR path `y = e / A(z)` in shift
+    /// form ([`observers::ArxLaguerreModel::from_ar`]), the model the physics observers (SMO,
+    /// HOSTSMO, FLO, VSO, PFLO) run on once a machine has been calibrated
+    /// ([`observers::ModelConfig::CalibratedPath`]).
+    ///
+    /// # Errors
+    /// [`CloseLoopError::Model`] when the machine model holds no structural path (the loop found
+    /// no broadband structure to add), [`CloseLoopError::Observer`] for an invalid path.
+    pub fn observer_model(&self) -> Result<observers::ArxLaguerreModel, CloseLoopError> {
+        let path = self.path.as_ref().ok_or_else(|| CloseLoopError::Model {
+            reason: "the machine model holds no structural path to run an observer on".into(),
+        })?;
+        observers::ArxLaguerreModel::from_ar(&path.ar).map_err(|e| CloseLoopError::Observer {
+            reason: e.to_string(),
+        })
     }
 
     /// The model as pretty JSON.

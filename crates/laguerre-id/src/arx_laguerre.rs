@@ -237,6 +237,66 @@ impl ArxLaguerreModel {
         Self::from_parts(bank_a, bank_b, &theta)
     }
 
+    /// Choose the output order N_a (and the poles, by `cfg`'s pole choice) by held-out one-step
+    /// prediction error (eq. 4.10's criterion applied to the order as well): for every
+    /// candidate N_a, identify on the first `1 − holdout` of `y` and score the NRMSE of the
+    /// one-step prediction on the rest; the candidate with the smallest held-out NRMSE wins (the
+    /// smaller order on a tie within 1 %), and is re-identified on the whole of `y`. AR form
+    /// (N_b = 0) only. Returns the model and the held-out NRMSE of every candidate tried.
+    ///
+    /// # Errors
+    /// [`IdentError::OrderOutOfRange`] for an empty or out-of-range candidate list (or when no
+    /// candidate can be identified), [`IdentError::InvalidParameter`] for a `holdout` outside
+    /// [0.1, 0.5], or any identification error of the winner.
+    pub fn identify_order(
+        y: &[f64],
+        candidates: &[usize],
+        holdout: f64,
+        poles: PoleChoice,
+    ) -> Result<(Self, Vec<(usize, f64)>)> {
+        if !(0.1..=0.5).contains(&holdout) {
+            return Err(IdentError::InvalidParameter {
+                which: "holdout",
+                value: holdout,
+            });
+        }
+        if candidates.is_empty() {
+            return Err(IdentError::OrderOutOfRange {
+                which: "candidates (none given)",
+                found: 0,
+                min: 1,
+                max: MAX_ORDER,
+            });
+        }
+        let n_fit = ((1.0 - holdout) * y.len() as f64).round() as usize;
+        let mut scores = Vec::with_capacity(candidates.len());
+        for &n_a in candidates {
+            let cfg = ArxLaguerreConfig::new(n_a, 0, poles)?;
+            let Ok(m) = Self::identify(&y[..n_fit], None, &cfg) else {
+                continue;
+            };
+            let yhat = m.predict(y, None)?;
+            let fit = crate::FitMetrics::compute(&y[n_fit..], &yhat[n_fit..])?;
+            if fit.nrmse.is_finite() {
+                scores.push((n_a, fit.nrmse));
+            }
+        }
+        let best = scores.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
+        let chosen = scores
+            .iter()
+            .filter(|s| s.1 <= best * 1.01)
+            .map(|s| s.0)
+            .min()
+            .ok_or(IdentError::OrderOutOfRange {
+                which: "candidates (none could be identified)",
+                found: candidates.len(),
+                min: 1,
+                max: MAX_ORDER,
+            })?;
+        let m = Self::identify(y, None, &ArxLaguerreConfig::new(chosen, 0, poles)?)?;
+        Ok((m, scores))
+    }
+
     /// Output order N_a.
     pub fn n_a(&self) -> usize {
         self.bank_a.order()

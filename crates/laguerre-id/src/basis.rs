@@ -25,7 +25,7 @@ use crate::error::{IdentError, Result};
 use serde::{Deserialize, Serialize};
 
 /// Largest order of one Laguerre bank (N_a or N_b).
-pub const MAX_ORDER: usize = 8;
+pub const MAX_ORDER: usize = 16;
 
 /// A validated Laguerre pole ζ ∈ (−1, 1) (eq. 4.5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -1,9 +1,11 @@
 //! Throughput of each observer in samples per second on one core (criterion): the ten kinds on
-//! the physics mode (12 kHz) and on the 8-state reference ARX-Laguerre model.
+//! the physics mode (12 kHz), on the 8-state reference ARX-Laguerre model, on a 16-state
+//! identified-size ARX-Laguerre model, and on a calibrated-path (shift-form AR) model of 64 and
+//! 128 states — the size of the structural path the loop calibrates on CWRU 97.
 #![allow(missing_docs)]
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use observers::named::{arx_observer, physics_observer};
+use observers::named::{arx_observer, path_observer, physics_observer};
 use observers::scenarios::{ArxPlant, OscillatorPlant, reference_arx_model};
 use observers::*;
 use std::hint::black_box;
@@ -58,6 +60,56 @@ fn bench(c: &mut Criterion) {
         });
     }
     g.finish();
+
+    // ARX-Laguerre with N_a = 16 (the chapters' held-out order choice on 97) in AR form.
+    let k16: Vec<f64> = (0..16).map(|i| 0.5 * 0.8f64.powi(i)).collect();
+    let model16 = ArxLaguerreModel::from_poles(-0.2, 16, 0.0, 0, k16).unwrap();
+    let y16: Vec<f64> = (0..N)
+        .map(|k| ((k as f64) * 0.37).sin() + 0.3 * ((k as f64) * 1.91).sin())
+        .collect();
+    let mut g = c.benchmark_group("arx_laguerre_16_states");
+    g.throughput(Throughput::Elements(N as u64));
+    g.sample_size(20);
+    for kind in ObserverKind::ALL {
+        let mut s = ObserverSettings::new(1e-3);
+        s.linear = LinearDesign::innovations();
+        let mut o = arx_observer(kind, &model16, &FaultDirection::OutputFilter, &s).unwrap();
+        g.bench_with_input(BenchmarkId::from_parameter(kind), &y16, |b, y| {
+            b.iter(|| {
+                o.reset();
+                o.run_into(black_box(y), None, &mut out).unwrap();
+            })
+        });
+    }
+    g.finish();
+
+    // Calibrated structural path: a shift-form AR(p) (the predictor is deadbeat, so its cost and
+    // output do not depend on the coefficients' stability; these are bounded and decaying).
+    for p in [64usize, 128] {
+        let ar: Vec<f64> = (0..p)
+            .map(|i| -0.5 * 0.95f64.powi(i as i32) * (0.3 * i as f64).cos())
+            .collect();
+        let path = ArxLaguerreModel::from_ar(&ar).unwrap();
+        let mut g = c.benchmark_group(format!("calibrated_path_{p}_states"));
+        g.throughput(Throughput::Elements(N as u64));
+        g.sample_size(20);
+        for kind in [
+            ObserverKind::Smo,
+            ObserverKind::Hostsmo,
+            ObserverKind::Flo,
+            ObserverKind::Vso,
+            ObserverKind::Pflo,
+        ] {
+            let mut o = path_observer(kind, &path, &ObserverSettings::new(1e-3)).unwrap();
+            g.bench_with_input(BenchmarkId::from_parameter(kind), &y16, |b, y| {
+                b.iter(|| {
+                    o.reset();
+                    o.run_into(black_box(y), None, &mut out).unwrap();
+                })
+            });
+        }
+        g.finish();
+    }
 }
 
 criterion_group!(benches, bench);

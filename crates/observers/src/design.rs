@@ -12,6 +12,12 @@ pub struct LinearDesign {
     pub state_weight: f64,
     /// Process-noise weight on the extended fault state (q_d > 0).
     pub fault_weight: f64,
+    /// Innovations design for ARX-Laguerre and path models: K_p = b_y, so that the observer's
+    /// model part is the identified one-step predictor itself (the model's own innovations
+    /// form), and only K_I comes from a Kalman design (of the fault state, with weight
+    /// `fault_weight`); `state_weight` is then unused. Physics modes ignore it.
+    #[serde(default)]
+    pub innovations: bool,
 }
 
 impl Default for LinearDesign {
@@ -19,6 +25,7 @@ impl Default for LinearDesign {
         Self {
             state_weight: 1e-2,
             fault_weight: 1e-3,
+            innovations: false,
         }
     }
 }
@@ -31,6 +38,15 @@ impl LinearDesign {
         Self {
             state_weight: 100.0,
             fault_weight: 100.0,
+            innovations: false,
+        }
+    }
+
+    /// The innovations design (see [`LinearDesign::innovations`]) with the default fault weight.
+    pub fn innovations() -> Self {
+        Self {
+            innovations: true,
+            ..Self::default()
         }
     }
 
@@ -176,6 +192,21 @@ impl BoundGains {
     pub fn levant(bound: f64) -> Result<[f64; 3], ObserverError> {
         Self::check(bound)?;
         Ok([1.9 * bound.cbrt(), 1.5 * bound.sqrt(), 1.1 * bound])
+    }
+
+    /// [`BoundGains::sign`] with the error scale E₀ made explicit: level-1 gain 1.5 (Γ·E₀)^½,
+    /// the reaching rate of the super-twisting term 1.5 Γ^½ |e|^½ at |e| = E₀ (E₀ > 0, in output
+    /// units; `sign(bound)` is E₀ = 1 output unit, which depends on the units of the record).
+    pub fn sign_scaled(bound: f64, error_scale: f64) -> Result<[f64; 3], ObserverError> {
+        Self::check(bound)?;
+        if !(error_scale.is_finite() && error_scale > 0.0) {
+            return Err(ObserverError::InvalidParameter {
+                name: "error_scale",
+                value: error_scale,
+                reason: "must be finite and > 0",
+            });
+        }
+        Ok([1.5 * (bound * error_scale).sqrt(), 1.1 * bound, 0.0])
     }
 
     /// Eq. (3.21): K_z = 1.5 J^½ (on |e|^½), K_z0 = 1.1 J (on sgn).

@@ -43,7 +43,8 @@ pub use law::{
 };
 pub use named::{
     AnyObserver, ArxObserver, FalObserver, FaultDirection, ModelConfig, NamedLaw, ObserverKind,
-    ObserverSettings, PhysicsObserver, build_observer,
+    ObserverSettings, PhysicsObserver, build_observer, design_innovations, design_path_linear,
+    path_observer,
 };
 pub use observer::{Observer, ObserverOutput, RunObserver, StepOutput};
 pub use predictor::{

@@ -153,6 +153,14 @@ pub struct ObserverSettings {
     pub linear: LinearDesign,
     /// Fuzzy scheduling for AFSMO; `None` derives it from the bound and the integral gain.
     pub fuzzy: Option<FuzzyScheduleParams>,
+    /// Error scale E₀ (output units) of the first-order sliding laws' level-1 gain
+    /// 1.5 (Γ·E₀)^½ ([`BoundGains::sign_scaled`]); 1 output unit by default.
+    #[serde(default = "unit_error_scale")]
+    pub error_scale: f64,
+}
+
+fn unit_error_scale() -> f64 {
+    1.0
 }
 
 impl ObserverSettings {
@@ -162,6 +170,7 @@ impl ObserverSettings {
             uncertainty_bound,
             linear: LinearDesign::default(),
             fuzzy: None,
+            error_scale: 1.0,
         }
     }
 }
@@ -177,7 +186,8 @@ pub fn per_sample_bound_super_twisting(j: f64, dt: f64) -> f64 {
     j * dt * dt
 }
 
-fn nonlinear_gains(kind: ObserverKind, bound: f64) -> Result<[f64; 3], ObserverError> {
+fn nonlinear_gains(kind: ObserverKind, s: &ObserverSettings) -> Result<[f64; 3], ObserverError> {
+    let bound = s.uncertainty_bound;
     match kind.family() {
         LawFamily::Linear => {
             if !(bound.is_finite() && bound > 0.0) {
@@ -189,7 +199,7 @@ fn nonlinear_gains(kind: ObserverKind, bound: f64) -> Result<[f64; 3], ObserverE
             }
             Ok([0.0; 3])
         }
-        LawFamily::Sign => BoundGains::sign(bound),
+        LawFamily::Sign => BoundGains::sign_scaled(bound, s.error_scale),
         LawFamily::SuperTwisting => BoundGains::super_twisting(bound),
         LawFamily::Levant => BoundGains::levant(bound),
     }
@@ -201,7 +211,7 @@ fn make_law(
     integral_gain: f64,
     s: &ObserverSettings,
 ) -> Result<NamedLaw, ObserverError> {
-    let nl = nonlinear_gains(kind, s.uncertainty_bound)?;
+    let nl = nonlinear_gains(kind, s)?;
     let lin = if kind.has_linear_part() {
         linear
     } else {
@@ -292,6 +302,62 @@ pub fn design_arx_linear(
     })
 }
 
+/// The innovations design of an ARX-Laguerre or path model: K_p = b_y, which makes the
+/// observer's model part the identified one-step predictor itself (A + b_y Kᵀ − K_p Kᵀ = A: the
+/// prediction error of the model part decays as the model's own filters, deadbeat in n samples
+/// for a shift-form path), and the integral gain K_I of the scalar steady-state Kalman filter of
+/// the fault random walk seen through a unit-variance innovation, K_I = P/(P + 1),
+/// P = (q_d + √(q_d² + 4 q_d))/2 with q_d = `fault_weight` (eq. 2.34's design reduced to the one
+/// state left once the model part is the predictor; the LMI (2.34) then holds for any
+/// γ < (1 − (1 − K_I)²)/2, reported as the decay rate). No Riccati iteration on the n + 1
+/// states, which matters for paths of a hundred states.
+pub fn design_innovations(
+    model: &ArxLaguerreModel,
+    d: &LinearDesign,
+) -> Result<LinearReport, ObserverError> {
+    d.validate()?;
+    model.validate()?;
+    let q = d.fault_weight;
+    let p = 0.5 * (q + (q * q + 4.0 * q).sqrt());
+    let ki = p / (p + 1.0);
+    let rho = (1.0 - ki).abs();
+    Ok(LinearReport {
+        law_gains: [0.0, ki, 0.0],
+        kp: model.b_y.clone(),
+        decay_rate: 0.5 * (1.0 - rho * rho),
+    })
+}
+
+/// Linear design for a shift-form (AR) path model ([`ArxLaguerreModel::from_ar`]): always the
+/// innovations design ([`design_innovations`]; `d.innovations` is implied).
+pub fn design_path_linear(
+    model: &ArxLaguerreModel,
+    d: &LinearDesign,
+) -> Result<LinearReport, ObserverError> {
+    if !model.is_shift_form() {
+        return Err(ObserverError::InvalidParameter {
+            name: "model",
+            value: model.order() as f64,
+            reason: "not in shift (AR) form",
+        });
+    }
+    design_innovations(model, d)
+}
+
+/// Build any kind on a shift-form (AR) path model — the calibrated structural path of a
+/// machine model — with the gains of [`design_path_linear`] and the law of `kind`; the fault
+/// estimate d̂ adds to the prediction directly ([`ArxLaguerrePredictor::new_path`]).
+pub fn path_observer(
+    kind: ObserverKind,
+    model: &ArxLaguerreModel,
+    s: &ObserverSettings,
+) -> Result<ArxObserver, ObserverError> {
+    let rep = design_path_linear(model, &s.linear)?;
+    let p = ArxLaguerrePredictor::new_path(model, &rep.kp)?;
+    let law = make_law(kind, rep.law_gains, rep.law_gains[1], s)?;
+    Ok(Observer::new(p, law))
+}
+
 /// A physics-model observer (ch. 2–3).
 pub type PhysicsObserver = Observer<SecondOrderPredictor, NamedLaw>;
 /// An ARX-Laguerre observer (ch. 4; ch. 5 with the fuzzy term handled by the model).
@@ -363,7 +429,11 @@ pub fn arx_observer(
     s: &ObserverSettings,
 ) -> Result<ArxObserver, ObserverError> {
     let f = fault.vector(model);
-    let rep = design_arx_linear(model, &f, &s.linear)?;
+    let rep = if s.linear.innovations {
+        design_innovations(model, &s.linear)?
+    } else {
+        design_arx_linear(model, &f, &s.linear)?
+    };
     let p = ArxLaguerrePredictor::new(model, &f, &rep.kp)?;
     let law = make_law(kind, rep.law_gains, rep.law_gains[1], s)?;
     Ok(Observer::new(p, law))
@@ -448,6 +518,9 @@ pub enum ModelConfig {
         /// Fault direction.
         fault: FaultDirection,
     },
+    /// The calibrated structural path of a machine model as a shift-form (AR) predictor
+    /// ([`ArxLaguerreModel::from_ar`]; built by [`path_observer`]).
+    CalibratedPath(ArxLaguerreModel),
     /// A fuzzy ARX-Laguerre model (`fuzzy-ts`) and where the fault enters.
     FuzzyArxLaguerre {
         /// The model.
@@ -523,6 +596,9 @@ pub fn build_observer(
         ModelConfig::Physics(m) => AnyObserver::Physics(physics_observer(kind, *m, settings)?),
         ModelConfig::ArxLaguerre { model, fault } => {
             AnyObserver::Arx(arx_observer(kind, model, fault, settings)?)
+        }
+        ModelConfig::CalibratedPath(model) => {
+            AnyObserver::Arx(path_observer(kind, model, settings)?)
         }
         ModelConfig::FuzzyArxLaguerre { model, fault } => {
             AnyObserver::Fal(Box::new(fal_observer(kind, model, fault, settings)?))

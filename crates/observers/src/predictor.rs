@@ -388,6 +388,51 @@ impl ArxLaguerreModel {
         )
     }
 
+    /// The one-step predictor of an all-pole (autoregressive) model
+    /// `y(k) = −a₁ y(k−1) − … − a_p y(k−p) + w(k)` in shift form: X(k) = [y(k−1), …, y(k−p)],
+    /// A = the down-shift S, b_y = e₁, b_u = 0, K = −a. With the innovations gain K_p = b_y
+    /// ([`crate::named::design_path_linear`]) the observer's prediction is exactly the AR
+    /// predictor; this is how the calibrated structural path of a machine model (the modes of
+    /// the path from bearing to sensor, identified by the closed loop) becomes an observer model.
+    ///
+    /// # Errors
+    /// [`ObserverError::DimensionMismatch`] for an empty `ar`,
+    /// [`ObserverError::InvalidParameter`] for a non-finite coefficient.
+    pub fn from_ar(ar: &[f64]) -> Result<Self, ObserverError> {
+        let n = ar.len();
+        let mut a = vec![0.0; n * n];
+        for i in 1..n {
+            a[i * n + i - 1] = 1.0;
+        }
+        let mut b_y = vec![0.0; n];
+        if let Some(b) = b_y.first_mut() {
+            *b = 1.0;
+        }
+        let m = Self {
+            a,
+            b_y,
+            b_u: vec![0.0; n],
+            k: ar.iter().map(|v| -v).collect(),
+        };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Whether the model is in the shift (AR) form of [`ArxLaguerreModel::from_ar`]: A the
+    /// down-shift, b_y = e₁, b_u = 0 (exactly).
+    pub fn is_shift_form(&self) -> bool {
+        let n = self.order();
+        if n == 0 || self.validate().is_err() {
+            return false;
+        }
+        let a_ok = (0..n).all(|i| {
+            (0..n).all(|j| self.a[i * n + j] == if i >= 1 && j + 1 == i { 1.0 } else { 0.0 })
+        });
+        a_ok && self.b_y[0] == 1.0
+            && self.b_y[1..].iter().all(|v| *v == 0.0)
+            && self.b_u.iter().all(|v| *v == 0.0)
+    }
+
     /// A + b_y Kᵀ, the model run as a parallel (simulation) model.
     pub fn closed_loop_matrix(&self) -> Vec<f64> {
         let n = self.order();
@@ -516,6 +561,41 @@ enum Kernel {
     // Boxed: the fixed-size arrays are ~850 bytes and would bloat every observer enum.
     Cascade(Box<CascadeKernel>),
     Dense(Box<DenseKernel>),
+    Shift(Box<ShiftKernel>),
+}
+
+/// The O(n) update of a model in shift (AR) form ([`ArxLaguerreModel::is_shift_form`]):
+/// X̂(k+1) = S X̂(k) + e₁ Ŷ(k) + K_p e with S the down-shift (A X̂ is a copy), and the fault
+/// entering the output directly: Ŷ(k+1) = Kᵀ X̂(k+1) + s. The state holds the (corrected)
+/// output history, so an injection is not fed back as if it had been measured; a unit d̂ moves
+/// the next prediction by one unit, as on the other models.
+#[derive(Debug, Clone, PartialEq)]
+struct ShiftKernel {
+    k: Vec<f64>,
+    kp: Vec<f64>,
+    /// Zeros: the fault does not enter the state (see above).
+    f: Vec<f64>,
+    x: Vec<f64>,
+    x0: Vec<f64>,
+    /// K_p is zero past its first entry (the innovations design).
+    first_only: bool,
+}
+
+impl ShiftKernel {
+    #[inline(always)]
+    fn advance(&mut self, y_hat: f64, e: f64, s: f64) -> f64 {
+        let n = self.x.len();
+        self.x.copy_within(0..n - 1, 1);
+        self.x[0] = y_hat;
+        if self.first_only {
+            self.x[0] += self.kp[0] * e;
+        } else {
+            for (xi, kpi) in self.x.iter_mut().zip(&self.kp) {
+                *xi += kpi * e;
+            }
+        }
+        dot(&self.k, &self.x) + s
+    }
 }
 
 /// The ARX-Laguerre observer's predictor (eqs 2.33, 3.9, 4.16, 4.18, 5.21):
@@ -549,6 +629,53 @@ impl ArxLaguerrePredictor {
         kp: &[f64],
     ) -> Result<Self, ObserverError> {
         Self::build(model, fault_direction, kp, true)
+    }
+
+    /// The predictor of a shift-form (AR) model ([`ArxLaguerreModel::from_ar`]) with the
+    /// proportional injection K_p, run by an O(n) shift update; the fault d̂ (and the law's
+    /// level-1 injection) adds to the next prediction directly instead of entering the state,
+    /// so [`ArxLaguerrePredictor::fault_direction`] is zero.
+    ///
+    /// # Errors
+    /// [`ObserverError::InvalidParameter`] when the model is not in shift form or K_p is not
+    /// finite; [`ObserverError::DimensionMismatch`] when K_p has another length.
+    pub fn new_path(model: &ArxLaguerreModel, kp: &[f64]) -> Result<Self, ObserverError> {
+        model.validate()?;
+        if !model.is_shift_form() {
+            return Err(ObserverError::InvalidParameter {
+                name: "model",
+                value: model.order() as f64,
+                reason: "not in shift (AR) form: build it with ArxLaguerreModel::from_ar",
+            });
+        }
+        let n = model.order();
+        if kp.len() != n {
+            return Err(ObserverError::DimensionMismatch {
+                expected: n,
+                found: kp.len(),
+            });
+        }
+        if let Some(v) = kp.iter().find(|v| !v.is_finite()) {
+            return Err(ObserverError::InvalidParameter {
+                name: "K_p",
+                value: *v,
+                reason: "must be finite",
+            });
+        }
+        Ok(Self {
+            n,
+            kernel: Kernel::Shift(Box::new(ShiftKernel {
+                k: model.k.clone(),
+                kp: kp.to_vec(),
+                f: vec![0.0; n],
+                x: vec![0.0; n],
+                x0: vec![0.0; n],
+                first_only: kp[1..].iter().all(|v| *v == 0.0),
+            })),
+            d: 0.0,
+            chi: 0.0,
+            y_hat: 0.0,
+        })
     }
 
     /// As [`ArxLaguerrePredictor::new`] but always with the dense O(n²) update (the reference
@@ -657,11 +784,17 @@ impl ArxLaguerrePredictor {
         matches!(self.kernel, Kernel::Cascade(_))
     }
 
+    /// Whether the O(n) shift (AR-form) update is in use.
+    pub fn uses_shift_form(&self) -> bool {
+        matches!(self.kernel, Kernel::Shift(_))
+    }
+
     fn parts(&self) -> (&[f64], &[f64], &[f64], &[f64]) {
         let n = self.n;
         match &self.kernel {
             Kernel::Cascade(c) => (&c.k[..n], &c.f[..n], &c.x[..n], &c.x0[..n]),
             Kernel::Dense(d) => (&d.k, &d.f, &d.x, &d.x0),
+            Kernel::Shift(d) => (&d.k, &d.f, &d.x, &d.x0),
         }
     }
 
@@ -670,6 +803,7 @@ impl ArxLaguerrePredictor {
         match &mut self.kernel {
             Kernel::Cascade(c) => (&mut c.x[..n], &mut c.x0[..n]),
             Kernel::Dense(d) => (&mut d.x[..], &mut d.x0[..]),
+            Kernel::Shift(d) => (&mut d.x[..], &mut d.x0[..]),
         }
     }
 
@@ -718,6 +852,7 @@ impl Predictor for ArxLaguerrePredictor {
         self.y_hat = match &mut self.kernel {
             Kernel::Cascade(k) => k.advance(yh, u, e, s),
             Kernel::Dense(k) => k.advance(yh, u, e, s),
+            Kernel::Shift(k) => k.advance(yh, e, s),
         };
         self.d += c.c2 + self.chi;
         self.chi += c.c3;

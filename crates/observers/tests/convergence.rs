@@ -4,11 +4,24 @@
 
 mod common;
 use common::*;
-use observers::named::{arx_observer, physics_observer};
+use observers::named::{arx_observer, path_observer, physics_observer};
 use observers::scenarios::{reference_arx_model, total_variation_per_sample};
 use observers::*;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
+
+/// The committed regression seeds, replayed before new cases (path relative to the crate root,
+/// where `cargo test` runs integration tests).
+const REGRESSIONS: &str = "tests/convergence.proptest-regressions";
+
+#[test]
+fn regression_seed_file_is_the_one_committed() {
+    let text = std::fs::read_to_string(REGRESSIONS).expect("committed proptest seeds");
+    assert!(
+        text.lines().any(|l| l.starts_with("cc ")),
+        "no seed in {REGRESSIONS}"
+    );
+}
 
 const N: usize = 4800; // 0.4 s at 12 kHz
 const REACH: usize = 2400; // stated reaching time: 0.2 s
@@ -32,7 +45,7 @@ fn tol(kind: ObserverKind, rel_levant: f64, rel_other: f64, scale: f64, bound: f
 proptest! {
     #![proptest_config(ProptestConfig {
         cases: 24,
-        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("proptest-regressions/convergence.txt"))),
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(REGRESSIONS))),
         ..ProptestConfig::default()
     })]
 
@@ -152,7 +165,7 @@ fn arx_step_and_ramp_fault_tracked() {
 proptest! {
     #![proptest_config(ProptestConfig {
         cases: 16,
-        failure_persistence: Some(Box::new(FileFailurePersistence::Direct("proptest-regressions/convergence.txt"))),
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(REGRESSIONS))),
         ..ProptestConfig::default()
     })]
 
@@ -273,4 +286,100 @@ fn kinds_parse_from_their_names() {
         assert_eq!(k.name().to_lowercase().parse::<ObserverKind>(), Ok(k));
     }
     assert!("luenberger".parse::<ObserverKind>().is_err());
+}
+
+/// A stable AR(2m) path from m pole pairs (radius, angle), as `a₁ … a_p` of
+/// A(z) = Π (1 − 2 r cos θ z⁻¹ + r² z⁻²).
+fn ar_from_pairs(pairs: &[(f64, f64)]) -> Vec<f64> {
+    let mut a = vec![1.0];
+    for &(r, th) in pairs {
+        let f = [1.0, -2.0 * r * th.cos(), r * r];
+        let mut n = vec![0.0; a.len() + 2];
+        for (i, ai) in a.iter().enumerate() {
+            for (j, fj) in f.iter().enumerate() {
+                n[i + j] += ai * fj;
+            }
+        }
+        a = n;
+    }
+    a[1..].to_vec()
+}
+
+/// y = w / A(z) from rest.
+fn ar_record(ar: &[f64], w: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; w.len()];
+    for k in 0..w.len() {
+        let mut v = w[k];
+        for (i, a) in ar.iter().enumerate() {
+            if k > i {
+                v -= a * y[k - 1 - i];
+            }
+        }
+        y[k] = v;
+    }
+    y
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 24,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(REGRESSIONS))),
+        ..ProptestConfig::default()
+    })]
+
+    /// Linear laws on a calibrated-path (shift-form AR) model: the residual is the process's
+    /// innovation up to the slow integral state, |r − w| bounded: RMS(r − w) ≤ 0.25 RMS(w) after
+    /// the p-sample warm-up, for any stable path of 2–8 modes' order and any excitation.
+    #[test]
+    fn path_linear_residual_is_the_innovation(
+        pairs in proptest::collection::vec((0.3f64..0.97, 0.05f64..3.0), 1..=4),
+        w in proptest::collection::vec(-1.0f64..1.0, 3000),
+    ) {
+        let ar = ar_from_pairs(&pairs);
+        let y = ar_record(&ar, &w);
+        let model = ArxLaguerreModel::from_ar(&ar).unwrap();
+        for kind in [ObserverKind::Apio, ObserverKind::Flo, ObserverKind::Alpio] {
+            let mut o = path_observer(kind, &model, &ObserverSettings::new(1e-3)).unwrap();
+            prop_assert!(o.predictor().uses_shift_form());
+            let out = o.run(&y, None).unwrap();
+            let p = ar.len();
+            let d: Vec<f64> = out.residual[p..].iter().zip(&w[p..]).map(|(r, w)| r - w).collect();
+            let (rd, rw) = (rms(&d), rms(&w[p..]));
+            prop_assert!(rd <= 0.25 * rw, "{kind}: RMS(r − w) = {rd} > 0.25 · {rw}");
+        }
+    }
+
+    /// Finite-time reaching on a calibrated-path model: a step offset D added to a path's free
+    /// response at k₀ moves the one-step error by J = |D·A(1)|; with Γ sized to reach in ~300
+    /// samples, every sliding law brings |e| below 10 % of J plus its chattering amplitude
+    /// within 2000 samples of the step and keeps it there.
+    #[test]
+    fn path_sliding_laws_reach_after_a_step(
+        pairs in proptest::collection::vec((0.3f64..0.95, 0.05f64..3.0), 1..=3),
+        x0 in -1.0f64..1.0, step in 0.2f64..1.0,
+    ) {
+        let ar = ar_from_pairs(&pairs);
+        let mut w = vec![0.0; N];
+        w[0] = x0;
+        let k0 = 600;
+        let y: Vec<f64> = ar_record(&ar, &w)
+            .iter()
+            .enumerate()
+            .map(|(k, v)| v + if k >= k0 { step } else { 0.0 })
+            .collect();
+        let j = (step * (1.0 + ar.iter().sum::<f64>())).abs().max(1e-6);
+        let model = ArxLaguerreModel::from_ar(&ar).unwrap();
+        for kind in ObserverKind::ALL.into_iter().filter(|k| *k != ObserverKind::Vso) {
+            let bound = 1.2 * j / 300.0;
+            let mut o = path_observer(kind, &model, &ObserverSettings::new(bound)).unwrap();
+            let out = o.run(&y, None).unwrap();
+            let t = tol(kind, 0.1, 0.1, j, bound);
+            let e = max_abs(&out.residual[k0 + 2000..]);
+            prop_assert!(e <= t, "{kind}: {e} > {t} (J = {j})");
+        }
+    }
+}
+
+fn rms(x: &[f64]) -> f64 {
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt()
 }

@@ -10,6 +10,19 @@ use std::f64::consts::PI;
 use approx::assert_relative_eq;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
+
+/// The committed regression seeds, replayed before new cases (path relative to the crate root,
+/// where `cargo test` runs integration tests).
+const REGRESSIONS: &str = "tests/features.proptest-regressions";
+
+#[test]
+fn regression_seed_file_is_the_one_committed() {
+    let text = std::fs::read_to_string(REGRESSIONS).expect("committed proptest seeds");
+    assert!(
+        text.lines().any(|l| l.starts_with("cc ")),
+        "no seed in {REGRESSIONS}"
+    );
+}
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -313,9 +326,7 @@ fn same_extractor_runs_on_raw_and_residual() {
 proptest! {
     #![proptest_config(ProptestConfig {
         cases: 64,
-        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(
-            "tests/proptest-regressions/features.txt"
-        ))),
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(REGRESSIONS))),
         ..ProptestConfig::default()
     })]
 

@@ -75,31 +75,50 @@ use bearing_model::{FaultClass, Scenario};
 use classify::{ClassifierSpec, Dataset, GiniTreeParams, WindowMeta};
 use laguerre_id::{ArxLaguerreConfig, PoleChoice};
 use observers::{
-    FaultDirection, LawFamily, LinearDesign, ModalParams, ModelConfig, ObserverKind,
-    ObserverSettings,
+    FaultDirection, LawFamily, LinearDesign, ModelConfig, ObserverKind, ObserverSettings,
 };
 
-/// ARX-Laguerre orders: N_a output filters, no input (AR form: CWRU has no measured force).
-pub const N_A: usize = 6;
-/// Multiples c of the scale s_m = RMS(Δᵐy) of the healthy fit segment tried as the per-sample
-/// uncertainty bound Γ = c·s_m (m = 3 for Levant laws, 2 otherwise), smallest first.
-pub const GAMMA_MULTIPLES: [f64; 7] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
+/// Output orders N_a tried for the ARX-Laguerre models (AR form: CWRU has no measured force);
+/// the one with the smallest held-out one-step error on the healthy fit segment wins
+/// (`laguerre_id::ArxLaguerreModel::identify_order`).
+pub const N_A_CANDIDATES: [usize; 6] = [2, 4, 6, 8, 12, 16];
+/// Share of the healthy fit segment held out to choose N_a.
+pub const ORDER_HOLDOUT: f64 = 0.3;
+/// Multiples c of the measured bound Γ₀ tried as Γ = c·Γ₀. Only c = 1: the gains follow from
+/// the bound of eqs 2.44, 3.21, 5.28 measured on the healthy fit segment ([`Prepared::tune`]).
+/// A prediction-error search over c always runs to the smallest c tried (on a healthy segment
+/// every sliding injection beyond the uncertainty adds to the one-step error), so a search
+/// would only pick the edge of whatever range it is given.
+pub const GAMMA_MULTIPLES: [f64; 1] = [1.0];
 /// Tree limits for the chapter-5 classifier (the dissertation's trees have one leaf per class).
 pub const TREE_MAX_DEPTH: usize = 4;
 /// Minimum training windows per leaf.
 pub const TREE_MIN_LEAF: usize = 5;
 
 /// What the observers need from the healthy fit segment: the identified ARX-Laguerre and fuzzy
-/// ARX-Laguerre models, the physics mode of the measured channel, and the segment itself (the
-/// gains are tuned on it, see [`Prepared::tune`]).
+/// ARX-Laguerre models, the calibrated machine model's structural path (the physics observers'
+/// model), and the segment itself (the gains are set on it, see [`Prepared::tune`]).
 #[derive(Debug, Clone)]
 pub struct Prepared {
     arx: observers::ArxLaguerreModel,
     fal: Option<Box<fuzzy_ts::FuzzyArxLaguerre>>,
-    mode: ModalParams,
+    path: Option<observers::ArxLaguerreModel>,
     fit: Vec<f64>,
     /// Pole ζ_a chosen by the identification.
     pub zeta_a: f64,
+    /// Output order N_a chosen by held-out prediction error.
+    pub n_a: usize,
+    /// Held-out one-step NRMSE of every N_a tried.
+    pub order_scores: Vec<(usize, f64)>,
+    /// Samples per shaft revolution (the averaging window of the bound measurement).
+    pub revolution: usize,
+    /// Order of the calibrated structural path (AR order p).
+    pub path_order: usize,
+    /// Structural modes of the calibrated path (complex pole pairs).
+    pub path_modes: usize,
+    /// Held-out error of the calibration loop on the fit segment, before → after (dB), and
+    /// whether the loop itself added the path (else it was identified from the segment).
+    pub calibration_error: Option<(f64, f64, bool)>,
 }
 
 /// The gains chosen for one observer on one healthy fit segment.
@@ -107,12 +126,17 @@ pub struct Prepared {
 pub struct Tuning {
     /// Settings handed to `observers::build_observer`.
     pub settings: ObserverSettings,
-    /// The chosen multiple c of Γ = c·RMS(Δᵐy) (None: linear law, Γ unused).
+    /// The chosen multiple c of the measured bound, Γ = c·Γ₀ (None: linear law, Γ unused).
     pub multiple: Option<f64>,
-    /// Difference order m of the bound's scale.
+    /// The measured bound Γ₀ = RMS(Δᵐ⁻¹ û), û the linear observer's lumped uncertainty d̂₀ + r₀
+    /// averaged over one shaft revolution.
+    pub bound: f64,
+    /// Difference order m of the bound.
     pub order: usize,
-    /// Whether the recorded-data linear design (`LinearDesign::for_recordings`) was chosen.
-    pub for_recordings: bool,
+    /// The linear design chosen: "default", "for_recordings" or "innovations"
+    /// (`observers::LinearDesign`).
+    pub design: &'static str,
+
     /// RMS(residual) / RMS(y) on the second half of the fit segment.
     pub fit_ratio: f64,
     /// RMS(residual) on the last quarter over that on the second quarter of the fit segment
@@ -134,15 +158,31 @@ pub fn rms_ratio(x: &[f64], y: &[f64]) -> f64 {
 }
 
 impl Prepared {
-    /// Identify the ARX-Laguerre model (and, when `fuzzy`, the fuzzy ARX-Laguerre model of
-    /// eq. 5.19) on `healthy` (eq. 4.10 pole by prediction error) and take the housing mode of
-    /// the 5-DOF CWRU-rig parameter set as the physics model.
-    pub fn new(healthy: &[f64], fs: f64, rpm: f64, fuzzy: bool) -> anyhow::Result<Self> {
-        let cfg = ArxLaguerreConfig::new(N_A, 0, PoleChoice::DEFAULT_SEARCH)?;
-        let m = laguerre_id::ArxLaguerreModel::identify(healthy, None, &cfg)
-            .context("identifying the ARX-Laguerre model on the healthy fit segment")?;
+    /// Identify the ARX-Laguerre model (N_a by held-out one-step error, pole by eq. 4.10's
+    /// prediction-error search) and, when `fuzzy`, the fuzzy ARX-Laguerre model of eq. 5.19 on
+    /// `healthy`, and, when `physics`, calibrate the machine model on it
+    /// (`close_loop::machine::calibrate`: the loop from the declared healthy 5-DOF model,
+    /// `LoopConfig` defaults) whose structural path is the physics observers' model (identified
+    /// from the segment directly when the loop added none because the declared model already
+    /// explained it).
+    pub fn new(
+        healthy: &[f64],
+        fs: f64,
+        rpm: f64,
+        fuzzy: bool,
+        physics: bool,
+    ) -> anyhow::Result<Self> {
+        let (m, order_scores) = laguerre_id::ArxLaguerreModel::identify_order(
+            healthy,
+            &N_A_CANDIDATES,
+            ORDER_HOLDOUT,
+            PoleChoice::DEFAULT_SEARCH,
+        )
+        .context("identifying the ARX-Laguerre model on the healthy fit segment")?;
+        let n_a = m.n_a();
         let arx = observers::ArxLaguerreModel::from_state_space(&m.state_space())?;
         let fal = if fuzzy {
+            let cfg = ArxLaguerreConfig::new(n_a, 0, PoleChoice::DEFAULT_SEARCH)?;
             let f = fuzzy_ts::FuzzyArxLaguerre::identify(
                 healthy,
                 None,
@@ -153,24 +193,58 @@ impl Prepared {
         } else {
             None
         };
-        let spec = Scenario::new(
-            bearing_model::ParamSet::CwruRig,
-            bearing_model::Bearing::Skf6205,
-            rpm,
-        )
-        .spec;
-        let mode = ModalParams {
-            natural_frequency_hz: spec.housing.resonance_hz.min(0.45 * fs),
-            damping_ratio: spec.housing.damping_ratio,
-            input_gain: 0.0,
-            sample_rate_hz: fs,
+        let (path, path_modes, calibration_error) = if physics {
+            let cfg = close_loop::LoopConfig::default().check()?;
+            let machine = close_loop::machine::calibrate(
+                healthy,
+                fs,
+                rpm,
+                bearing_model::Bearing::Skf6205,
+                &cfg,
+            )
+            .context("calibrating the machine model on the healthy fit segment")?;
+            let (path, path_modes) = match &machine.path {
+                Some(_) => (
+                    machine.observer_model()?,
+                    machine
+                        .structural_modes
+                        .iter()
+                        .filter(|m| m.frequency_hz > 0.0)
+                        .count(),
+                ),
+                // the declared model already explained the segment: the loop added no path,
+                // so the path is identified from the segment directly
+                None => {
+                    let p = close_loop::path::identify_from_signal(
+                        healthy,
+                        fs,
+                        cfg.get().max_path_order,
+                    )?;
+                    let modes = p.modes().iter().filter(|m| m.frequency_hz > 0.0).count();
+                    (observers::ArxLaguerreModel::from_ar(&p.ar)?, modes)
+                }
+            };
+            let err = (
+                machine.provenance.error_before,
+                machine.provenance.error_after,
+                machine.path.is_some(),
+            );
+            (Some(path), path_modes, Some(err))
+        } else {
+            (None, 0, None)
         };
         Ok(Self {
             arx,
             fal,
-            mode,
+            revolution: (fs * 60.0 / rpm).round().max(1.0) as usize,
+            path_order: path.as_ref().map_or(0, |p| p.order()),
+            path_modes,
+            calibration_error,
+            path,
             fit: healthy.to_vec(),
             zeta_a: m.pole_a().value(),
+            n_a,
+            order_scores,
         })
     }
 
@@ -188,12 +262,16 @@ impl Prepared {
                 fault: FaultDirection::OutputFilter,
             })
         };
-        let phys = ModelConfig::Physics(self.mode);
+        let phys = || -> anyhow::Result<ModelConfig> {
+            Ok(ModelConfig::CalibratedPath(self.path.clone().ok_or_else(
+                || anyhow::anyhow!("machine model not calibrated"),
+            )?))
+        };
         Ok(match method {
-            Method::Hostsmo => (ObserverKind::Hostsmo, phys),
-            Method::Smo => (ObserverKind::Smo, phys),
-            Method::Pflo => (ObserverKind::Pflo, phys),
-            Method::Flo => (ObserverKind::Flo, phys),
+            Method::Hostsmo => (ObserverKind::Hostsmo, phys()?),
+            Method::Smo => (ObserverKind::Smo, phys()?),
+            Method::Pflo => (ObserverKind::Pflo, phys()?),
+            Method::Flo => (ObserverKind::Flo, phys()?),
             Method::Apio => (ObserverKind::Apio, arx()),
             Method::Smalpio => (ObserverKind::Smalpio, arx()),
             Method::Asmo => (ObserverKind::Asmo, fal()?),
@@ -202,12 +280,20 @@ impl Prepared {
         })
     }
 
-    /// Choose Γ and the linear design of `method` on the healthy fit segment only: every
-    /// candidate Γ = c·RMS(Δᵐy), c ∈ [`GAMMA_MULTIPLES`], times the two linear designs
-    /// (default, `for_recordings`) runs over the segment from rest; the candidate with the
-    /// smallest residual RMS on the segment's second half wins (first in order on ties).
-    /// Candidates that fail to build, produce non-finite output or grow (last-quarter RMS more
-    /// than twice the second-quarter RMS) are skipped. No test window and no label is used.
+    /// Set Γ and the linear design of `method` on the healthy fit segment only.
+    ///
+    /// The bound of eqs 2.44 / 3.21 / 4.20–4.29 / 5.28 is measured first on the segment's first
+    /// half: the lumped uncertainty seen by the same model under its linear (PI) law, û = d̂₀ + r₀
+    /// (what its extended state estimates plus what it leaves), averaged over one shaft
+    /// revolution so that the innovation — which no observer can predict and no bound has to
+    /// cover — averages out, and Γ₀ = RMS(Δᵐ⁻¹ û) (m = 3 for Levant laws: second difference;
+    /// m = 2 otherwise: first difference). Then every Γ = c·Γ₀, c ∈ [`GAMMA_MULTIPLES`] (a refinement around the
+    /// measured bound), times the three linear designs (default, `for_recordings`, innovations) runs over the
+    /// segment from rest; the candidate with the smallest residual RMS on the segment's second
+    /// half wins (first in order on ties). The sign laws' level-1 gain uses the error scale
+    /// E₀ = RMS(r₀) on the same first half (`observers::design::BoundGains::sign_scaled`). Candidates that fail to build, produce non-finite
+    /// output or grow (last-quarter RMS more than twice the second-quarter RMS) are skipped.
+    /// No test window and no label is used.
     pub fn tune(&self, method: Method) -> anyhow::Result<Tuning> {
         let (kind, model) = self.kind_and_model(method)?;
         let order = if kind.family() == LawFamily::Levant {
@@ -215,30 +301,58 @@ impl Prepared {
         } else {
             2
         };
-        let mut d = self.fit.clone();
-        for _ in 0..order {
-            for i in 0..d.len() - 1 {
-                d[i] = d[i + 1] - d[i];
-            }
-            d.pop();
-        }
-        let scale = rms(&d);
-        anyhow::ensure!(scale > 0.0, "silent fit segment");
-        let linear_only = kind.family() == LawFamily::Linear;
-        let multiples: &[f64] = if linear_only {
-            &[1e-3]
-        } else {
-            &GAMMA_MULTIPLES
-        };
         let n = self.fit.len();
         let (q2, half, q4) = (n / 4, n / 2, 3 * n / 4);
+        let linear_only = kind.family() == LawFamily::Linear;
         let mut best: Option<Tuning> = None;
-        for &c in multiples {
-            for rec_design in [false, true] {
-                let mut settings = ObserverSettings::new(c * scale);
-                if rec_design {
-                    settings.linear = LinearDesign::for_recordings();
+        for (design, linear) in [
+            ("default", LinearDesign::default()),
+            ("for_recordings", LinearDesign::for_recordings()),
+            ("innovations", LinearDesign::innovations()),
+        ] {
+            // the bound, measured with the linear law on the same model
+            let mut lin_settings = ObserverSettings::new(1.0);
+            lin_settings.linear = linear;
+            let Ok(mut lin) = observers::build_observer(ObserverKind::Apio, &model, &lin_settings)
+            else {
+                continue;
+            };
+            let Ok(r0) = lin.run(&self.fit) else {
+                continue;
+            };
+            // lumped uncertainty seen by the linear observer: what it estimates (d̂₀) plus what
+            // it leaves (r₀), averaged over one shaft revolution so that the innovation — which
+            // no observer can predict and no bound has to cover — averages out
+            let w = self.revolution.clamp(1, half / 4);
+            let u: Vec<f64> = r0.fault[..half]
+                .iter()
+                .zip(&r0.residual[..half])
+                .map(|(d, r)| d + r)
+                .collect();
+            let mut d: Vec<f64> = u
+                .windows(w)
+                .map(|x| x.iter().sum::<f64>() / w as f64)
+                .collect();
+            for _ in 0..order - 1 {
+                for i in 0..d.len() - 1 {
+                    d[i] = d[i + 1] - d[i];
                 }
+                d.pop();
+            }
+            let bound = rms(&d);
+            let error_scale = rms(&r0.residual[..half]);
+            if !(bound.is_finite() && bound > 0.0 && error_scale > 0.0) {
+                continue;
+            }
+            let multiples: &[f64] = if linear_only {
+                &[1.0]
+            } else {
+                &GAMMA_MULTIPLES
+            };
+            for &c in multiples {
+                let mut settings = ObserverSettings::new(c * bound);
+                settings.linear = linear;
+                settings.error_scale = error_scale;
                 let Ok(mut obs) = observers::build_observer(kind, &model, &settings) else {
                     continue;
                 };
@@ -256,8 +370,9 @@ impl Prepared {
                 let t = Tuning {
                     settings,
                     multiple: (!linear_only).then_some(c),
+                    bound,
                     order,
-                    for_recordings: rec_design,
+                    design,
                     fit_ratio: rms_ratio(&r[half..], &self.fit[half..]),
                     growth,
                 };

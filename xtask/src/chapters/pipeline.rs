@@ -174,30 +174,52 @@ pub fn run_chapter(
     let fuzzy = methods
         .iter()
         .any(|m| matches!(m, Method::Afsmo | Method::Asmo | Method::SmoFuzzy));
+    let physics = methods.iter().any(|m| {
+        matches!(
+            m,
+            Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
+        )
+    });
     let prepared: BTreeMap<RecKey, engine::Prepared> = healthy
         .par_iter()
         .map(|h| {
             let rec = cache.get(h)?;
-            let p = engine::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, fuzzy)
+            let p = engine::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, fuzzy, physics)
                 .with_context(|| format!("model identification on {}", rec.id))?;
             Ok((*h, p))
         })
         .collect::<anyhow::Result<_>>()?;
 
     for (h, p) in &prepared {
+        let id = &cache.get(h)?.id;
         if methods.iter().any(|m| {
             !matches!(
                 m,
                 Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
             )
         }) {
+            let scores: Vec<String> = p
+                .order_scores
+                .iter()
+                .map(|(n, e)| format!("{n}: {e:.3}"))
+                .collect();
             notes.push(format!(
-                "{} model (AR form, N_a = {}) identified on the first {} s of {}: pole ζ_a = {:.4}.",
+                "{} model (AR form) identified on the first {} s of {id}: N_a = {} chosen by held-out one-step NRMSE on the last {:.0} % of that segment (N_a: NRMSE = {}), pole ζ_a = {:.4}.",
                 if fuzzy { "Fuzzy ARX-Laguerre (eq. 5.19, Table 5.1 rules, N_f = 2, ±3σ universes; its ARX-Laguerre part)" } else { "ARX-Laguerre" },
-                engine::N_A,
                 inputs::FIT_SECONDS,
-                cache.get(h)?.id,
+                p.n_a,
+                100.0 * engine::ORDER_HOLDOUT,
+                scores.join(", "),
                 p.zeta_a
+            ));
+        }
+        if let Some((before, after, by_loop)) = p.calibration_error {
+            notes.push(format!(
+                "Physics observers run on the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, as a one-step predictor (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
+                inputs::FIT_SECONDS,
+                if by_loop { "" } else { " (the loop added none — the declared model already explained the segment — so the path is identified from the segment directly)" },
+                p.path_order,
+                p.path_modes
             ));
         }
     }
@@ -282,7 +304,8 @@ pub fn run_chapter(
     let mut report_tables = Vec::new();
     let mut data_notes = Vec::new();
     let mut figures = Vec::new();
-    let mut extras = vec![tuning_section(&methods, &tunings, &ratios, cache)?];
+    let (tuning_extra, residual_rms_ratio) = tuning_section(&methods, &tunings, &ratios, cache)?;
+    let mut extras = vec![tuning_extra];
     let pb = progress(cfg, 1, format!("chapter {ch}: classifiers"));
     for d in &diss {
         data_notes.push(data_note(cfg, cache, d, &feats, &methods)?);
@@ -408,6 +431,7 @@ pub fn run_chapter(
             tables: report_tables,
             extras,
             figures: figure_names,
+            residual_rms_ratio,
         },
         figures,
         headline: format!("chapter {ch} ({}):\n{headline}", methods[0].name()),
@@ -1018,37 +1042,39 @@ fn tuning_section(
     tunings: &BTreeMap<(Method, RecKey), engine::Tuning>,
     ratios: &BTreeMap<(String, RecKey), f64>,
     cache: &Cache,
-) -> anyhow::Result<(String, String)> {
+) -> anyhow::Result<((String, String), ResidualRatios)> {
     use std::fmt::Write as _;
     let mut b = String::new();
+    let mut healthy_ratio = ResidualRatios::new();
     let _ = writeln!(
         b,
-        "Gains are chosen on the healthy fit segment only (rule: docs/equations/xtask-chapters.md): Γ = c·RMS(Δᵐy) with c from {:?} (m = 3 for Levant laws, 2 otherwise; linear laws have no Γ) and the linear design default or `for_recordings`, whichever gives the smallest residual RMS on the segment's second half without growing. No test window and no label is used.\n",
+        "Gains are set on the healthy fit segment only (rule: docs/equations/xtask-chapters.md). The bound of eqs 2.44 / 3.21 / 4.20–4.29 / 5.28 is measured first on the segment's first half: Γ₀ = RMS(Δᵐ⁻¹û), û the lumped uncertainty of the same model under its linear (PI) law (its extended state d̂₀ plus its residual r₀) averaged over one shaft revolution, so that the unpredictable innovation averages out (m = 3 for Levant laws, 2 otherwise); then Γ = c·Γ₀ with c from {:?} (no search over c: on a healthy segment any sliding injection beyond the uncertainty adds to the one-step error, so a search would run to the smallest c it is offered) and the linear design default, `for_recordings` or innovations (K_p = b_y: the identified one-step predictor itself), whichever gives the smallest residual RMS on the segment's second half without growing (linear laws have no Γ). No test window and no label is used.\n",
         engine::GAMMA_MULTIPLES
     );
     let _ = writeln!(
         b,
-        "| Observer | Healthy fit segment | c (Γ = c·RMS(Δᵐy)) | m | Linear design | Fit-segment RMS(r)/RMS(y) | Growth (last/2nd quarter) |"
+        "| Observer | Healthy fit segment | Γ₀ (measured bound) | c (Γ = c·Γ₀) | m | Linear design | Fit-segment RMS(r)/RMS(y) | Growth (last/2nd quarter) |"
     );
-    let _ = writeln!(b, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(b, "|---|---|---|---|---|---|---|---|");
     for m in methods {
         for ((tm, h), t) in tunings.iter().filter(|((tm, _), _)| tm == m) {
             let _ = writeln!(
                 b,
-                "| {} | {} | {} | {} | {} | {:.3} | {:.2} |",
+                "| {} | {} | {} | {} | {} | {} | {:.3} | {:.2} |",
                 tm.name(),
                 cache.get(h)?.id,
-                t.multiple.map_or("—".to_string(), |c| format!("{c:e}")),
+                if t.multiple.is_some() {
+                    format!("{:.3e}", t.bound)
+                } else {
+                    "—".into()
+                },
+                t.multiple.map_or("—".to_string(), |c| c.to_string()),
                 if t.multiple.is_some() {
                     t.order.to_string()
                 } else {
                     "—".into()
                 },
-                if t.for_recordings {
-                    "for_recordings"
-                } else {
-                    "default"
-                },
+                t.design,
                 t.fit_ratio,
                 t.growth
             );
@@ -1109,14 +1135,28 @@ fn tuning_section(
                 row.push(if v.is_empty() {
                     "—".to_string()
                 } else {
-                    format!("{:.3}", v.iter().sum::<f64>() / v.len() as f64)
+                    let mean = v.iter().sum::<f64>() / v.len() as f64;
+                    if *ci == 0 {
+                        healthy_ratio
+                            .entry(ds.to_string())
+                            .or_default()
+                            .insert(m.name().to_string(), (mean * 1000.0).round() / 1000.0);
+                    }
+                    format!("{mean:.3}")
                 });
             }
             let _ = writeln!(b, "| {} | {} |", m.name(), row.join(" | "));
         }
     }
     Ok((
-        "Observer gains and residual size (what each observer does)".to_string(),
-        b,
+        (
+            "Observer gains and residual size (what each observer does)".to_string(),
+            b,
+        ),
+        healthy_ratio,
     ))
 }
+
+/// Healthy held-out RMS(residual)/RMS(signal) per dataset and observer (the normal class's
+/// scored windows, all after the fit segment).
+pub type ResidualRatios = BTreeMap<String, BTreeMap<String, f64>>;

@@ -131,6 +131,8 @@ pub struct ChapterReport {
     pub extras: Vec<(String, String)>,
     /// Figure files (relative to the chapter directory).
     pub figures: Vec<String>,
+    /// Healthy held-out RMS(residual)/RMS(signal), dataset → observer.
+    pub residual_rms_ratio: super::pipeline::ResidualRatios,
 }
 
 /// Percent with one decimal.
@@ -483,6 +485,7 @@ pub fn json(rep: &ChapterReport, diss: &[&DissTable]) -> anyhow::Result<String> 
         })).collect::<Vec<_>>(),
         "extras": rep.extras.iter().map(|(h, b)| serde_json::json!({"heading": h, "body": b})).collect::<Vec<_>>(),
         "figures": rep.figures,
+        "residual_rms_ratio": rep.residual_rms_ratio,
     });
     Ok(serde_json::to_string_pretty(&v)? + "\n")
 }
