@@ -127,6 +127,14 @@ pub struct MachineModel {
     pub modulations: Vec<Modulation>,
     /// Where it came from.
     pub provenance: Provenance,
+    /// RMS of the calibration recording's held-out part through the path's prediction-error
+    /// filter `A(z)` (what a diagnosis against this machine compares a recording's residual
+    /// with); `null` when the model holds no path or was written before this field existed.
+    #[serde(default)]
+    pub path_residual_rms: Option<f64>,
+    /// Kurtosis (not excess) of that residual.
+    #[serde(default)]
+    pub path_residual_kurtosis: Option<f64>,
 }
 
 impl MachineModel {
@@ -181,6 +189,19 @@ impl MachineModel {
             }
         }
         let b = ctx.op.bearing;
+        let path = st.path.as_ref().map(|p| p.path.clone());
+        let (path_residual_rms, path_residual_kurtosis) = path
+            .as_ref()
+            .and_then(|p| {
+                let e = p.prediction_error(&ctx.y[ctx.n_fit..]);
+                let e = e.get(p.order()..)?;
+                let n = e.len() as f64;
+                let m2 = e.iter().map(|v| v * v).sum::<f64>() / n;
+                let m4 = e.iter().map(|v| v.powi(4)).sum::<f64>() / n;
+                (n > 0.0 && m2 > 0.0 && m2.is_finite() && m4.is_finite())
+                    .then(|| (m2.sqrt(), m4 / (m2 * m2)))
+            })
+            .unzip();
         Self {
             format: FORMAT.to_string(),
             version: VERSION,
@@ -195,7 +216,7 @@ impl MachineModel {
             physics_gain: st.log_gain.exp(),
             housing_mode,
             shaft_forces,
-            path: st.path.as_ref().map(|p| p.path.clone()),
+            path,
             path_level: if st.path.is_some() {
                 st.log_bg.exp()
             } else {
@@ -218,6 +239,8 @@ impl MachineModel {
                 error_metric: crate::report::PRIMARY_METRIC.to_string(),
                 fit_samples: [0, ctx.n_fit],
             },
+            path_residual_rms,
+            path_residual_kurtosis,
         }
     }
 

@@ -122,6 +122,31 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
         .max_by(|x, y| x.peak_psd.total_cmp(&y.peak_psd))
         .unwrap();
     assert!((mode.frequency_hz / 2800.0 - 1.0).abs() < 0.02, "{mode:?}");
+    // the library call is the same calibration
+    let lib = close_loop::machine::calibrate(&y, fs, 1797.0, bearing_model::Bearing::Skf6205, &cfg)
+        .unwrap();
+    assert_eq!(&lib, m);
+    // the path's own residual on the held-out half: the unit-variance excitation plus the
+    // whitened lines
+    let r = m.path_residual_rms.unwrap();
+    let k = m.path_residual_kurtosis.unwrap();
+    assert!((0.9..1.6).contains(&r), "path residual RMS {r}");
+    assert!((2.0..4.0).contains(&k), "path residual kurtosis {k}");
+    // as an observer model: the physics observers' one-step predictor removes the resonance
+    let pm = m.observer_model().unwrap();
+    assert!(pm.is_shift_form());
+    let mut obs = observers::build_observer(
+        observers::ObserverKind::Flo,
+        &observers::ModelConfig::CalibratedPath(pm),
+        &observers::ObserverSettings::new(1e-3),
+    )
+    .unwrap();
+    let res = obs.run(&y).unwrap().residual;
+    let ratio = close_loop::metric::rms(&res[n / 2..]) / close_loop::metric::rms(&y[n / 2..]);
+    assert!(
+        ratio < 0.5,
+        "FLO on the calibrated path: residual/signal {ratio}"
+    );
     let text = m.to_json().unwrap();
     let back = MachineModel::from_json(&text).unwrap();
     assert_eq!(&back, m);

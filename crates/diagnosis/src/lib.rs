@@ -190,6 +190,40 @@ impl Baseline {
             samples: x.len(),
         })
     }
+
+    /// A baseline from a healthy model prepared elsewhere — the structural path of a calibrated
+    /// machine model — with the residual statistics measured when it was calibrated
+    /// (`samples` = how many samples those statistics came from).
+    ///
+    /// # Errors
+    /// A sampling rate out of range, or non-finite / non-positive statistics
+    /// ([`DiagnosisError::Degenerate`]).
+    pub fn from_whitener(
+        whitener: ArWhitener,
+        residual_rms: f64,
+        residual_kurtosis: f64,
+        samples: usize,
+    ) -> Result<Self> {
+        check_fs(whitener.fs_hz)?;
+        if !(residual_rms.is_finite()
+            && residual_rms > 0.0
+            && residual_kurtosis.is_finite()
+            && residual_kurtosis > 0.0)
+        {
+            return Err(DiagnosisError::Degenerate {
+                what: "baseline model",
+                reason: format!(
+                    "residual RMS {residual_rms} and kurtosis {residual_kurtosis} must be finite and > 0"
+                ),
+            });
+        }
+        Ok(Self {
+            whitener,
+            residual_rms,
+            residual_kurtosis,
+            samples,
+        })
+    }
 }
 
 /// Per-hypothesis scores (dB; see [`HypothesisEvidence::score_db`]).

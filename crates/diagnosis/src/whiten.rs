@@ -131,6 +131,34 @@ impl ArWhitener {
         })
     }
 
+    /// A whitener from given prediction coefficients `a_1 … a_p` (x(k) ≈ Σ a_i x(k−i)) at
+    /// `fs_hz`, e.g. the structural path of a calibrated machine model (whose `A(z) = 1 + Σ α_i
+    /// z⁻ⁱ` gives a_i = −α_i). No samples were fitted here: `fit_samples`, `heldout_samples` are
+    /// 0 and `selection` is empty.
+    ///
+    /// # Errors
+    /// [`DiagnosisError::Degenerate`] for no coefficient or a non-finite one.
+    pub fn from_coefficients(
+        coefficients: Vec<f64>,
+        fs_hz: f64,
+        what: &'static str,
+    ) -> Result<Self> {
+        if coefficients.is_empty() || coefficients.iter().any(|v| !v.is_finite()) {
+            return Err(DiagnosisError::Degenerate {
+                what,
+                reason: "prediction coefficients must be non-empty and finite".into(),
+            });
+        }
+        Ok(Self {
+            order: coefficients.len(),
+            coefficients,
+            fs_hz,
+            fit_samples: 0,
+            heldout_samples: 0,
+            selection: Vec::new(),
+        })
+    }
+
     /// The prediction error `e(k) = x(k) − Σ a_i x(k−i)` for `k = p … len−1` (the first `p`
     /// samples have no full history and are not returned).
     pub fn residual(&self, x: &[f64]) -> Vec<f64> {

@@ -252,3 +252,45 @@ fn bad_inputs_are_typed_errors() {
         Err(DiagnosisError::Degenerate { .. })
     ));
 }
+
+/// A baseline rebuilt from its whitener's coefficients and residual statistics
+/// (`ArWhitener::from_coefficients`, `Baseline::from_whitener`: how a calibrated machine model
+/// becomes a baseline) diagnoses exactly as the prepared one; bad parts are typed errors.
+#[test]
+fn baseline_from_a_model_matches_the_prepared_one() {
+    let g = BearingGeometry::skf_6205();
+    let spec = BearingSpec::parse("6205").unwrap();
+    let fs = 12_000.0;
+    let prepared = Baseline::prepare(&sim(g, FaultClass::None, 1797.0, fs, 99), fs).unwrap();
+    let w = diagnosis::ArWhitener::from_coefficients(
+        prepared.whitener.coefficients.clone(),
+        fs,
+        "model",
+    )
+    .unwrap();
+    let rebuilt = Baseline::from_whitener(
+        w,
+        prepared.residual_rms,
+        prepared.residual_kurtosis,
+        prepared.samples,
+    )
+    .unwrap();
+    let x = sim(g, FaultClass::Outer, 1797.0, fs, 7);
+    let a = diagnose(&x, fs, 1797.0, &spec, Some(&prepared)).unwrap();
+    let b = diagnose(&x, fs, 1797.0, &spec, Some(&rebuilt)).unwrap();
+    assert_eq!(a.verdict, b.verdict);
+    assert_eq!(a.scores, b.scores);
+    assert!(matches!(
+        diagnosis::ArWhitener::from_coefficients(vec![], fs, "model"),
+        Err(DiagnosisError::Degenerate { .. })
+    ));
+    assert!(matches!(
+        diagnosis::ArWhitener::from_coefficients(vec![0.5, f64::NAN], fs, "model"),
+        Err(DiagnosisError::Degenerate { .. })
+    ));
+    let w = diagnosis::ArWhitener::from_coefficients(vec![0.5], fs, "model").unwrap();
+    assert!(matches!(
+        Baseline::from_whitener(w, f64::NAN, 3.0, 10),
+        Err(DiagnosisError::Degenerate { .. })
+    ));
+}

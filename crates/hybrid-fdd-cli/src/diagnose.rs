@@ -27,8 +27,10 @@ pub struct Args {
     /// `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`.
     #[arg(long)]
     pub bearing: Option<String>,
-    /// Healthy recording of the same machine (same formats); resampled by an integer factor
-    /// with an anti-aliasing FIR when its rate is a multiple of the recording's.
+    /// Healthy recording of the same machine (same formats; resampled by an integer factor
+    /// with an anti-aliasing FIR when its rate is a multiple of the recording's), or a machine
+    /// model JSON from `cargo xtask calibrate` (its structural path is the healthy model; same
+    /// sampling rate and units as the recording).
     #[arg(long)]
     pub baseline: Option<PathBuf>,
     /// JSON report path (Markdown and PNG beside it); with a directory input, an output directory.
@@ -166,22 +168,43 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
 /// A prepared baseline and a note saying how it was made (rate, decimation).
 pub type Prepared = Arc<(Baseline, String)>;
 
-/// A healthy baseline's samples, prepared on demand for each recording rate it is asked for.
+/// A healthy baseline: a recording's samples, prepared on demand for each recording rate it is
+/// asked for, or a calibrated machine model (`cargo xtask calibrate`), whose structural path is
+/// the healthy model.
 #[derive(Debug)]
 pub struct BaselineSource {
     /// Where it came from.
     pub path: PathBuf,
     samples: Vec<f64>,
     fs_hz: f64,
+    machine: Option<Box<close_loop::machine::MachineModel>>,
     prepared: Mutex<Vec<(u64, Prepared)>>,
 }
 
 impl BaselineSource {
-    /// Load a baseline file.
+    /// Load a baseline file: a recording (as [`load`]), or a machine model JSON (`.json`,
+    /// validated by `close_loop::machine::MachineModel::from_json`).
     ///
     /// # Errors
-    /// As [`load`].
+    /// As [`load`], or the machine model's typed format errors.
     pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Self> {
+        if path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading baseline {}", path.display()))?;
+            let m = close_loop::machine::MachineModel::from_json(&text)
+                .with_context(|| format!("baseline machine model {}", path.display()))?;
+            return Ok(Self {
+                path: path.to_path_buf(),
+                samples: Vec::new(),
+                fs_hz: m.fs_hz,
+                machine: Some(Box::new(m)),
+                prepared: Mutex::new(Vec::new()),
+            });
+        }
         let l = load(path, channel, fs).with_context(|| format!("baseline {}", path.display()))?;
         Ok(Self::from_samples(path, l.samples, l.fs_hz))
     }
@@ -192,8 +215,49 @@ impl BaselineSource {
             path: path.to_path_buf(),
             samples,
             fs_hz,
+            machine: None,
             prepared: Mutex::new(Vec::new()),
         }
+    }
+
+    /// The units a machine-model baseline was calibrated in ("g", "m/s^2", "unknown"); `None`
+    /// for a recording baseline.
+    pub fn machine_units(&self) -> Option<&str> {
+        self.machine.as_deref().map(|m| m.units.as_str())
+    }
+
+    /// The baseline from a machine model: its path's prediction-error filter and the residual
+    /// statistics measured when it was calibrated. The rate is the model's (the library reports
+    /// a recording at another rate as its typed mismatch error).
+    fn from_machine(&self, m: &close_loop::machine::MachineModel) -> anyhow::Result<Prepared> {
+        let name = self.path.display();
+        let path = m.path.as_ref().with_context(|| {
+            format!("baseline machine model {name} holds no structural path to whiten with")
+        })?;
+        let (Some(rms), Some(kurt)) = (m.path_residual_rms, m.path_residual_kurtosis) else {
+            anyhow::bail!(
+                "baseline machine model {name} has no path residual statistics (written by an older version): recalibrate it with `cargo xtask calibrate`"
+            );
+        };
+        let w = diagnosis::ArWhitener::from_coefficients(
+            path.ar.iter().map(|a| -a).collect(),
+            m.fs_hz,
+            "baseline machine model",
+        )?;
+        let samples = m.provenance.fit_samples[1];
+        let b = Baseline::from_whitener(w, rms, kurt, samples)?;
+        let note = format!(
+            "machine model {name} (calibrated on {}, {} Hz, units {}): structural path of AR order {} as the healthy model",
+            if m.provenance.recording.is_empty() {
+                "an unnamed recording"
+            } else {
+                m.provenance.recording.as_str()
+            },
+            m.fs_hz,
+            m.units,
+            path.ar.len()
+        );
+        Ok(Arc::new((b, note)))
     }
 
     /// The baseline prepared at `fs_hz` (decimated by an integer factor when needed) and a note
@@ -210,6 +274,11 @@ impl BaselineSource {
             .map_err(|_| anyhow::anyhow!("baseline cache poisoned"))?;
         if let Some((_, b)) = cache.iter().find(|(k, _)| *k == key) {
             return Ok(b.clone());
+        }
+        if let Some(m) = self.machine.as_deref() {
+            let b = self.from_machine(m)?;
+            cache.push((key, b.clone()));
+            return Ok(b);
         }
         let name = self.path.display();
         let ratio = self.fs_hz / fs_hz;
@@ -278,6 +347,17 @@ pub fn diagnose_loaded(
         .context("--rpm is required (the file stores no speed)")?;
     let (d, note) = match baseline {
         Some(src) => {
+            if let Some(u) = src.machine_units()
+                && u != "unknown"
+                && l.units != "unknown"
+                && u != l.units
+            {
+                anyhow::bail!(
+                    "baseline machine model {} is in {u} but the recording is in {}",
+                    src.path.display(),
+                    l.units
+                );
+            }
             let b = src.at(l.fs_hz)?;
             (
                 diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, Some(&b.0))?,

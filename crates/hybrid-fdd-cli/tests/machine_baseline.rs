@@ -1,0 +1,119 @@
+//! A calibrated machine model as the diagnosis baseline (`--baseline rig.json`): loaded and
+//! validated, its structural path is the healthy model, a healthy recording of the same rig
+//! reads normal, and a recording of other units or another rate is refused with a typed error.
+
+use close_loop::LoopConfig;
+use hybrid_fdd_cli::diagnose::{BaselineSource, Loaded, Plan, diagnose_loaded};
+
+const FS: f64 = 12_000.0;
+const RPM: f64 = 1797.0;
+
+/// A healthy "rig": a 2.8 kHz resonance rung by broadband excitation, plus a 1× line.
+fn rig(n: usize, seed: u64) -> Vec<f64> {
+    let mut st = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let e: Vec<f64> = (0..n)
+        .map(|_| {
+            st ^= st << 13;
+            st ^= st >> 7;
+            st ^= st << 17;
+            (st >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+        .collect();
+    let (r, w) = (0.97f64, 2.0 * std::f64::consts::PI * 2800.0 / FS);
+    let (a1, a2) = (-2.0 * r * w.cos(), r * r);
+    let mut y = vec![0.0; n];
+    for k in 0..n {
+        let mut v = e[k];
+        if k >= 1 {
+            v -= a1 * y[k - 1];
+        }
+        if k >= 2 {
+            v -= a2 * y[k - 2];
+        }
+        y[k] = v;
+    }
+    let fr = RPM / 60.0;
+    for (k, v) in y.iter_mut().enumerate() {
+        *v += 0.5 * (2.0 * std::f64::consts::PI * fr * k as f64 / FS).sin();
+    }
+    y
+}
+
+fn loaded(samples: Vec<f64>, fs_hz: f64, units: &'static str) -> Loaded {
+    Loaded {
+        samples,
+        fs_hz,
+        rpm: Some(RPM),
+        unit: "test units",
+        units,
+        fault_size_in: None,
+    }
+}
+
+#[test]
+fn machine_model_is_a_diagnosis_baseline() {
+    let cfg = LoopConfig::default().check().unwrap();
+    let mut m = close_loop::machine::calibrate(
+        &rig(48_000, 1),
+        FS,
+        RPM,
+        bearing_model::Bearing::Skf6205,
+        &cfg,
+    )
+    .unwrap();
+    let order = m
+        .path
+        .as_ref()
+        .expect("the loop adds the rig's path")
+        .ar
+        .len();
+    m.units = "g".into();
+    let dir = std::env::temp_dir().join(format!(
+        "hybrid-fdd-machine-baseline-{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("rig.json");
+    std::fs::write(&json, m.to_json().unwrap()).unwrap();
+
+    let src = BaselineSource::load(&json, "DE", None).unwrap();
+    assert_eq!(src.machine_units(), Some("g"));
+    let prepared = src.at(FS).unwrap();
+    assert_eq!(prepared.0.whitener.order, order);
+    assert!(prepared.1.contains("machine model"), "{}", prepared.1);
+
+    let plan = Plan {
+        channel: "DE".into(),
+        fs: None,
+        rpm: None,
+        bearing: diagnosis::BearingSpec::parse("6205").unwrap(),
+    };
+    // another healthy recording of the same rig, in the same units: normal
+    let o = diagnose_loaded(&loaded(rig(48_000, 2), FS, "g"), &plan, Some(&src)).unwrap();
+    assert_eq!(o.diagnosis.verdict, "normal");
+    assert_eq!(o.diagnosis.reference, diagnosis::Reference::Baseline);
+    // other units: refused
+    let e = diagnose_loaded(&loaded(rig(48_000, 2), FS, "m/s^2"), &plan, Some(&src)).unwrap_err();
+    assert!(format!("{e:#}").contains("is in g"), "{e:#}");
+    // another rate: the library's typed mismatch
+    let e =
+        diagnose_loaded(&loaded(rig(192_000, 3), 48_000.0, "g"), &plan, Some(&src)).unwrap_err();
+    assert!(
+        e.chain().any(|c| matches!(
+            c.downcast_ref::<diagnosis::DiagnosisError>(),
+            Some(diagnosis::DiagnosisError::SampleRateMismatch { .. })
+        )),
+        "{e:#}"
+    );
+    // a machine model without a path cannot whiten
+    let mut bare = m.clone();
+    bare.path = None;
+    let bare_json = dir.join("bare.json");
+    std::fs::write(&bare_json, bare.to_json().unwrap()).unwrap();
+    let e = BaselineSource::load(&bare_json, "DE", None)
+        .unwrap()
+        .at(FS)
+        .unwrap_err();
+    assert!(format!("{e:#}").contains("no structural path"), "{e:#}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
