@@ -215,7 +215,7 @@ impl crate::DeclaredModel for ArxLaguerreDeclared {
     /// S(f) = c·σ²/fs / |1 − G(e^{j2πf/fs})|², c = 2 off DC and Nyquist (the one-sided density
     /// `residual-features`' Welch estimates), G the strictly causal one-step predictor
     /// ŷ = G(z)·y of eq. 4.11, from its impulse response (`predict` on a unit impulse, zero-padded
-    /// to a multiple of `nperseg` ≥ [`ARX_IMPULSE_LEN`], transformed by FFT).
+    /// to a multiple of `nperseg` ≥ `ARX_IMPULSE_LEN`, transformed by FFT).
     fn expected_psd(
         &self,
         _op: &crate::OperatingPoint,

@@ -165,7 +165,7 @@ pub fn hann_windowed(x: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// |Σ xw[i]·e^(−j2πf·i/fs)|²: the DFT power of an already windowed signal at any frequency f.
+/// |Σ xw\[i\]·e^(−j2πf·i/fs)|²: the DFT power of an already windowed signal at any frequency f.
 pub fn zoom_power(xw: &[f64], fs: f64, f: f64) -> f64 {
     let w = 2.0 * PI * f / fs;
     let step = Complex::new(w.cos(), -w.sin());
