@@ -1,0 +1,503 @@
+//! The loop: residual → candidate effects (detectors) → fit on the fitting segment → keep the best
+//! one that lowers the held-out error by the margin → repeat; stop when none does.
+
+use crate::effect::{Effect, Line};
+use crate::engine::{Ctx, PathPsd, State};
+use crate::machine::MachineModel;
+use crate::report::{
+    Declared, EffectEntry, Ledger, Outcome, PRIMARY_METRIC, Protocol, RejectedCandidate,
+    SECONDARY_METRIC, Spectra,
+};
+use crate::spectrum::Welch;
+use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
+use std::sync::Arc;
+
+/// Smallest Welch segment the loop accepts.
+pub const MIN_NPERSEG: usize = 256;
+
+/// Samples a recording needs for `cfg`: both parts must hold `min_segments` Welch segments of
+/// [`MIN_NPERSEG`] samples.
+pub fn min_samples(cfg: &CheckedConfig) -> usize {
+    let c = cfg.get();
+    let part = MIN_NPERSEG * (c.min_segments + 1) / 2;
+    let frac = c.fit_fraction.min(1.0 - c.fit_fraction);
+    (part as f64 / frac).ceil() as usize + 1
+}
+
+/// Length of the fitting segment `[0, n_fit)` of an `n`-sample recording (the rest is held out).
+/// A model identified from the recording (e.g. [`crate::observe::ArxLaguerreDeclared`]) must be
+/// identified on `y[..fit_len(y.len(), cfg)]` only.
+pub fn fit_len(n: usize, cfg: &CheckedConfig) -> usize {
+    (n as f64 * cfg.get().fit_fraction).round() as usize
+}
+
+/// Run the loop on a recording `y` sampled at `fs` Hz, with the model told `op`.
+///
+/// # Errors
+/// Bad input ([`CloseLoopError::TooShort`], [`CloseLoopError::NonFinite`],
+/// [`CloseLoopError::InvalidSamplingRate`], [`CloseLoopError::InvalidRpm`],
+/// [`CloseLoopError::ZeroSignal`]) or a failing model.
+pub fn close_loop(
+    model: &dyn DeclaredModel,
+    y: &[f64],
+    fs: f64,
+    op: &OperatingPoint,
+    cfg: &CheckedConfig,
+) -> Result<Outcome, CloseLoopError> {
+    close_loop_from(model, None, y, fs, op, cfg)
+}
+
+/// [`close_loop`] starting from a calibrated machine model: its speed ratio, structural path,
+/// channel modes and lines (re-fitted in amplitude and phase on this recording's fitting
+/// segment) are part of the declared model, and the declared physics is seen through its path.
+/// The machine model must match the recording's sampling rate (checked by
+/// [`MachineModel::check_compatible`]).
+///
+/// # Errors
+/// As [`close_loop`], plus [`CloseLoopError::MachineModelMismatch`].
+pub fn close_loop_from(
+    model: &dyn DeclaredModel,
+    prior: Option<&MachineModel>,
+    y: &[f64],
+    fs: f64,
+    op: &OperatingPoint,
+    cfg: &CheckedConfig,
+) -> Result<Outcome, CloseLoopError> {
+    let c = cfg.get();
+    if let Some(m) = prior {
+        m.check_compatible(fs, op.bearing.name)?;
+    }
+    if !(fs.is_finite() && fs > 0.0) {
+        return Err(CloseLoopError::InvalidSamplingRate { fs });
+    }
+    if !(op.rpm.is_finite() && op.rpm > 0.0) {
+        return Err(CloseLoopError::InvalidRpm { rpm: op.rpm });
+    }
+    let needed = min_samples(cfg);
+    if y.len() < needed {
+        return Err(CloseLoopError::TooShort {
+            needed,
+            found: y.len(),
+        });
+    }
+    if let Some(index) = y.iter().position(|v| !v.is_finite()) {
+        return Err(CloseLoopError::NonFinite { index });
+    }
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    if y.iter().all(|v| (v - mean).abs() <= 1e-300) {
+        return Err(CloseLoopError::ZeroSignal);
+    }
+    let n_fit = fit_len(y.len(), cfg);
+    let shortest = n_fit.min(y.len() - n_fit);
+    let mut nperseg = (fs / c.resolution_hz).log2().round().exp2() as usize;
+    nperseg = nperseg.clamp(MIN_NPERSEG, 1 << 20);
+    while nperseg > MIN_NPERSEG && (2 * shortest / nperseg).saturating_sub(1) < c.min_segments {
+        nperseg /= 2;
+    }
+    let mut nperseg_hi = 8 * nperseg;
+    while nperseg_hi > nperseg && 4 * nperseg_hi > n_fit {
+        nperseg_hi /= 2;
+    }
+    let welch = Welch::new(fs, nperseg)?;
+    let welch_hi = Welch::new(fs, nperseg_hi)?;
+    let band_hi = c.band_high_fraction * fs;
+    let k_lo = ((c.band_low_hz / welch.df()).ceil() as usize).max(1);
+    let k_hi = ((band_hi / welch.df()).floor() as usize).min(welch.n_bins() - 1);
+    let kh_lo = ((c.band_low_hz / welch_hi.df()).ceil() as usize).max(1);
+    let kh_hi = ((band_hi / welch_hi.df()).floor() as usize).min(welch_hi.n_bins() - 1);
+    if k_hi <= k_lo + 8 {
+        return Err(CloseLoopError::ParameterOutOfRange {
+            name: "band_low_hz",
+            value: c.band_low_hz,
+            min: 0.0,
+            max: band_hi,
+        });
+    }
+    let s_fit = welch.try_psd(&y[..n_fit])?;
+    let eps = crate::metric::floor_of(&s_fit, k_lo..k_hi + 1, c.floor_db);
+    let ctx = Ctx {
+        y,
+        fs,
+        n_fit,
+        eps,
+        rejected_ratios: std::sync::Mutex::new(Vec::new()),
+        s_fit,
+        s_held: welch.try_psd(&y[n_fit..])?,
+        s_fit_hi: welch_hi.try_psd(&y[..n_fit])?,
+        welch,
+        welch_hi,
+        bins: k_lo..k_hi + 1,
+        bins_hi: kh_lo..kh_hi + 1,
+        op: *op,
+        model,
+        cfg,
+    };
+    run(&ctx, prior)
+}
+
+/// A candidate evaluated on the fitting segment.
+struct Evaluated {
+    effect: Effect,
+    state: State,
+    fit_lsd: f64,
+}
+
+fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoopError> {
+    let c = ctx.cfg.get();
+    let st0 = match prior {
+        None => State {
+            model: None,
+            physics_lines: Vec::new(),
+            base: ctx.make_base(1.0)?,
+            modes: Vec::new(),
+            mods: Vec::new(),
+            lines: Vec::new(),
+            path: None,
+            phys_shape: None,
+            phys_path: None,
+            phys_path_fitted: false,
+            log_gain: 0.0,
+            log_floor: 0.0,
+            log_bg: 0.0,
+        },
+        Some(m) => prior_state(ctx, m)?,
+    };
+    let (mut st, mut fit_lsd) = ctx.calibrate(st0, true);
+    let first = st.clone();
+    let mut held = ctx.held_scores(&st);
+    let before = held;
+    let noise = crate::metric::estimation_lsd(
+        segments(ctx.y.len() - ctx.n_fit, ctx.welch.nperseg()),
+        Some(segments(ctx.n_fit, ctx.welch.nperseg())),
+    );
+    let mut obs = observer_rms(ctx, &st);
+    let obs_before = obs;
+    let mut effects = Vec::new();
+    let mut rejected = Vec::new();
+    let mut stop_reason = format!("reached the maximum of {} effects", c.max_effects);
+    for _round in 0..c.max_effects {
+        // within the estimator's own scatter, only lines (a detection that stands on its own:
+        // a narrow peak above the local floor that the model does not carry) are still tried;
+        // broadband candidates would be fitting estimation noise
+        let lines_only = held.lsd <= c.noise_stop_factor * noise;
+        let mut cands = candidates(ctx, &st)?;
+        cands.retain(|e| e.fit_lsd.is_finite() && e.fit_lsd < fit_lsd);
+        if lines_only {
+            cands.retain(|e| e.effect.is_line());
+        }
+        cands.sort_by(|a, b| a.fit_lsd.total_cmp(&b.fit_lsd));
+        rejected.clear();
+        let mut accepted = None;
+        for mut cand in cands {
+            // a shaft harmonic is scored as a sensor line in the search; the one about to be
+            // judged goes into the physics (3 simulations) and is judged as such, falling back
+            // to the sensor line if the model has no shaft or the simulations fail
+            if let Effect::ShaftHarmonic {
+                order,
+                line,
+                shaft_hz,
+                force: None,
+            } = cand.effect
+                && order.fract() == 0.0
+                && let Some(ev) = shaft_force_candidate(ctx, &st, order as u32, line, shaft_hz)
+            {
+                cand = ev;
+            }
+            let h = ctx.held_scores(&cand.state);
+            if h.lsd <= held.lsd * (1.0 - c.margin) && held.lsd - h.lsd >= c.min_improvement_db {
+                accepted = Some((cand, h));
+                break;
+            }
+            if let Effect::SpeedOffset { ratio, .. } = cand.effect {
+                ctx.rejected_ratios
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .push(ratio);
+            }
+            rejected.push(RejectedCandidate {
+                kind: cand.effect.kind(),
+                frequency_hz: cand.effect.frequency_hz(),
+                fit_error: cand.fit_lsd,
+                held_out_error: Some(h.lsd),
+            });
+        }
+        let Some((cand, h)) = accepted else {
+            stop_reason = if lines_only && rejected.is_empty() {
+                format!(
+                    "the held-out error {:.3} dB is within {:.2} x the {:.3} dB a correct model \
+                     shows from estimation variance alone, and no line stands out",
+                    held.lsd, c.noise_stop_factor, noise
+                )
+            } else if rejected.is_empty() {
+                "no candidate effect lowered the fitting-segment error".to_string()
+            } else {
+                format!(
+                    "no candidate lowered the held-out error by at least {:.1} % and {:.2} dB",
+                    100.0 * c.margin,
+                    c.min_improvement_db
+                )
+            };
+            break;
+        };
+        effects.push(EffectEntry {
+            kind: cand.effect.kind(),
+            frequency_hz: cand.effect.frequency_hz(),
+            parameters: cand.effect.parameters(),
+            placement: cand.effect.placement(),
+            description: cand.effect.describe(),
+            error_before: held.lsd,
+            error_after: h.lsd,
+            secondary_before: held.rms,
+            secondary_after: h.rms,
+            fit_error_before: fit_lsd,
+            fit_error_after: cand.fit_lsd,
+            residual_rms_before: obs,
+            residual_rms_after: None,
+        });
+        st = cand.state;
+        obs = observer_rms(ctx, &st);
+        if let Some(e) = effects.last_mut() {
+            e.residual_rms_after = obs;
+        }
+        fit_lsd = cand.fit_lsd;
+        held = h;
+    }
+    let spectra = spectra(ctx, &first, &st);
+    let machine = MachineModel::from_state(ctx, &st, &effects, before.lsd, held.lsd);
+    let ledger = Ledger {
+        error_metric: PRIMARY_METRIC.to_string(),
+        error_before: before.lsd,
+        error_after: held.lsd,
+        secondary_metric: SECONDARY_METRIC.to_string(),
+        secondary_before: before.rms,
+        secondary_after: held.rms,
+        observer: ctx.model_of(&st).residual_observer(ctx.fs).describe(),
+        residual_rms_before: obs_before,
+        residual_rms_after: obs,
+        held_out_signal_rms: crate::metric::rms(&ctx.y[ctx.n_fit..]),
+        effects,
+        rejected,
+        stop_reason,
+        declared: Declared {
+            model: ctx.model.name().to_string(),
+            rpm: ctx.op.rpm,
+            bearing: ctx.op.bearing.name.to_string(),
+            fault: ctx.op.fault.name().to_string(),
+            fs: ctx.fs,
+        },
+        protocol: Protocol {
+            fit_samples: [0, ctx.n_fit],
+            held_out_samples: [ctx.n_fit, ctx.y.len()],
+            nperseg: ctx.welch.nperseg(),
+            df_hz: ctx.welch.df(),
+            band_hz: [
+                ctx.welch.frequency(ctx.bins.start),
+                ctx.welch.frequency(ctx.bins.end - 1),
+            ],
+            margin: c.margin,
+            floor_db: c.floor_db,
+            floor_psd: ctx.eps,
+            estimation_lsd_db: noise,
+        },
+        structural_modes: st
+            .path
+            .as_ref()
+            .map(|p| p.modes.clone())
+            .unwrap_or_default(),
+    };
+    Ok(Outcome {
+        ledger,
+        spectra,
+        machine,
+    })
+}
+
+/// Held-out RMS of the observer residual of y − (the state's phase-coherent lines), the observer
+/// being the state's model's ([`crate::observe`]); `None` if the identification or the observer
+/// fails on this signal.
+fn observer_rms(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
+    let all = 0..ctx.y.len();
+    let d = ctx.lines_signal(&st.all_lines(), all);
+    let sig: Vec<f64> = ctx.y.iter().zip(&d).map(|(a, b)| a - b).collect();
+    ctx.model_of(st)
+        .residual_observer(ctx.fs)
+        .held_out_rms(&sig, ctx.n_fit, ctx.fs)
+        .ok()
+}
+
+fn spectra(ctx: &Ctx<'_>, first: &State, last: &State) -> Spectra {
+    let held = ctx.held();
+    let model = |st: &State| {
+        let sh = ctx.shaped(st);
+        let lp = ctx.lines_psd(&st.lines, held.clone());
+        ctx.model_psd(st, &sh, &lp)
+    };
+    Spectra {
+        frequency_hz: (0..ctx.welch.n_bins())
+            .map(|k| ctx.welch.frequency(k))
+            .collect(),
+        measured: ctx.s_held.clone(),
+        model_before: model(first),
+        model_after: model(last),
+    }
+}
+
+/// The log ratio 10·log10(S_y/S_m) on the fitting segment over the scored band.
+fn log_ratio(ctx: &Ctx<'_>, st: &State) -> Vec<f64> {
+    let sh = ctx.shaped(st);
+    let lp = ctx.lines_psd(&st.lines, 0..ctx.n_fit);
+    let m = ctx.model_psd(st, &sh, &lp);
+    ctx.bins
+        .clone()
+        .map(|k| 10.0 * (ctx.s_fit[k].max(1e-300) / m[k].max(1e-300)).log10())
+        .collect()
+}
+
+/// Number of half-overlapped Welch segments of `nperseg` in `n` samples.
+fn segments(n: usize, nperseg: usize) -> usize {
+    (2 * n / nperseg.max(1)).saturating_sub(1).max(1)
+}
+
+/// The initial state of a run that starts from a calibrated machine model.
+fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError> {
+    let ratio = m.speed_ratio;
+    let base = ctx.make_base(ratio)?;
+    let fr = ctx.op.shaft_hz() * ratio;
+    let resid = &ctx.y[..ctx.n_fit];
+    let mut lines: Vec<Line> = Vec::new();
+    for f in m.line_frequencies(fr) {
+        if f > 0.0 && f < 0.5 * ctx.fs {
+            lines.push(fit_line(resid, ctx.fs, f));
+        }
+    }
+    let df = ctx.welch.df();
+    let n_bins = ctx.welch.n_bins();
+    let path = m
+        .path
+        .as_ref()
+        .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
+    // the declared physics keeps its line structure (kinematics, modulation) and is seen
+    // through the structural path identified from data: the machine's physics path if it has
+    // one, else its broadband path
+    let phys_path = m
+        .physics_path
+        .as_ref()
+        .or(m.path.as_ref())
+        .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
+    let phys_path_fitted = false;
+    let phys_shape = phys_path
+        .as_ref()
+        .map(|p| Arc::new(ctx.physics_shape(&base.psd, &p.path)));
+    Ok(State {
+        model: None,
+        physics_lines: Vec::new(),
+        base,
+        modes: m.channel_modes.clone(),
+        mods: m.modulations.clone(),
+        lines,
+        path,
+        phys_shape,
+        phys_path,
+        phys_path_fitted,
+        log_gain: m.physics_gain.max(1e-300).ln(),
+        log_floor: m.noise_floor_psd.max(1e-300).ln(),
+        log_bg: m.path_level.max(1e-300).ln(),
+    })
+}
+
+/// Identify a structural path from the fitting segment's line-free PSD
+/// ([`crate::path::identify`], order by the regularised LSD of the path alone).
+fn identify_path(ctx: &Ctx<'_>, st: &State) -> Option<crate::path::StructuralPath> {
+    let c = ctx.cfg.get();
+    let df = ctx.welch.df();
+    let n_bins = ctx.welch.n_bins();
+    let resid = ctx.fit_residual(st);
+    let s_hi = ctx.welch_hi.try_psd(&resid).ok()?;
+    crate::path::identify(
+        &s_hi,
+        ctx.welch_hi.df(),
+        ctx.fs,
+        c.max_path_order,
+        0.1,
+        |p| {
+            let m = p.psd(n_bins, df);
+            crate::metric::regularised_lsd(&ctx.s_fit, &m, ctx.bins.clone(), ctx.eps)
+        },
+    )
+    .ok()
+}
+
+/// The structural path as a candidate, in two places: when the model has no broadband path yet,
+/// the path rung by broadband excitation; when a fault is declared and its physics is not yet
+/// behind a path identified on this recording, the path the fault's impacts ring (the physics
+/// keeps its lines, the data gives the resonances: [`Ctx::physics_shape`]).
+fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
+    let n_bins = ctx.welch.n_bins();
+    let df = ctx.welch.df();
+    let want_broadband = st.path.is_none();
+    let want_physics =
+        !st.phys_path_fitted && !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty();
+    if !(want_broadband || want_physics) {
+        return Vec::new();
+    }
+    let Some(path) = identify_path(ctx, st) else {
+        return Vec::new();
+    };
+    let order = path.order();
+    let pp = Arc::new(PathPsd::new(path, n_bins, df));
+    let mut out = Vec::new();
+    if want_broadband {
+        let mut s2 = st.clone();
+        s2.path = Some(pp.clone());
+        s2.log_bg = 0.0;
+        let (s2, lsd) = ctx.calibrate(s2, true);
+        out.push(Evaluated {
+            effect: Effect::StructuralPath {
+                order,
+                modes: pp.modes.clone(),
+                physics: false,
+            },
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    if want_physics {
+        let mut s2 = st.clone();
+        s2.phys_shape = Some(Arc::new(ctx.physics_shape(&st.base.psd, &pp.path)));
+        s2.phys_path = Some(pp.clone());
+        s2.phys_path_fitted = true;
+        let (s2, lsd) = ctx.calibrate(s2, true);
+        out.push(Evaluated {
+            effect: Effect::StructuralPath {
+                order,
+                modes: pp.modes.clone(),
+                physics: true,
+            },
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    out
+}
+
+fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopError> {
+    let lr = log_ratio(ctx, st);
+    let mut out = Vec::new();
+    out.extend(path_candidates(ctx, st));
+    out.extend(line_candidates(ctx, st, &lr));
+    out.extend(resonance_candidates(ctx, st, &lr));
+    out.extend(speed_candidates(ctx, st)?);
+    out.extend(slip_candidate(ctx, st));
+    out.extend(modulation_candidates(ctx, st));
+    Ok(out)
+}
+
+mod lines;
+mod modulation;
+mod resonance;
+mod speed;
+
+use lines::{fit_line, line_candidates, shaft_force_candidate};
+use modulation::modulation_candidates;
+use resonance::resonance_candidates;
+use speed::{slip_candidate, speed_candidates};

@@ -1,0 +1,188 @@
+//! Speed candidates: a speed offset (envelope and spectral steps) and slip.
+
+use super::*;
+use crate::effect::Effect;
+use crate::engine::{Base, Ctx, ModelRef, State};
+use crate::spectrum::{envelope_periodogram, running_median};
+use crate::{CloseLoopError, DeclaredModel};
+use std::sync::Arc;
+
+/// Line-emphasised log spectrum: ln S minus its running median, clipped at 0.
+pub(super) fn line_excess(s: &[f64], bins: std::ops::Range<usize>) -> Vec<f64> {
+    let l: Vec<f64> = bins.map(|k| s[k].max(1e-300).ln()).collect();
+    let m = running_median(&l, 24);
+    l.iter().zip(&m).map(|(a, b)| (a - b).max(0.0)).collect()
+}
+
+/// Kinematic speed estimate from the envelope spectrum: the ratio s that maximises the summed
+/// line excess at k·f_fault·s (k = 1..4) of the fitting residual's envelope spectrum.
+pub(super) fn envelope_speed_step(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
+    let c = ctx.cfg.get();
+    let order = *crate::impact_orders(ctx.op.fault, &ctx.op.bearing).first()?;
+    let f_fault = order * ctx.op.shaft_hz() * st.base.ratio;
+    let resid = ctx.fit_residual(st);
+    let (ey, de) = envelope_periodogram(&resid, ctx.fs);
+    let kmax = ((4.5 * f_fault * (1.0 + c.max_speed_offset) / de).ceil() as usize).min(ey.len());
+    let l: Vec<f64> = ey[..kmax].iter().map(|v| v.max(1e-300).ln()).collect();
+    let half = ((0.1 * f_fault / de).round() as usize).max(8);
+    let med = running_median(&l, half);
+    let ex: Vec<f64> = l.iter().zip(&med).map(|(a, b)| (a - b).max(0.0)).collect();
+    let score = |s: f64| -> f64 {
+        (1..=4)
+            .map(|k| {
+                let x = k as f64 * f_fault * s / de;
+                let j = x.floor() as usize;
+                if j + 1 >= ex.len() {
+                    return 0.0;
+                }
+                let t = x - j as f64;
+                ex[j] * (1.0 - t) + ex[j + 1] * t
+            })
+            .sum()
+    };
+    let step = 0.25 * de / (4.0 * f_fault);
+    let n = (c.max_speed_offset / step).ceil() as i64;
+    let mut best = (1.0, f64::NEG_INFINITY);
+    for i in -n..=n {
+        let s = 1.0 + i as f64 * step;
+        let v = score(s);
+        if v > best.1 {
+            best = (s, v);
+        }
+    }
+    // require a clear line: the summed excess must be large (ln units; 4 lines × ~2.3 = 10 dB each)
+    if best.1 < 4.0 {
+        return None;
+    }
+    let (s, _) = crate::optimize::golden_max(score, best.0 - step, best.0 + step, 20);
+    Some(s)
+}
+
+pub(super) fn speed_candidates(
+    ctx: &Ctx<'_>,
+    st: &State,
+) -> Result<Vec<Evaluated>, CloseLoopError> {
+    let c = ctx.cfg.get();
+    let mut steps: Vec<f64> = Vec::new();
+    if let Some(s) = spectral_speed_step(ctx, st) {
+        steps.push(s);
+    }
+    if let Some(s) = envelope_speed_step(ctx, st)
+        && steps.iter().all(|p| (p - s).abs() > 1e-4)
+    {
+        steps.push(s);
+    }
+    let mut out = Vec::new();
+    for s in steps {
+        if (s - 1.0).abs() < c.min_speed_step || (s - 1.0).abs() > c.max_speed_offset {
+            continue;
+        }
+        let ratio = st.base.ratio * s;
+        // a ratio judged and rejected in an earlier round is not simulated again
+        if ctx
+            .rejected_ratios
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .iter()
+            .any(|r| (r / ratio - 1.0).abs() < 0.25 * c.min_speed_step)
+        {
+            continue;
+        }
+        let base: Arc<Base> = ctx.make_base_with(ctx.model_of(st), ratio)?;
+        let mut s2 = st.clone();
+        ctx.rebase(&mut s2, base);
+        for l in &mut s2.physics_lines {
+            l.frequency_hz *= s;
+        }
+        let (s2, lsd) = ctx.calibrate(s2, true);
+        out.push(Evaluated {
+            effect: Effect::SpeedOffset { ratio, step: s },
+            state: s2,
+            fit_lsd: lsd,
+        });
+    }
+    Ok(out)
+}
+
+/// Slip fractions tried, relative to the model's current one.
+pub(super) const SLIP_FACTORS: [f64; 4] = [0.0, 0.25, 0.5, 2.0];
+
+/// Random ball slip (the spread of the impact times, which smears the fault lines): the declared
+/// physics re-simulated at slip fractions [`SLIP_FACTORS`] × the current one, the best on the
+/// fitting segment kept. Only with a declared fault and a model that has slip.
+pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
+    if crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty() {
+        return None;
+    }
+    let model = ctx.model_of(st);
+    let current = model.slip_fraction()?;
+    let mut best: Option<(Evaluated, f64)> = None;
+    for k in SLIP_FACTORS {
+        let frac = current * k;
+        let m: Arc<dyn DeclaredModel> = Arc::from(model.with_slip_fraction(frac)?);
+        let Ok(base) = ctx.make_base_with(m.as_ref(), st.base.ratio) else {
+            continue;
+        };
+        let mut s2 = st.clone();
+        s2.model = Some(ModelRef(m));
+        ctx.rebase(&mut s2, base);
+        let (s2, lsd) = ctx.calibrate(s2, false);
+        if best.as_ref().is_none_or(|b| lsd < b.0.fit_lsd) {
+            best = Some((
+                Evaluated {
+                    effect: Effect::Slip {
+                        fraction: frac,
+                        declared: current,
+                    },
+                    state: s2,
+                    fit_lsd: lsd,
+                },
+                frac,
+            ));
+        }
+    }
+    best.map(|b| b.0)
+}
+
+/// Speed step from the line pattern: the stretch s of the model's line-emphasised log spectrum
+/// that best correlates with the measurement's.
+pub(super) fn spectral_speed_step(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
+    let c = ctx.cfg.get();
+    let ey = line_excess(&ctx.s_fit_hi, ctx.bins_hi.clone());
+    let em_full = line_excess(&st.base.psd_hi, 0..st.base.psd_hi.len());
+    let k0 = ctx.bins_hi.start as f64;
+    let corr = |s: f64| -> f64 {
+        // model stretched by s: S'(f) = S(f / s)
+        ey.iter()
+            .enumerate()
+            .map(|(i, &e)| {
+                if e == 0.0 {
+                    return 0.0;
+                }
+                let x = (k0 + i as f64) / s;
+                let j = x.floor() as usize;
+                if j + 1 >= em_full.len() {
+                    return 0.0;
+                }
+                let t = x - j as f64;
+                e * (em_full[j] * (1.0 - t) + em_full[j + 1] * t)
+            })
+            .sum()
+    };
+    let step = 1e-4;
+    let n = (c.max_speed_offset / step).round() as i64;
+    let mut best = (1.0, f64::NEG_INFINITY);
+    for i in -n..=n {
+        let s = 1.0 + i as f64 * step;
+        let v = corr(s);
+        if v > best.1 {
+            best = (s, v);
+        }
+    }
+    let c1 = corr(1.0);
+    if best.1.is_nan() || best.1 <= 0.0 || best.1 <= c1 * 1.02 {
+        return None;
+    }
+    let (s, _) = crate::optimize::golden_max(corr, best.0 - step, best.0 + step, 20);
+    Some(s)
+}
