@@ -22,10 +22,13 @@ pub struct BearingRates {
 }
 
 impl BearingRates {
-    /// From geometry: `n` balls, ball diameter `d`, pitch diameter `pitch`, contact angle (rad).
+    /// From geometry: `n` balls, ball diameter `d`, pitch diameter `pitch` (any one length
+    /// unit), contact angle (rad). The kinematics are `bearing-model`'s
+    /// ([`bearing_model::BearingGeometry::orders`]), so there is one copy of the formulas.
     ///
     /// # Errors
-    /// [`CloseLoopError::ParameterOutOfRange`] when the geometry is not physical.
+    /// [`CloseLoopError::ParameterOutOfRange`] when the geometry is not physical (at least 3
+    /// balls, 0 < d < D, balls fit on the pitch circle, angle in [0, π/2)).
     pub fn from_geometry(
         name: &'static str,
         n: u32,
@@ -33,53 +36,54 @@ impl BearingRates {
         pitch: f64,
         contact_angle: f64,
     ) -> Result<Self, CloseLoopError> {
-        if !(d.is_finite() && pitch.is_finite() && d > 0.0 && pitch > d) {
-            return Err(CloseLoopError::ParameterOutOfRange {
-                name: "ball_diameter",
-                value: d,
-                min: 0.0,
-                max: pitch,
-            });
-        }
-        if !(1..=100).contains(&n) {
-            return Err(CloseLoopError::ParameterOutOfRange {
-                name: "n_balls",
-                value: f64::from(n),
-                min: 1.0,
-                max: 100.0,
-            });
-        }
-        let r = d / pitch * contact_angle.cos();
-        let nb = f64::from(n);
-        Ok(Self {
+        let g =
+            bearing_model::BearingGeometry::from_dimensions(n as usize, d, pitch, contact_angle)
+                .map_err(|_| CloseLoopError::ParameterOutOfRange {
+                    name: "bearing geometry (ball diameter)",
+                    value: d,
+                    min: 0.0,
+                    max: pitch,
+                })?;
+        Ok(Self::from_orders(name, g.orders()))
+    }
+
+    /// From `bearing-model`'s defect orders (the BSF here is its ball-defect rate).
+    pub fn from_orders(name: &'static str, o: bearing_model::FaultOrders) -> Self {
+        Self {
             name,
-            bpfo: nb / 2.0 * (1.0 - r),
-            bpfi: nb / 2.0 * (1.0 + r),
-            ftf: 0.5 * (1.0 - r),
-            bsf: pitch / d * (1.0 - r * r),
-        })
+            bpfo: o.bpfo,
+            bpfi: o.bpfi,
+            ftf: o.ftf,
+            bsf: o.ball_defect,
+        }
+    }
+
+    /// The rates of one of `bearing-model`'s built-in bearings, under the designation the
+    /// machine model and `from_name` use ("6205", "6203").
+    ///
+    /// # Errors
+    /// [`CloseLoopError::UnknownBearing`] for a bearing this table does not name.
+    pub fn of(bearing: bearing_model::Bearing) -> Result<Self, CloseLoopError> {
+        let name = match bearing {
+            bearing_model::Bearing::Skf6205 => "6205",
+            bearing_model::Bearing::Skf6203 => "6203",
+            other => {
+                return Err(CloseLoopError::UnknownBearing {
+                    name: format!("{other:?}"),
+                });
+            }
+        };
+        Ok(Self::from_orders(name, bearing.geometry().orders()))
     }
 
     /// SKF 6205-2RS JEM (CWRU drive end): 9 balls, d = 0.3126 in, D = 1.537 in.
     pub fn skf6205() -> Self {
-        Self::from_geometry("6205", 9, 0.3126, 1.537, 0.0).unwrap_or(Self {
-            name: "6205",
-            bpfo: 3.5848,
-            bpfi: 5.4152,
-            ftf: 0.39828,
-            bsf: 4.7135,
-        })
+        Self::from_orders("6205", bearing_model::Bearing::Skf6205.geometry().orders())
     }
 
     /// SKF 6203-2RS JEM (CWRU fan end): 8 balls, d = 0.2656 in, D = 1.122 in.
     pub fn skf6203() -> Self {
-        Self::from_geometry("6203", 8, 0.2656, 1.122, 0.0).unwrap_or(Self {
-            name: "6203",
-            bpfo: 3.0530,
-            bpfi: 4.9469,
-            ftf: 0.3817,
-            bsf: 3.9874,
-        })
+        Self::from_orders("6203", bearing_model::Bearing::Skf6203.geometry().orders())
     }
 
     /// Look a designation up in the built-in table ("6205", "6203"; an "skf" prefix is accepted).

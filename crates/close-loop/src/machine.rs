@@ -18,7 +18,8 @@ use serde::{Deserialize, Serialize};
 /// caller may fit on.
 ///
 /// # Errors
-/// As [`crate::close_loop`].
+/// As [`crate::close_loop`], and [`CloseLoopError::UnknownBearing`] for a bearing without a
+/// designation in [`crate::BearingRates::of`].
 pub fn calibrate(
     y: &[f64],
     fs: f64,
@@ -26,10 +27,7 @@ pub fn calibrate(
     bearing: bearing_model::Bearing,
     cfg: &crate::CheckedConfig,
 ) -> Result<MachineModel, CloseLoopError> {
-    let rates = match bearing {
-        bearing_model::Bearing::Skf6203 => crate::BearingRates::skf6203(),
-        _ => crate::BearingRates::skf6205(),
-    };
+    let rates = crate::BearingRates::of(bearing)?;
     let op = crate::OperatingPoint::new(rpm, rates, bearing_model::FaultClass::None)?;
     let model = crate::physics::PhysicsModel {
         bearing,
