@@ -102,26 +102,19 @@ impl Welch {
                 reason: e.to_string(),
             })
     }
-
-    /// The PSD of `x`; NaN in every bin when [`Welch::try_psd`] fails, so that a candidate built
-    /// on a bad signal scores NaN and is discarded (the loop never feeds it such signals: the
-    /// recording and the model output are checked finite and both parts hold whole segments).
-    pub fn psd(&self, x: &[f64]) -> Vec<f64> {
-        self.try_psd(x)
-            .unwrap_or_else(|_| vec![f64::NAN; self.n_bins()])
-    }
 }
 
 /// Hilbert envelope |x + j·H{x}| of the mean-removed signal
-/// ([`residual_features::spectral::hilbert_envelope`] after removing the mean; empty in, empty
-/// out; a signal `residual-features` rejects gives zeros).
-pub fn envelope(x: &[f64]) -> Vec<f64> {
-    if x.is_empty() {
-        return Vec::new();
-    }
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
+/// ([`residual_features::spectral::hilbert_envelope`] after removing the mean).
+///
+/// # Errors
+/// [`CloseLoopError::Spectral`] for a signal `residual-features` rejects (empty, non-finite).
+pub fn envelope(x: &[f64]) -> Result<Vec<f64>, CloseLoopError> {
+    let mean = x.iter().sum::<f64>() / x.len().max(1) as f64;
     let c: Vec<f64> = x.iter().map(|v| v - mean).collect();
-    residual_features::spectral::hilbert_envelope(&c).unwrap_or_else(|_| vec![0.0; x.len()])
+    residual_features::spectral::hilbert_envelope(&c).map_err(|e| CloseLoopError::Spectral {
+        reason: e.to_string(),
+    })
 }
 
 /// Normalised envelope periodogram of `x` and its bin width: the Hann-windowed Hilbert envelope
@@ -129,19 +122,28 @@ pub fn envelope(x: &[f64]) -> Vec<f64> {
 /// needs), |E_k|² / (m²·len) with m the mean envelope, so a modulation of depth μ reads ≈ μ²/16·len.
 /// The FFT is `residual-features`' amplitude spectrum with a rectangular taper on the padded,
 /// already windowed block (|E_k| = A_k·N_pad / c_k, c_k its one-sided factor).
-pub fn envelope_periodogram(x: &[f64], fs: f64) -> (Vec<f64>, f64) {
-    let env = envelope(x);
+///
+/// # Errors
+/// [`CloseLoopError::Spectral`] when the envelope or its spectrum cannot be computed (an empty
+/// or non-finite signal), or when the envelope is zero everywhere.
+pub fn envelope_periodogram(x: &[f64], fs: f64) -> Result<(Vec<f64>, f64), CloseLoopError> {
+    let env = envelope(x)?;
     let m = env.iter().sum::<f64>() / env.len().max(1) as f64;
     let xw = hann_windowed(&env);
     let nfft = (2 * xw.len()).next_power_of_two().max(2);
     let mut padded = vec![0.0; nfft];
     padded[..xw.len()].copy_from_slice(&xw);
-    let norm = (m * m * xw.len() as f64).max(1e-300);
+    if !(m.is_finite() && m > 0.0) {
+        return Err(CloseLoopError::Spectral {
+            reason: "the envelope is zero everywhere".into(),
+        });
+    }
+    let norm = m * m * xw.len() as f64;
     let de = fs / nfft as f64;
-    let Ok(spec) = residual_features::spectral::amplitude_spectrum(&padded, fs, Taper::Rectangular)
-    else {
-        return (vec![0.0; nfft / 2 + 1], de);
-    };
+    let spec = residual_features::spectral::amplitude_spectrum(&padded, fs, Taper::Rectangular)
+        .map_err(|e| CloseLoopError::Spectral {
+            reason: e.to_string(),
+        })?;
     let vals = spec
         .values
         .iter()
@@ -152,7 +154,7 @@ pub fn envelope_periodogram(x: &[f64], fs: f64) -> (Vec<f64>, f64) {
             mag * mag / norm
         })
         .collect();
-    (vals, de)
+    Ok((vals, de))
 }
 
 /// Hann-windowed copy of `x` (the window spans the whole signal), for [`zoom_power`].

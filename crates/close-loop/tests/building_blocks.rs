@@ -21,7 +21,7 @@ fn welch_integrates_to_the_variance_of_a_sinusoid() {
         .map(|i| 3.0 * (2.0 * PI * 97.3 * i as f64 / fs).sin())
         .collect();
     let w = Welch::new(fs, 512).unwrap();
-    let s = w.psd(&x);
+    let s = w.try_psd(&x).unwrap();
     let total: f64 = s.iter().sum::<f64>() * w.df();
     assert_relative_eq!(total, 4.5, max_relative = 1e-3);
 }
@@ -33,7 +33,7 @@ fn welch_of_white_noise_is_flat_at_sigma2_over_half_fs() {
     let mut g = Gaussian::new(5);
     let x: Vec<f64> = (0..200_000).map(|_| 0.5 * g.sample()).collect();
     let w = Welch::new(fs, 256).unwrap();
-    let s = w.psd(&x);
+    let s = w.try_psd(&x).unwrap();
     let mean: f64 = s[5..120].iter().sum::<f64>() / 115.0;
     assert_relative_eq!(mean, 2.0 * 0.25 / fs, max_relative = 0.02);
 }
@@ -62,11 +62,34 @@ fn envelope_of_an_am_signal_is_its_modulating_amplitude() {
             (1.0 + 0.5 * (2.0 * PI * 5.0 * t).cos()) * (2.0 * PI * 200.0 * t).cos()
         })
         .collect();
-    let e = envelope(&x);
+    let e = envelope(&x).unwrap();
     for i in (500..7500).step_by(97) {
         let t = i as f64 / fs;
         assert!((e[i] - (1.0 + 0.5 * (2.0 * PI * 5.0 * t).cos())).abs() < 1e-3);
     }
+}
+
+/// Bad input to the spectral helpers is a typed error, never NaN or zeros.
+#[test]
+fn spectral_helpers_reject_bad_input_with_typed_errors() {
+    use close_loop::spectrum::envelope_periodogram;
+    assert!(matches!(
+        envelope(&[]),
+        Err(CloseLoopError::Spectral { .. })
+    ));
+    assert!(matches!(
+        envelope(&[1.0, f64::NAN, 2.0]),
+        Err(CloseLoopError::Spectral { .. })
+    ));
+    assert!(matches!(
+        envelope_periodogram(&[0.0; 256], 1000.0),
+        Err(CloseLoopError::Spectral { .. })
+    ));
+    let w = Welch::new(1000.0, 256).unwrap();
+    assert!(matches!(
+        w.try_psd(&[0.5; 100]),
+        Err(CloseLoopError::TooShort { .. })
+    ));
 }
 
 #[test]
@@ -92,8 +115,8 @@ fn modulation_psd_formula_matches_welch_of_a_modulated_signal() {
         depth: 0.6,
     };
     let w = Welch::new(fs, 1024).unwrap();
-    let direct = w.psd(&m.apply(&x, 0, fs));
-    let formula = m.apply_psd(&w.psd(&x), w.df());
+    let direct = w.try_psd(&m.apply(&x, 0, fs)).unwrap();
+    let formula = m.apply_psd(&w.try_psd(&x).unwrap(), w.df());
     let (k0, k1) = (500 / 4, 564 / 4);
     assert_relative_eq!(direct[k0], formula[k0], max_relative = 1e-6);
     assert_relative_eq!(direct[k1], formula[k1], max_relative = 1e-6);
@@ -241,7 +264,7 @@ proptest! {
         let mut g = Gaussian::new(seed);
         let x: Vec<f64> = (0..16_384).map(|_| sigma * g.sample()).collect();
         let w = Welch::new(1000.0, 256).unwrap();
-        let total: f64 = w.psd(&x).iter().sum::<f64>() * w.df();
+        let total: f64 = w.try_psd(&x).unwrap().iter().sum::<f64>() * w.df();
         let var = rms(&x).powi(2);
         prop_assert!((total / var - 1.0).abs() < 0.06, "{} vs {}", total, var);
     }

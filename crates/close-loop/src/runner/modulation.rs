@@ -10,12 +10,18 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
     let c = ctx.cfg.get();
     let fr = ctx.op.shaft_hz() * st.base.ratio;
     let resid = ctx.fit_residual(st);
-    let (ey, de) = envelope_periodogram(&resid, ctx.fs);
+    // a residual without an envelope spectrum (cannot happen on checked, finite data) offers
+    // no modulation candidate
+    let Ok((ey, de)) = envelope_periodogram(&resid, ctx.fs) else {
+        return Vec::new();
+    };
     let mut msig = st.base.signal.clone();
     for m in &st.mods {
         msig = m.apply(&msig, 0, ctx.fs);
     }
-    let (em, _) = envelope_periodogram(&msig, ctx.fs);
+    let Ok((em, _)) = envelope_periodogram(&msig, ctx.fs) else {
+        return Vec::new();
+    };
     let lo = ((0.5 * ctx.op.bearing.ftf * fr / de).floor() as usize).max(2);
     let hi = ((2.5 * fr / de).ceil() as usize).min(ey.len() - 2);
     if hi <= lo + 4 {
@@ -38,7 +44,9 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
         }
     }
     peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
-    let env = envelope(&resid);
+    let Ok(env) = envelope(&resid) else {
+        return Vec::new();
+    };
     let envw = hann_windowed(&env);
     let mut out = Vec::new();
     let mut used: Vec<usize> = Vec::new();

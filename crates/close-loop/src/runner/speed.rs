@@ -21,7 +21,7 @@ pub(super) fn envelope_speed_step(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
     let order = *crate::impact_orders(ctx.op.fault, &ctx.op.bearing).first()?;
     let f_fault = order * ctx.op.shaft_hz() * st.base.ratio;
     let resid = ctx.fit_residual(st);
-    let (ey, de) = envelope_periodogram(&resid, ctx.fs);
+    let (ey, de) = envelope_periodogram(&resid, ctx.fs).ok()?;
     let kmax = ((4.5 * f_fault * (1.0 + c.max_speed_offset) / de).ceil() as usize).min(ey.len());
     let l: Vec<f64> = ey[..kmax].iter().map(|v| v.max(1e-300).ln()).collect();
     let half = ((0.1 * f_fault / de).round() as usize).max(8);
