@@ -229,7 +229,7 @@ impl BaselineSource {
     /// The baseline from a machine model: its path's prediction-error filter and the residual
     /// statistics measured when it was calibrated. The rate is the model's (the library reports
     /// a recording at another rate as its typed mismatch error).
-    fn from_machine(&self, m: &close_loop::machine::MachineModel) -> anyhow::Result<Prepared> {
+    fn prepare_machine(&self, m: &close_loop::machine::MachineModel) -> anyhow::Result<Prepared> {
         let name = self.path.display();
         let path = m.path.as_ref().with_context(|| {
             format!("baseline machine model {name} holds no structural path to whiten with")
@@ -276,7 +276,7 @@ impl BaselineSource {
             return Ok(b.clone());
         }
         if let Some(m) = self.machine.as_deref() {
-            let b = self.from_machine(m)?;
+            let b = self.prepare_machine(m)?;
             cache.push((key, b.clone()));
             return Ok(b);
         }
