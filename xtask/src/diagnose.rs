@@ -107,6 +107,7 @@ struct Row {
     grade: Option<char>,
     base: Result<Outcome, String>,
     own: Result<Outcome, String>,
+    machine: Result<Outcome, String>,
 }
 
 fn verdict(r: &Result<Outcome, String>) -> &str {
@@ -133,6 +134,31 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
     // prepare both rates first (serially), so the parallel part only reads the cache
     baseline.at(48_000.0)?;
     baseline.at(12_000.0)?;
+    // the machine model calibrated on 97 (the closed loop from the healthy 5-DOF model), at
+    // both rates: its structural path is the third reference's healthy model
+    let cfg = close_loop::LoopConfig::default().check()?;
+    let machine_at = |x: &[f64], fs: f64| -> anyhow::Result<BaselineSource> {
+        let mut m = close_loop::machine::calibrate(
+            x,
+            fs,
+            b97.rpm().value,
+            bearing_model::Bearing::Skf6205,
+            &cfg,
+        )
+        .with_context(|| format!("calibrating the machine model on 97.mat at {fs} Hz"))?;
+        m.units = "g".into();
+        m.provenance.recording = "97.mat".into();
+        let src = BaselineSource::from_machine(
+            Path::new(&format!("97.mat machine model ({} kHz)", fs / 1000.0)),
+            m,
+        );
+        src.at(fs)?;
+        Ok(src)
+    };
+    let m48 = machine_at(b97.de(), 48_000.0)?;
+    let x12 =
+        bearing_data::Decimator::new(bearing_data::DecimatorParams::new(4))?.decimate(b97.de())?;
+    let m12 = machine_at(&x12, 12_000.0)?;
     let bar = indicatif::ProgressBar::new(entries.len() as u64);
     let rows: Vec<Row> = entries
         .par_iter()
@@ -149,6 +175,8 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
             };
             let base = diagnose_loaded(&l, &plan, Some(&baseline)).map_err(|e| format!("{e:#}"));
             let own = diagnose_loaded(&l, &plan, None).map_err(|e| format!("{e:#}"));
+            let msrc = if l.fs_hz == 48_000.0 { &m48 } else { &m12 };
+            let machine = diagnose_loaded(&l, &plan, Some(msrc)).map_err(|e| format!("{e:#}"));
             bar.inc(1);
             Ok(Row {
                 number: e.number,
@@ -160,6 +188,7 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
                 grade: grades.get(&e.number).copied(),
                 base,
                 own,
+                machine,
             })
         })
         .collect::<anyhow::Result<_>>()?;
@@ -179,14 +208,16 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// (right, total) over rows matching `pick`, for the baseline and the self-referenced run.
-fn tally(rows: &[Row], pick: impl Fn(&Row) -> bool) -> ((usize, usize), (usize, usize)) {
+/// (right, total) over rows matching `pick`, for the baseline, the self-referenced and the
+/// machine-model run.
+fn tally(rows: &[Row], pick: impl Fn(&Row) -> bool) -> [(usize, usize); 3] {
     let sel: Vec<&Row> = rows.iter().filter(|r| pick(r)).collect();
     let right = |f: &dyn Fn(&Row) -> &str| sel.iter().filter(|r| f(r) == r.label).count();
-    (
+    [
         (right(&|r| verdict(&r.base)), sel.len()),
         (right(&|r| verdict(&r.own)), sel.len()),
-    )
+        (right(&|r| verdict(&r.machine)), sel.len()),
+    ]
 }
 
 fn pct((a, n): (usize, usize)) -> String {
@@ -248,7 +279,7 @@ fn reason(r: &Row, o: &Result<Outcome, String>) -> String {
 fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
     // CSV
     let mut csv = String::from(
-        "record,fs_hz,class,label,load_hp,rpm,grade,verdict_baseline,right_baseline,verdict_self,right_self,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,energy_ratio_db,kurtosis_ratio,residual_kurtosis\n",
+        "record,fs_hz,class,label,load_hp,rpm,grade,verdict_baseline,right_baseline,verdict_self,right_self,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,energy_ratio_db,kurtosis_ratio,residual_kurtosis,verdict_machine,right_machine\n",
     );
     for r in rows {
         let (si, so, sb, bl, bh, e, k, rk) = match &r.base {
@@ -271,7 +302,7 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
         };
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{si},{so},{sb},{bl},{bh},{e},{k},{rk}",
+            "{},{},{},{},{},{},{},{},{},{},{},{si},{so},{sb},{bl},{bh},{e},{k},{rk},{},{}",
             r.number,
             r.fs,
             r.class,
@@ -283,6 +314,8 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
             verdict(&r.base) == r.label,
             verdict(&r.own),
             verdict(&r.own) == r.label,
+            verdict(&r.machine),
+            verdict(&r.machine) == r.label,
         );
     }
     std::fs::write(out.join("records.csv"), csv)?;
@@ -306,6 +339,7 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
                 "grade": r.grade.map(String::from),
                 "baseline_reference": strip(&r.base),
                 "self_reference": strip(&r.own),
+                "machine_reference": strip(&r.machine),
             })
         })
         .collect();
@@ -327,6 +361,10 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
          `bearing-data`'s anti-aliasing FIR for the 12 kHz records). 97 diagnosed against itself \
          is a consistency check, not a test.\n\
          - **self**: AR model fitted on the recording itself (AR pre-whitening), no baseline.\n\
+         - **machine model**: the machine model calibrated on 97.mat by the closed loop \
+         (`close_loop::machine::calibrate`, from the declared healthy 5-DOF model; at 48 kHz, and \
+         at 12 kHz on 97 decimated by 4): its structural path is the healthy model and its \
+         held-out path residual the reference statistics (`--baseline rig.json`).\n\
          - Drive-end channel, speed stored in the file (nominal for 3001–3008, which store none), \
          SKF 6205 kinematics for every record (3001–3008 are NTN-equivalent bearings whose \
          geometry CWRU does not give). Samples are in file units (the data README states none; \
@@ -335,7 +373,7 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
          analysis, P = partly, N = not; embedded in `xtask/src/smith_randall_grades.csv` from \
          `shared/data/cwru/smith_randall_grades.csv` (the table in `shared/docs/references.md`).\n\
          - A verdict is right when it equals the label exactly (`inner+outer` for an inner \
-         record is wrong).\n\n## Accuracy\n\n| records | baseline reference | self reference |\n|---|---|---|\n",
+         record is wrong).\n\n## Accuracy\n\n| records | baseline reference | self reference | machine-model reference |\n|---|---|---|---|\n",
     );
     let twelve = |r: &Row| r.fs == 12_000.0 && r.label != "normal";
     let groups: Vec<(&str, Pick)> = vec![
@@ -360,10 +398,10 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
         ("overall (74)", Box::new(|_: &Row| true)),
     ];
     for (name, f) in &groups {
-        let (b, s) = tally(rows, f);
-        let _ = writeln!(m, "| {name} | {} | {} |", pct(b), pct(s));
+        let [b, s, mm] = tally(rows, f);
+        let _ = writeln!(m, "| {name} | {} | {} | {} |", pct(b), pct(s), pct(mm));
     }
-    for (name, pick) in [("baseline", 0usize), ("self", 1)] {
+    for (name, pick) in [("baseline", 0usize), ("self", 1), ("machine-model", 2)] {
         let _ = write!(
             m,
             "\n## Confusion matrix, {name} reference (rows: label, columns: verdict)\n\n"
@@ -375,7 +413,11 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
         for label in ["normal", "inner", "outer", "ball"] {
             let mut counts = [0usize; 6];
             for r in rows.iter().filter(|r| r.label == label) {
-                let v = verdict(if pick == 0 { &r.base } else { &r.own });
+                let v = verdict(match pick {
+                    0 => &r.base,
+                    1 => &r.own,
+                    _ => &r.machine,
+                });
                 let c = cols.iter().position(|c| *c == v).unwrap_or(4);
                 counts[c] += 1;
             }
@@ -390,7 +432,7 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
             );
         }
     }
-    m += "\n## Every record\n\n| record | fs (kHz) | class | load (hp) | rpm | grade | label | verdict (baseline) | verdict (self) | scores i/o/b (dB, baseline) | band (Hz, baseline) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    m += "\n## Every record\n\n| record | fs (kHz) | class | load (hp) | rpm | grade | label | verdict (baseline) | verdict (self) | verdict (machine model) | scores i/o/b (dB, baseline) | band (Hz, baseline) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let mark = |v: &str| {
             if v == r.label {
@@ -414,7 +456,7 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
         };
         let _ = writeln!(
             m,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {sc} | {band} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {sc} | {band} |",
             r.number,
             r.fs / 1000.0,
             r.class,
@@ -424,6 +466,7 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
             r.label,
             mark(verdict(&r.base)),
             mark(verdict(&r.own)),
+            mark(verdict(&r.machine)),
         );
     }
     m += "\n## Wrong verdicts (baseline reference) and why\n\nLine prominences in dB over the local median of the squared envelope spectrum of the common band; ₓ = explained by a stronger detected fault, ≠ = not at h × the fundamental of the strongest harmonic.\n\n";

@@ -197,16 +197,21 @@ impl BaselineSource {
                 .with_context(|| format!("reading baseline {}", path.display()))?;
             let m = close_loop::machine::MachineModel::from_json(&text)
                 .with_context(|| format!("baseline machine model {}", path.display()))?;
-            return Ok(Self {
-                path: path.to_path_buf(),
-                samples: Vec::new(),
-                fs_hz: m.fs_hz,
-                machine: Some(Box::new(m)),
-                prepared: Mutex::new(Vec::new()),
-            });
+            return Ok(Self::from_machine(path, m));
         }
         let l = load(path, channel, fs).with_context(|| format!("baseline {}", path.display()))?;
         Ok(Self::from_samples(path, l.samples, l.fs_hz))
+    }
+
+    /// A baseline from a machine model already in memory (`path` names it in reports).
+    pub fn from_machine(path: &Path, m: close_loop::machine::MachineModel) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            samples: Vec::new(),
+            fs_hz: m.fs_hz,
+            machine: Some(Box::new(m)),
+            prepared: Mutex::new(Vec::new()),
+        }
     }
 
     /// A baseline from samples already in memory.
