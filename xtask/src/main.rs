@@ -9,7 +9,6 @@ mod common;
 mod data;
 mod diagnose;
 mod identify;
-mod simulate;
 
 use clap::{Parser, Subcommand};
 
@@ -28,7 +27,7 @@ enum Task {
     /// Print the CWRU catalog against what is on disk: present, verified, missing.
     Data(data::Args),
     /// Simulate a recording with the 5-DOF bearing model and write it as CSV.
-    Simulate(simulate::Args),
+    Simulate(hybrid_fdd_cli::simulate::Args),
     /// Compare ARX, ARX-Laguerre and fuzzy ARX-Laguerre one-step prediction on held-out CWRU data.
     Identify(identify::Args),
     /// Chapter 2: APIO, SMO, HOSTSMO on the 5-DOF model, energy features, one-vs-one SVM.
@@ -44,7 +43,7 @@ enum Task {
     /// Close the loop: residual -> missing effect -> augmented model, error before and after.
     CloseLoop(close_loop::Args),
     /// Calibrate a machine model on a healthy recording (the loop's result, saved as JSON).
-    Calibrate(close_loop::CalibrateArgs),
+    Calibrate(hybrid_fdd_cli::close_loop::CalibrateArgs),
     /// Diagnose a recording (or a directory, or with --all-real every CWRU recording):
     /// normal, inner, outer, ball or a combination, training-free.
     Diagnose(diagnose::Args),
@@ -65,7 +64,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     let ctx = common::Context::new(&cli.global)?;
     match cli.task {
         Task::Data(a) => data::run(&ctx, a),
-        Task::Simulate(a) => simulate::run(&ctx, a),
+        Task::Simulate(a) => hybrid_fdd_cli::simulate::run(a),
         Task::Identify(a) => identify::run(&ctx, a),
         Task::Chapter2(a) => chapters::run(&ctx, &[2], a),
         Task::Chapter3(a) => chapters::run(&ctx, &[3], a),
@@ -73,7 +72,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Task::Chapter5(a) => chapters::run(&ctx, &[5], a),
         Task::All(a) => chapters::run(&ctx, &[2, 3, 4, 5], a),
         Task::CloseLoop(a) => close_loop::run(&ctx, a),
-        Task::Calibrate(a) => close_loop::calibrate(&ctx, a),
+        Task::Calibrate(a) => hybrid_fdd_cli::close_loop::calibrate(a),
         Task::Diagnose(a) => diagnose::run(&ctx, a),
     }
 }

@@ -130,12 +130,23 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
             let fs = match fs {
                 Some(f) => f,
                 None if header.first().map(String::as_str) == Some("time_s") => {
+                    // over the whole span (the stamps are printed to 1 ns), then snapped to a
+                    // whole Hz when within that resolution of one
                     let t: Vec<f64> = lines
-                        .take(2)
+                        .clone()
+                        .filter(|l| !l.trim().is_empty())
                         .filter_map(|l| l.split(',').next()?.trim().parse().ok())
                         .collect();
-                    match t.as_slice() {
-                        [a, b] if b > a => 1.0 / (b - a),
+                    match (t.first(), t.last()) {
+                        (Some(a), Some(b)) if t.len() >= 2 && b > a => {
+                            let f = (t.len() - 1) as f64 / (b - a);
+                            let whole = f.round();
+                            if (f - whole).abs() <= 1e-6 * f {
+                                whole
+                            } else {
+                                f
+                            }
+                        }
                         _ => bail!("cannot infer fs from the `time_s` column; give --fs"),
                     }
                 }

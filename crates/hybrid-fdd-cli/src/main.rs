@@ -3,6 +3,9 @@
 //! ```text
 //! hybrid-fdd diagnose --input 130.mat --bearing 6205 --baseline 97.mat --report out/130.json
 //! hybrid-fdd diagnose --input recordings/ --bearing 6205 --rpm 1750 --fs 12000 --report out/
+//! hybrid-fdd calibrate --input 97.mat --decimate 4 --out rig.json
+//! hybrid-fdd close-loop --input 130.mat --fault outer --machine rig.json --report out/130.json
+//! hybrid-fdd simulate --fault outer --rpm 1797 --fs 12000 --duration 2 --seed 1 --out sim.csv
 //! ```
 
 use clap::{Parser, Subcommand};
@@ -20,11 +23,23 @@ enum Command {
     /// Diagnose a recording (or every .mat/.csv in a directory): normal, inner, outer, ball or a
     /// combination, with the envelope-spectrum evidence, as JSON + Markdown + PNG.
     Diagnose(hybrid_fdd_cli::diagnose::Args),
+    /// Calibrate a machine model on a healthy recording (the closed loop's result, saved as
+    /// versioned JSON: structural path and modes, lines, floor, speed ratio, units).
+    Calibrate(hybrid_fdd_cli::close_loop::CalibrateArgs),
+    /// Close the loop on a recording: residual -> missing effect -> augmented model, held-out
+    /// error before and after, as JSON + Markdown + PNG.
+    CloseLoop(hybrid_fdd_cli::close_loop::Args),
+    /// Simulate a recording with the 5-DOF bearing model (CSV `time_s,accel` in m/s² + JSON
+    /// sidecar).
+    Simulate(hybrid_fdd_cli::simulate::Args),
 }
 
 fn main() -> std::process::ExitCode {
     let r = match Cli::parse().command {
         Command::Diagnose(a) => hybrid_fdd_cli::diagnose::run(&a),
+        Command::Calibrate(a) => hybrid_fdd_cli::close_loop::calibrate(a),
+        Command::CloseLoop(a) => hybrid_fdd_cli::close_loop::run(a),
+        Command::Simulate(a) => hybrid_fdd_cli::simulate::run(a),
     };
     match r {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -10,8 +10,9 @@ use crate::law::Correction;
 /// part is an [`ArxLaguerrePredictor`] (injection, d̂, χ̂ as there) and the fuzzy term
 /// σ_f J_f(k), J_f = Table 5.1 inference on (e_b(k), e_b(k) − e_b(k−1)), is filtered by the
 /// model's J_f Laguerre bank and added to the output with its coefficients λ_f (`fuzzy-ts`),
-/// where e_b = y − Kᵀ X̂ is the error of the observer's ARX-Laguerre part (eqs 5.21, 5.25, 5.30
-/// carry σ_f J_f inside the observer).
+/// where e_b = y − Kᵀ X̂ is the error of the observer's ARX-Laguerre part (eqs 5.21 and 5.25
+/// carry σ_f J_f inside the observer; AFSMO keeps it although 5.30 prints α_f in its place, see
+/// `docs/equations/observers.md`, item 18).
 #[derive(Debug, Clone)]
 pub struct FalPredictor {
     base: ArxLaguerrePredictor,

@@ -1,4 +1,4 @@
-//! `cargo xtask simulate`: run the 5-DOF bearing model (crate `bearing-model`) and write a CSV
+//! `hybrid-fdd simulate` (and `cargo xtask simulate`): run the 5-DOF bearing model (crate `bearing-model`) and write a CSV
 //! recording: one header row, `time_s,accel` (housing acceleration in m/s²), plus all ten
 //! states with `--states`. A JSON sidecar (`<out>.json`) records every parameter used.
 
@@ -9,8 +9,6 @@ use bearing_model::{
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-use crate::common::Context;
 
 /// Flags of this task.
 #[derive(clap::Args, Debug)]
@@ -142,7 +140,7 @@ pub fn write_csv(path: &Path, rec: &bearing_model::Recording) -> anyhow::Result<
 }
 
 /// Run the task.
-pub fn run(_ctx: &Context, args: Args) -> anyhow::Result<()> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     let sc = scenario(&args)?;
     let model = sc.model().context("invalid model parameters")?;
     let t = std::time::Instant::now();

@@ -1,0 +1,99 @@
+//! The `hybrid-fdd` subcommands as a user runs them, through their clap flags: simulate a
+//! recording, close the loop on it with the fault it was simulated with (its own model: nothing
+//! to add), calibrate a machine model on it, and get one-line errors for missing flags.
+
+use clap::Parser;
+
+#[derive(Parser)]
+struct Simulate {
+    #[command(flatten)]
+    a: hybrid_fdd_cli::simulate::Args,
+}
+
+#[derive(Parser)]
+struct CloseLoop {
+    #[command(flatten)]
+    a: hybrid_fdd_cli::close_loop::Args,
+}
+
+#[derive(Parser)]
+struct Calibrate {
+    #[command(flatten)]
+    a: hybrid_fdd_cli::close_loop::CalibrateArgs,
+}
+
+#[test]
+fn simulate_then_close_the_loop_then_calibrate() {
+    let dir = std::env::temp_dir().join(format!("hybrid-fdd-commands-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let csv = p("sim.csv");
+    let sim = Simulate::try_parse_from([
+        "simulate",
+        "--fault",
+        "outer",
+        "--rpm",
+        "1797",
+        "--fs",
+        "12000",
+        "--duration",
+        "2",
+        "--seed",
+        "5",
+        "--out",
+        &csv,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("time_s,accel"), "{}", &text[..40]);
+
+    // the loop against the model the recording came from: near zero error, nothing added
+    let report = p("loop.json");
+    let cl = CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        &csv,
+        "--fault",
+        "outer",
+        "--rpm",
+        "1797",
+        "--report",
+        &report,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::close_loop::run(cl.a).unwrap();
+    let ledger: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let after = ledger["error_after"].as_f64().unwrap();
+    assert!(after <= 1.5, "own-model held-out error {after} dB");
+    assert_eq!(
+        ledger["effects"].as_array().unwrap().len(),
+        0,
+        "{}",
+        ledger["effects"]
+    );
+    for ext in ["md", "png"] {
+        assert!(
+            dir.join(format!("loop.{ext}")).exists(),
+            "loop.{ext} missing"
+        );
+    }
+
+    // a machine model calibrated on it reloads and validates
+    let rig = p("rig.json");
+    let cal =
+        Calibrate::try_parse_from(["calibrate", "--input", &csv, "--rpm", "1797", "--out", &rig])
+            .unwrap();
+    hybrid_fdd_cli::close_loop::calibrate(cal.a).unwrap();
+    let m = close_loop::machine::MachineModel::from_json(&std::fs::read_to_string(&rig).unwrap())
+        .unwrap();
+    assert_eq!(m.fs_hz, 12_000.0);
+    assert_eq!(m.units, "m/s^2");
+
+    // missing flags are one-line errors, not panics
+    let cl = CloseLoop::try_parse_from(["close-loop", "--input", &csv]).unwrap();
+    let e = hybrid_fdd_cli::close_loop::run(cl.a).unwrap_err();
+    assert!(format!("{e:#}").contains("--report"), "{e:#}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
