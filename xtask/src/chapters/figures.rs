@@ -6,10 +6,10 @@
 //! without text rather than failing. Pixels depend only on the data, so PNG bytes are
 //! deterministic (the bitmap is encoded by plotters' `image` backend via a temporary file).
 
-use super::engine::{Method, TreeDraw};
 use super::inputs::{Cache, RecKey};
 use super::report::{Cell, OurTable, Protocol, class_label};
 use super::tables::{Condition, DissTable};
+use ::pipeline::{Method, TreeDraw};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::collections::BTreeMap;

@@ -3,9 +3,9 @@
 //!
 //! Records are loaded (or simulated) once per run and shared by every chapter ([`Cache`]).
 
-use super::engine;
 use super::pipeline::Config;
 use crate::common::Context;
+use ::pipeline as pl;
 use anyhow::Context as _;
 use bearing_data::{FaultLocation, LoadOptions, OuterPosition, Query};
 use bearing_model::FaultClass;
@@ -286,16 +286,11 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
                     let size_in = CWRU_CRACKS_IN[crack as usize];
                     let seed =
                         1000 + u64::from(class) * 100 + u64::from(load) * 10 + u64::from(crack);
-                    let sig = engine::simulate(
-                        engine::SimKind::Cwru,
-                        fc,
-                        size_in,
-                        rpm,
-                        CWRU_FS,
-                        need,
-                        seed,
-                    )
-                    .with_context(|| format!("simulating CWRU-like {fault} at {rpm} rpm"))?;
+                    let sig =
+                        pl::simulate(pl::SimKind::Cwru, fc, size_in, rpm, CWRU_FS, need, seed)
+                            .with_context(|| {
+                                format!("simulating CWRU-like {fault} at {rpm} rpm")
+                            })?;
                     Ok(Rec {
                         id: format!(
                             "sim:{fault}:{load}hp:{:.3}in",
@@ -343,8 +338,8 @@ fn make_rec(dir: Option<&PathBuf>, cfg: &Config, k: &RecKey) -> anyhow::Result<R
             ][class as usize];
             let size_mm = MULTI_CRACKS_MM[crack as usize];
             let seed = 2000 + u64::from(class) * 1000 + u64::from(rpm) + u64::from(crack) * 7;
-            let sig = engine::simulate(
-                engine::SimKind::Shse,
+            let sig = pl::simulate(
+                pl::SimKind::Shse,
                 fc,
                 size_mm,
                 f64::from(rpm),

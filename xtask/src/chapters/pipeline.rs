@@ -6,13 +6,13 @@
 //! 3.26, 4.31, 5.33), one window length for every class. The classifier is the one-vs-one linear
 //! SVM (chapters 2–4) or the Gini decision tree (chapter 5), both from the `classify` crate.
 
-use super::engine::{self, ClassifierKind, Method};
 use super::inputs::{self, Cache, RecKey};
 use super::report::{
     Cell, CellOutcome, ChapterReport, DataNote, OurTable, Protocol, SourceColumns, class_label, pct,
 };
 use super::tables::{self, Condition, DissTable};
 use crate::common::Context;
+use ::pipeline::{self as pl, ClassifierKind, Method};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
@@ -180,11 +180,11 @@ pub fn run_chapter(
             Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
         )
     });
-    let prepared: BTreeMap<RecKey, engine::Prepared> = healthy
+    let prepared: BTreeMap<RecKey, pl::Prepared> = healthy
         .par_iter()
         .map(|h| {
             let rec = cache.get(h)?;
-            let p = engine::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, fuzzy, physics)
+            let p = pl::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, fuzzy, physics)
                 .with_context(|| format!("model identification on {}", rec.id))?;
             Ok((*h, p))
         })
@@ -208,7 +208,7 @@ pub fn run_chapter(
                 if fuzzy { "Fuzzy ARX-Laguerre (eq. 5.19, Table 5.1 rules, N_f = 2, ±3σ universes; its ARX-Laguerre part)" } else { "ARX-Laguerre" },
                 inputs::FIT_SECONDS,
                 p.n_a,
-                100.0 * engine::ORDER_HOLDOUT,
+                100.0 * pl::ORDER_HOLDOUT,
                 scores.join(", "),
                 p.zeta_a
             ));
@@ -229,7 +229,7 @@ pub fn run_chapter(
         .iter()
         .flat_map(|m| healthy.iter().map(move |h| (*m, *h)))
         .collect();
-    let tunings: BTreeMap<(Method, RecKey), engine::Tuning> = tune_jobs
+    let tunings: BTreeMap<(Method, RecKey), pl::Tuning> = tune_jobs
         .par_iter()
         .map(|(m, h)| {
             let p = prepared.get(h).ok_or_else(|| anyhow::anyhow!("no model"))?;
@@ -266,18 +266,18 @@ pub fn run_chapter(
                     let t = tunings
                         .get(&(*m, hk))
                         .ok_or_else(|| anyhow::anyhow!("no tuning for {}", rec.id))?;
-                    engine::residual(*m, prep, t, rec)
+                    pl::residual(*m, prep, t, &rec.signal)
                         .with_context(|| format!("{} on recording {}", m.name(), rec.id))?
                 }
                 None => rec.signal.clone(),
             };
             let residual = full.get(rec.window_start..).unwrap_or(&[]);
             let scored = rec.window_len * rec.n_windows;
-            let ratio = engine::rms_ratio(
+            let ratio = pl::rms_ratio(
                 &residual[..scored.min(residual.len())],
                 &rec.signal[rec.window_start.min(rec.signal.len())..][..scored.min(residual.len())],
             );
-            let e = engine::window_energies(residual, rec.window_len, rec.n_windows).with_context(
+            let e = pl::window_energies(residual, rec.window_len, rec.n_windows).with_context(
                 || format!("energy windows of {} on {}", source_name(*src), rec.id),
             )?;
             pb.inc(1);
@@ -375,7 +375,7 @@ pub fn run_chapter(
             let x: Vec<f64> = wins.iter().map(|w| w.energy).collect();
             let y: Vec<usize> = wins.iter().map(|w| w.class).collect();
             let labels: Vec<String> = d.classes.iter().map(|c| class_label(c)).collect();
-            let (rules, tree) = engine::tree_rules(&x, &y, &labels)?;
+            let (rules, tree) = pl::tree_rules(&x, &y, &labels)?;
             let load = match d.condition {
                 Condition::FixedLoad { load_hp } => load_hp,
                 _ => 0,
@@ -777,7 +777,7 @@ fn evaluate(
         let xtr: Vec<f64> = train.iter().map(|w| w.energy).collect();
         let ytr: Vec<usize> = train.iter().map(|w| w.class).collect();
         let xte: Vec<f64> = test.iter().map(|w| w.energy).collect();
-        let pred = engine::fit_predict(clf, &xtr, &ytr, &xte, nclass)?;
+        let pred = pl::fit_predict(clf, &xtr, &ytr, &xte, nclass)?;
         let mut correct = 0usize;
         for (w, &p) in test.iter().zip(&pred) {
             conf[w.class][p.min(nclass - 1)] += 1;
@@ -1039,7 +1039,7 @@ fn rec_class(k: &RecKey) -> (&'static str, usize, &'static str) {
 /// RMS(residual) / RMS(signal) over the scored windows, mean over the recordings of the class.
 fn tuning_section(
     methods: &[Method],
-    tunings: &BTreeMap<(Method, RecKey), engine::Tuning>,
+    tunings: &BTreeMap<(Method, RecKey), pl::Tuning>,
     ratios: &BTreeMap<(String, RecKey), f64>,
     cache: &Cache,
 ) -> anyhow::Result<((String, String), ResidualRatios)> {
@@ -1049,7 +1049,7 @@ fn tuning_section(
     let _ = writeln!(
         b,
         "Gains are set on the healthy fit segment only (rule: docs/equations/xtask-chapters.md). The bound of eqs 2.44 / 3.21 / 4.20–4.29 / 5.28 is measured first on the segment's first half: Γ₀ = RMS(Δᵐ⁻¹û), û the lumped uncertainty of the same model under its linear (PI) law (its extended state d̂₀ plus its residual r₀) averaged over one shaft revolution, so that the unpredictable innovation averages out (m = 3 for Levant laws, 2 otherwise); then Γ = c·Γ₀ with c from {:?} (no search over c: on a healthy segment any sliding injection beyond the uncertainty adds to the one-step error, so a search would run to the smallest c it is offered) and the linear design default, `for_recordings` or innovations (K_p = b_y: the identified one-step predictor itself), whichever gives the smallest residual RMS on the segment's second half without growing (linear laws have no Γ). No test window and no label is used.\n",
-        engine::GAMMA_MULTIPLES
+        pl::GAMMA_MULTIPLES
     );
     let _ = writeln!(
         b,

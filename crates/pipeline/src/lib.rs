@@ -1,6 +1,22 @@
-//! The thin adapter between the chapter pipelines and the algorithm crates: one function per
-//! stage (observer residual, window energies, classifier, decision rules, simulation), so the
-//! pipeline reads the same whatever shape the crates' APIs take.
+//! The dissertation's method as a library — what `cargo xtask chapter2..5` schedules: a
+//! [`Method`] (model × observer) prepared on a healthy fit segment ([`Prepared`]: ARX-Laguerre
+//! with N_a chosen by held-out error, fuzzy ARX-Laguerre, and the machine model `close-loop`
+//! calibrates, whose structural path the physics observers run on), its gains set from the bound
+//! measured on that segment ([`Prepared::tune`]), its residual over a recording ([`residual`]),
+//! window energies ([`window_energies`]), the chapter classifiers ([`fit_predict`],
+//! [`tree_rules`]) and the simulated recordings of the no-data fallback and the multi-fault
+//! substitute ([`simulate`]).
+//!
+//! Every function returns [`PipelineError`] (one line naming the stage), never panics on data.
+//! Dependencies and why: the algorithm crates it composes (`bearing-model`, `laguerre-id`,
+//! `fuzzy-ts`, `observers`, `residual-features`, `classify`, `close-loop`), and `thiserror` for
+//! the error enum. Decisions: `docs/equations/xtask-chapters.md`, "Observers and models".
+
+mod error;
+pub use error::PipelineError;
+
+/// `Result` with [`PipelineError`].
+pub type Result<T> = std::result::Result<T, PipelineError>;
 
 /// An observer of the dissertation, as a column of its tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -69,8 +85,6 @@ pub enum TreeDraw {
     },
 }
 
-use super::inputs::Rec;
-use anyhow::Context as _;
 use bearing_model::{FaultClass, Scenario};
 use classify::{ClassifierSpec, Dataset, GiniTreeParams, WindowMeta};
 use laguerre_id::{ArxLaguerreConfig, PoleChoice};
@@ -165,20 +179,13 @@ impl Prepared {
     /// `LoopConfig` defaults) whose structural path is the physics observers' model (identified
     /// from the segment directly when the loop added none because the declared model already
     /// explained it).
-    pub fn new(
-        healthy: &[f64],
-        fs: f64,
-        rpm: f64,
-        fuzzy: bool,
-        physics: bool,
-    ) -> anyhow::Result<Self> {
+    pub fn new(healthy: &[f64], fs: f64, rpm: f64, fuzzy: bool, physics: bool) -> Result<Self> {
         let (m, order_scores) = laguerre_id::ArxLaguerreModel::identify_order(
             healthy,
             &N_A_CANDIDATES,
             ORDER_HOLDOUT,
             PoleChoice::DEFAULT_SEARCH,
-        )
-        .context("identifying the ARX-Laguerre model on the healthy fit segment")?;
+        )?;
         let n_a = m.n_a();
         let arx = observers::ArxLaguerreModel::from_state_space(&m.state_space())?;
         let fal = if fuzzy {
@@ -187,8 +194,7 @@ impl Prepared {
                 healthy,
                 None,
                 &fuzzy_ts::FalConfig::with_base(cfg),
-            )
-            .context("identifying the fuzzy ARX-Laguerre model on the healthy fit segment")?;
+            )?;
             Some(Box::new(f))
         } else {
             None
@@ -201,8 +207,7 @@ impl Prepared {
                 rpm,
                 bearing_model::Bearing::Skf6205,
                 &cfg,
-            )
-            .context("calibrating the machine model on the healthy fit segment")?;
+            )?;
             let (path, path_modes) = match &machine.path {
                 Some(_) => (
                     machine.observer_model()?,
@@ -248,23 +253,24 @@ impl Prepared {
         })
     }
 
-    fn kind_and_model(&self, method: Method) -> anyhow::Result<(ObserverKind, ModelConfig)> {
+    fn kind_and_model(&self, method: Method) -> Result<(ObserverKind, ModelConfig)> {
         let arx = || ModelConfig::ArxLaguerre {
             model: self.arx.clone(),
             fault: FaultDirection::OutputFilter,
         };
-        let fal = || -> anyhow::Result<ModelConfig> {
+        let fal = || -> Result<ModelConfig> {
             Ok(ModelConfig::FuzzyArxLaguerre {
-                model: self
-                    .fal
-                    .clone()
-                    .ok_or_else(|| anyhow::anyhow!("fuzzy ARX-Laguerre model not identified"))?,
+                model: self.fal.clone().ok_or(PipelineError::NotPrepared {
+                    what: "the fuzzy ARX-Laguerre model",
+                })?,
                 fault: FaultDirection::OutputFilter,
             })
         };
-        let phys = || -> anyhow::Result<ModelConfig> {
-            Ok(ModelConfig::CalibratedPath(self.path.clone().ok_or_else(
-                || anyhow::anyhow!("machine model not calibrated"),
+        let phys = || -> Result<ModelConfig> {
+            Ok(ModelConfig::CalibratedPath(self.path.clone().ok_or(
+                PipelineError::NotPrepared {
+                    what: "the calibrated machine model",
+                },
             )?))
         };
         Ok(match method {
@@ -294,7 +300,7 @@ impl Prepared {
     /// E₀ = RMS(r₀) on the same first half (`observers::design::BoundGains::sign_scaled`). Candidates that fail to build, produce non-finite
     /// output or grow (last-quarter RMS more than twice the second-quarter RMS) are skipped.
     /// No test window and no label is used.
-    pub fn tune(&self, method: Method) -> anyhow::Result<Tuning> {
+    pub fn tune(&self, method: Method) -> Result<Tuning> {
         let (kind, model) = self.kind_and_model(method)?;
         let order = if kind.family() == LawFamily::Levant {
             3
@@ -381,11 +387,8 @@ impl Prepared {
                 }
             }
         }
-        best.ok_or_else(|| {
-            anyhow::anyhow!(
-                "no candidate gain of {} ran stably on the fit segment",
-                method.name()
-            )
+        best.ok_or(PipelineError::NoStableGain {
+            method: method.name(),
         })
     }
 }
@@ -396,25 +399,26 @@ pub fn residual(
     method: Method,
     prepared: &Prepared,
     tuning: &Tuning,
-    rec: &Rec,
-) -> anyhow::Result<Vec<f64>> {
+    signal: &[f64],
+) -> Result<Vec<f64>> {
     let (kind, model) = prepared.kind_and_model(method)?;
-    let mut obs = observers::build_observer(kind, &model, &tuning.settings)
-        .with_context(|| format!("building {}", kind.name()))?;
-    Ok(obs.run(&rec.signal)?.residual)
+    let mut obs = observers::build_observer(kind, &model, &tuning.settings)?;
+    Ok(obs.run(signal)?.residual)
 }
 
 /// Window energies Σr² (eq. 2.46 / 5.33) of `count` non-overlapping windows of `len` samples.
-pub fn window_energies(r: &[f64], len: usize, count: usize) -> anyhow::Result<Vec<f64>> {
+pub fn window_energies(r: &[f64], len: usize, count: usize) -> Result<Vec<f64>> {
     let mut out = Vec::with_capacity(count);
     for w in r.chunks_exact(len).take(count) {
         out.push(residual_features::energy(w)?);
     }
-    anyhow::ensure!(
-        !out.is_empty(),
-        "no complete window of {len} samples in {} samples",
-        r.len()
-    );
+    if out.is_empty() {
+        return Err(PipelineError::TooShort {
+            what: "residual for one complete window",
+            needed: len,
+            found: r.len(),
+        });
+    }
     Ok(out)
 }
 
@@ -429,7 +433,7 @@ fn spec(kind: ClassifierKind) -> ClassifierSpec {
     }
 }
 
-fn dataset(x: &[f64], y: &[usize], nclass: usize) -> anyhow::Result<Dataset> {
+fn dataset(x: &[f64], y: &[usize], nclass: usize) -> Result<Dataset> {
     let rows: Vec<Vec<f64>> = x.iter().map(|&v| vec![v]).collect();
     let meta = y
         .iter()
@@ -462,7 +466,7 @@ pub fn fit_predict(
     y: &[usize],
     test: &[f64],
     nclass: usize,
-) -> anyhow::Result<Vec<usize>> {
+) -> Result<Vec<usize>> {
     let mut key = Vec::with_capacity(3 + 2 * x.len() + test.len());
     key.push(match kind {
         ClassifierKind::Svm => 1,
@@ -489,7 +493,7 @@ fn fit_predict_uncached(
     y: &[usize],
     test: &[f64],
     nclass: usize,
-) -> anyhow::Result<Vec<usize>> {
+) -> Result<Vec<usize>> {
     let data = dataset(x, y, nclass)?;
     let train: Vec<usize> = (0..x.len()).collect();
     let model = spec(kind).fit(&data, &train)?;
@@ -497,7 +501,7 @@ fn fit_predict_uncached(
 }
 
 /// Fit the chapter-5 Gini tree on all windows and print its rules in the form of eqs 5.35–5.36.
-pub fn tree_rules(x: &[f64], y: &[usize], labels: &[String]) -> anyhow::Result<(String, TreeDraw)> {
+pub fn tree_rules(x: &[f64], y: &[usize], labels: &[String]) -> Result<(String, TreeDraw)> {
     let data = Dataset::new(
         labels.to_vec(),
         vec!["E".into()],
@@ -567,7 +571,7 @@ pub fn simulate(
     fs: f64,
     n: usize,
     seed: u64,
-) -> anyhow::Result<Vec<f64>> {
+) -> Result<Vec<f64>> {
     let sc = match kind {
         SimKind::Cwru => Scenario::cwru(class, size, rpm)?,
         SimKind::Shse => Scenario::shse(class, size, rpm)?,
@@ -578,11 +582,13 @@ pub fn simulate(
         .with_seed(seed)
         .simulate()?;
     let mut a = rec.accel;
-    anyhow::ensure!(
-        a.len() >= n,
-        "simulation returned {} samples, {n} requested",
-        a.len()
-    );
+    if a.len() < n {
+        return Err(PipelineError::TooShort {
+            what: "simulated recording",
+            needed: n,
+            found: a.len(),
+        });
+    }
     a.truncate(n);
     Ok(a)
 }
