@@ -433,7 +433,8 @@ fn spec(kind: ClassifierKind) -> ClassifierSpec {
     }
 }
 
-fn dataset(x: &[f64], y: &[usize], nclass: usize) -> Result<Dataset> {
+/// A one-feature (window energy) dataset named `feature`, classes named `names`.
+fn energy_dataset(x: &[f64], y: &[usize], names: Vec<String>, feature: &str) -> Result<Dataset> {
     let rows: Vec<Vec<f64>> = x.iter().map(|&v| vec![v]).collect();
     let meta = y
         .iter()
@@ -446,8 +447,11 @@ fn dataset(x: &[f64], y: &[usize], nclass: usize) -> Result<Dataset> {
             index_in_recording: i,
         })
         .collect();
-    let names = (0..nclass).map(|c| c.to_string()).collect();
-    Ok(Dataset::new(names, vec!["energy".into()], &rows, meta)?)
+    Ok(Dataset::new(names, vec![feature.into()], &rows, meta)?)
+}
+
+fn dataset(x: &[f64], y: &[usize], nclass: usize) -> Result<Dataset> {
+    energy_dataset(x, y, (0..nclass).map(|c| c.to_string()).collect(), "energy")
 }
 
 /// Predictions already computed in this process, keyed by the exact fold (classifier, class
@@ -459,7 +463,7 @@ static MEMO: std::sync::LazyLock<
 > = std::sync::LazyLock::new(Default::default);
 
 /// Fit the classifier on (x, y) and predict `test` (one feature: the window energy). Identical
-/// folds are fitted once per process (see [`MEMO`]).
+/// folds are fitted once per process (a process-wide memo keyed by the exact fold).
 pub fn fit_predict(
     kind: ClassifierKind,
     x: &[f64],
@@ -502,21 +506,7 @@ fn fit_predict_uncached(
 
 /// Fit the chapter-5 Gini tree on all windows and print its rules in the form of eqs 5.35–5.36.
 pub fn tree_rules(x: &[f64], y: &[usize], labels: &[String]) -> Result<(String, TreeDraw)> {
-    let data = Dataset::new(
-        labels.to_vec(),
-        vec!["E".into()],
-        &x.iter().map(|&v| vec![v]).collect::<Vec<_>>(),
-        y.iter()
-            .enumerate()
-            .map(|(i, &c)| WindowMeta {
-                class: c,
-                recording: String::new(),
-                load_hp: 0,
-                fault_size_mils: None,
-                index_in_recording: i,
-            })
-            .collect(),
-    )?;
+    let data = energy_dataset(x, y, labels.to_vec(), "E")?;
     let train: Vec<usize> = (0..x.len()).collect();
     let tree = classify::GiniTree::fit(
         &GiniTreeParams {

@@ -9,7 +9,8 @@
 //! - [`tables`]: the dissertation's tables, transcribed once and embedded;
 //! - [`report`]: the table model and the Markdown / CSV / JSON writers;
 //! - [`inputs`]: recordings (CWRU, simulated CWRU-like fallback, the multi-fault substitute);
-//! - [`engine`]: the thin adapter onto the algorithm crates (observers, features, classifiers);
+//! - the method itself (model × observer, gains, residual, window energies, classifiers) is the
+//!   `pipeline` crate;
 //! - [`pipeline`]: what each chapter runs, under which protocols;
 //! - [`figures`]: PNG figures with plotters;
 //! - `--check`: everything is generated in memory first, so checking is a byte comparison.
