@@ -8,7 +8,8 @@
 
 use super::inputs::{self, Cache, RecKey};
 use super::report::{
-    Cell, CellOutcome, ChapterReport, DataNote, OurTable, Protocol, SourceColumns, class_label, pct,
+    Cell, CellOutcome, ChapterReport, DataNote, OurTable, Protocol, ResidualRatios, SourceColumns,
+    class_label, pct,
 };
 use super::tables::{self, Condition, DissTable};
 use crate::common::Context;
@@ -1156,7 +1157,3 @@ fn tuning_section(
         healthy_ratio,
     ))
 }
-
-/// Healthy held-out RMS(residual)/RMS(signal) per dataset and observer (the normal class's
-/// scored windows, all after the fit segment).
-pub type ResidualRatios = BTreeMap<String, BTreeMap<String, f64>>;

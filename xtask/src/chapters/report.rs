@@ -110,6 +110,11 @@ pub struct DataNote {
     pub window_len: usize,
 }
 
+/// Healthy held-out RMS(residual)/RMS(signal) per dataset and observer (the normal class's
+/// scored windows, all after the fit segment).
+pub type ResidualRatios =
+    std::collections::BTreeMap<String, std::collections::BTreeMap<String, f64>>;
+
 /// A chapter's complete results.
 #[derive(Debug, Clone, Serialize)]
 pub struct ChapterReport {
@@ -132,7 +137,7 @@ pub struct ChapterReport {
     /// Figure files (relative to the chapter directory).
     pub figures: Vec<String>,
     /// Healthy held-out RMS(residual)/RMS(signal), dataset → observer.
-    pub residual_rms_ratio: super::pipeline::ResidualRatios,
+    pub residual_rms_ratio: ResidualRatios,
 }
 
 /// Percent with one decimal.
