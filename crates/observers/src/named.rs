@@ -157,6 +157,11 @@ pub struct ObserverSettings {
     /// 1.5 (Γ·E₀)^½ ([`BoundGains::sign_scaled`]); 1 output unit by default.
     #[serde(default = "unit_error_scale")]
     pub error_scale: f64,
+    /// AFSMO's thresholds (TH_n, TH_f) of eq. (5.29) on |r|, when `fuzzy` is not given; `None`
+    /// keeps the bound-based defaults (3Γ, 30Γ). Thresholds from the healthy residual's spread
+    /// (e.g. 3σ and 6σ) make the schedule read "normal" on a healthy record.
+    #[serde(default)]
+    pub fuzzy_thresholds: Option<[f64; 2]>,
 }
 
 fn unit_error_scale() -> f64 {
@@ -171,6 +176,7 @@ impl ObserverSettings {
             linear: LinearDesign::default(),
             fuzzy: None,
             error_scale: 1.0,
+            fuzzy_thresholds: None,
         }
     }
 }
@@ -219,11 +225,14 @@ fn make_law(
     };
     let base = HomogeneousLaw::new(lin, nl, kind.family())?;
     if kind == ObserverKind::Afsmo {
+        let [threshold_normal, threshold_fault] = s
+            .fuzzy_thresholds
+            .unwrap_or([3.0 * s.uncertainty_bound, 30.0 * s.uncertainty_bound]);
         let p = s.fuzzy.unwrap_or(FuzzyScheduleParams {
             zeta_normal: 0.0,
             zeta_fault: integral_gain.max(0.0),
-            threshold_normal: 3.0 * s.uncertainty_bound,
-            threshold_fault: 30.0 * s.uncertainty_bound,
+            threshold_normal,
+            threshold_fault,
         });
         Ok(NamedLaw::Fuzzy(FuzzyScheduled::new(base, p)?))
     } else {

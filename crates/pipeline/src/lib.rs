@@ -359,6 +359,9 @@ impl Prepared {
                 let mut settings = ObserverSettings::new(c * bound);
                 settings.linear = linear;
                 settings.error_scale = error_scale;
+                // AFSMO's schedule (5.29): "normal" within 3σ of the healthy residual, "faulty"
+                // beyond 6σ, σ = E₀ (docs/equations/observers.md, item 16)
+                settings.fuzzy_thresholds = Some([3.0 * error_scale, 6.0 * error_scale]);
                 let Ok(mut obs) = observers::build_observer(kind, &model, &settings) else {
                     continue;
                 };
