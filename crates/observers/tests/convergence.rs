@@ -383,3 +383,35 @@ proptest! {
 fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt()
 }
+
+/// The settings added for measured data are validated: a non-positive error scale (sign laws)
+/// and thresholds that are not 0 < TH_n < TH_f (AFSMO) are typed errors, not silent gains.
+#[test]
+fn error_scale_and_fuzzy_thresholds_are_validated() {
+    let model = ArxLaguerreModel::from_ar(&[-1.2, 0.5]).unwrap();
+    let cfg = ModelConfig::CalibratedPath(model);
+    let mut s = ObserverSettings::new(1e-3);
+    s.error_scale = 0.0;
+    assert!(matches!(
+        build_observer(ObserverKind::Smo, &cfg, &s),
+        Err(ObserverError::InvalidParameter { .. })
+    ));
+    let mut s = ObserverSettings::new(1e-3);
+    s.error_scale = 0.2;
+    assert!(build_observer(ObserverKind::Smo, &cfg, &s).is_ok());
+    s.fuzzy_thresholds = Some([0.6, 0.3]);
+    assert!(build_observer(ObserverKind::Afsmo, &cfg, &s).is_err());
+    s.fuzzy_thresholds = Some([0.3, 0.6]);
+    assert!(build_observer(ObserverKind::Afsmo, &cfg, &s).is_ok());
+    // a model that is not in shift form cannot be a calibrated path
+    let laguerre = ArxLaguerreModel::from_poles(0.5, 2, 0.0, 0, vec![0.3, 0.1]).unwrap();
+    assert!(!laguerre.is_shift_form());
+    assert!(matches!(
+        build_observer(
+            ObserverKind::Flo,
+            &ModelConfig::CalibratedPath(laguerre),
+            &ObserverSettings::new(1e-3)
+        ),
+        Err(ObserverError::InvalidParameter { .. })
+    ));
+}
