@@ -97,8 +97,8 @@ impl ResidualObserver {
         let (kind, model, linear) = match *self {
             Self::ArxLaguerre => {
                 let id = identify_arx(fit)?;
-                let model = observers::ArxLaguerreModel::from_state_space(&id.state_space())
-                    .map_err(obs_err)?;
+                let model =
+                    observers::LinearModel::from_state_space(&id.state_space()).map_err(obs_err)?;
                 (
                     ObserverKind::Alpio,
                     ModelConfig::ArxLaguerre {

@@ -17,7 +17,7 @@
 //! Dependencies and why: `nalgebra` (small dense matrices and the matrix exponential for gain
 //! design, the LMI check and exact discretisation, all off the per-sample path);
 //! `bearing-model` (the housing mode of the 5-DOF model, [`ModalParams::from_bearing_model`]);
-//! `laguerre-id` (identified ARX-Laguerre models, [`ArxLaguerreModel::from_state_space`], and
+//! `laguerre-id` (identified ARX-Laguerre models, [`LinearModel::from_state_space`], and
 //! its `MAX_STATES` bound for the fixed-size O(n) Laguerre cascade of
 //! [`ArxLaguerrePredictor`]);
 //! `fuzzy-ts` (the fuzzy ARX-Laguerre model and Table 5.1 inference, [`FalPredictor`]);
@@ -48,6 +48,6 @@ pub use named::{
 };
 pub use observer::{Observer, ObserverOutput, RunObserver, StepOutput};
 pub use predictor::{
-    ArxLaguerreModel, ArxLaguerrePredictor, FalPredictor, LAGUERRE_STRUCTURE_TOLERANCE,
-    LaguerreStructure, ModalParams, Predictor, SecondOrderPredictor,
+    ArxLaguerrePredictor, FalPredictor, LAGUERRE_STRUCTURE_TOLERANCE, LaguerreStructure,
+    LinearModel, ModalParams, Predictor, SecondOrderPredictor,
 };

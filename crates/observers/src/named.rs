@@ -23,8 +23,7 @@ use crate::law::{
 };
 use crate::observer::{Observer, ObserverOutput, RunObserver};
 use crate::predictor::{
-    ArxLaguerreModel, ArxLaguerrePredictor, FalPredictor, ModalParams, Predictor,
-    SecondOrderPredictor,
+    ArxLaguerrePredictor, FalPredictor, LinearModel, ModalParams, Predictor, SecondOrderPredictor,
 };
 use nalgebra::{DMatrix, DVector};
 
@@ -276,7 +275,7 @@ pub fn design_physics_linear(
 /// A_γ = [[A + b_y Kᵀ, f], [0, 1]], C = [Kᵀ, 0] (eq. 2.34 with the fault entering along f),
 /// giving K_p and K_I; the LMI (2.34) is verified and its largest decay rate reported.
 pub fn design_arx_linear(
-    model: &ArxLaguerreModel,
+    model: &LinearModel,
     fault_direction: &[f64],
     d: &LinearDesign,
 ) -> Result<LinearReport, ObserverError> {
@@ -321,7 +320,7 @@ pub fn design_arx_linear(
 /// γ < (1 − (1 − K_I)²)/2, reported as the decay rate). No Riccati iteration on the n + 1
 /// states, which matters for paths of a hundred states.
 pub fn design_innovations(
-    model: &ArxLaguerreModel,
+    model: &LinearModel,
     d: &LinearDesign,
 ) -> Result<LinearReport, ObserverError> {
     d.validate()?;
@@ -337,10 +336,10 @@ pub fn design_innovations(
     })
 }
 
-/// Linear design for a shift-form (AR) path model ([`ArxLaguerreModel::from_ar`]): always the
+/// Linear design for a shift-form (AR) path model ([`LinearModel::from_ar`]): always the
 /// innovations design ([`design_innovations`]; `d.innovations` is implied).
 pub fn design_path_linear(
-    model: &ArxLaguerreModel,
+    model: &LinearModel,
     d: &LinearDesign,
 ) -> Result<LinearReport, ObserverError> {
     if !model.is_shift_form() {
@@ -358,7 +357,7 @@ pub fn design_path_linear(
 /// estimate d̂ adds to the prediction directly ([`ArxLaguerrePredictor::new_path`]).
 pub fn path_observer(
     kind: ObserverKind,
-    model: &ArxLaguerreModel,
+    model: &LinearModel,
     s: &ObserverSettings,
 ) -> Result<ArxObserver, ObserverError> {
     let rep = design_path_linear(model, &s.linear)?;
@@ -419,7 +418,7 @@ pub enum FaultDirection {
 
 impl FaultDirection {
     /// The direction vector for `model`.
-    pub fn vector(&self, model: &ArxLaguerreModel) -> Vec<f64> {
+    pub fn vector(&self, model: &LinearModel) -> Vec<f64> {
         match self {
             Self::Input if model.b_u.iter().any(|v| *v != 0.0) => model.b_u.clone(),
             Self::Input | Self::OutputFilter => model.b_y.clone(),
@@ -433,7 +432,7 @@ impl FaultDirection {
 /// (VSO, HOSTSMO) drop the integral gain K_I.
 pub fn arx_observer(
     kind: ObserverKind,
-    model: &ArxLaguerreModel,
+    model: &LinearModel,
     fault: &FaultDirection,
     s: &ObserverSettings,
 ) -> Result<ArxObserver, ObserverError> {
@@ -474,7 +473,7 @@ impl PhysicsObserver {
 impl ArxObserver {
     /// APIO, eqs (2.33)–(2.35), (3.9)–(3.10).
     pub fn apio(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -482,7 +481,7 @@ impl ArxObserver {
     }
     /// ALPIO, eqs (4.16)–(4.17).
     pub fn alpio(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -490,7 +489,7 @@ impl ArxObserver {
     }
     /// SMALPIO, eqs (4.18)–(4.19).
     pub fn smalpio(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -498,7 +497,7 @@ impl ArxObserver {
     }
     /// ASMO, eqs (5.25)–(5.28).
     pub fn asmo(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -506,7 +505,7 @@ impl ArxObserver {
     }
     /// AFSMO, eqs (5.29)–(5.32).
     pub fn afsmo(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -523,13 +522,13 @@ pub enum ModelConfig {
     /// An ARX-Laguerre model and where the fault enters.
     ArxLaguerre {
         /// The model.
-        model: ArxLaguerreModel,
+        model: LinearModel,
         /// Fault direction.
         fault: FaultDirection,
     },
     /// The calibrated structural path of a machine model as a shift-form (AR) predictor
-    /// ([`ArxLaguerreModel::from_ar`]; built by [`path_observer`]).
-    CalibratedPath(ArxLaguerreModel),
+    /// ([`LinearModel::from_ar`]; built by [`path_observer`]).
+    CalibratedPath(LinearModel),
     /// A fuzzy ARX-Laguerre model (`fuzzy-ts`) and where the fault enters.
     FuzzyArxLaguerre {
         /// The model.

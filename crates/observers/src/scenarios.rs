@@ -3,7 +3,7 @@
 //! lumped uncertainty / fault entering where the observers expect it.
 
 use crate::error::ObserverError;
-use crate::predictor::{ArxLaguerreModel, ModalParams, discretize_mode};
+use crate::predictor::{LinearModel, ModalParams, discretize_mode};
 
 /// The true mode Ẋ₁ = X₂, Ẋ₂ = −ω²X₁ − 2ζωX₂ + b u + d, sampled exactly (d, u held over a sample).
 #[derive(Debug, Clone, PartialEq)]
@@ -59,7 +59,7 @@ impl OscillatorPlant {
 /// so that Kᵀ f = 1 (the observers' convention).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArxPlant {
-    model: ArxLaguerreModel,
+    model: LinearModel,
     f: Vec<f64>,
     x: Vec<f64>,
     tmp: Vec<f64>,
@@ -67,7 +67,7 @@ pub struct ArxPlant {
 
 impl ArxPlant {
     /// Plant at rest; `f` is normalised to Kᵀ f = 1.
-    pub fn new(model: &ArxLaguerreModel, f: &[f64]) -> Result<Self, ObserverError> {
+    pub fn new(model: &LinearModel, f: &[f64]) -> Result<Self, ObserverError> {
         model.validate()?;
         let kf: f64 = model.k.iter().zip(f).map(|(a, b)| a * b).sum();
         if f.len() != model.order() {
@@ -129,9 +129,9 @@ impl ArxPlant {
 
 /// A reference ARX-Laguerre model with `n_a = n_b = 4` (8 states): Laguerre poles 0.6 / 0.5 and
 /// coefficients chosen so that A + b_y Kᵀ is stable (spectral radius 0.9585, complex pole pairs).
-pub fn reference_arx_model() -> ArxLaguerreModel {
+pub fn reference_arx_model() -> LinearModel {
     let k = vec![0.3, -0.6, 0.3, -0.1, 1.0, 0.4, -0.2, 0.1];
-    ArxLaguerreModel::from_poles(0.6, 4, 0.5, 4, k).expect("constant, valid reference model")
+    LinearModel::from_poles(0.6, 4, 0.5, 4, k).expect("constant, valid reference model")
 }
 
 /// Total variation per sample of a series (the chattering measure): mean |x(k+1) − x(k)|.

@@ -26,7 +26,7 @@ fn identified_arx_laguerre_model_tracks_step_fault() {
     )
     .unwrap();
     let id = laguerre_id::ArxLaguerreModel::identify(&y, Some(&u), &cfg).unwrap();
-    let model = ArxLaguerreModel::from_state_space(&id.state_space()).unwrap();
+    let model = LinearModel::from_state_space(&id.state_space()).unwrap();
     let truth = reference_arx_model();
     for (a, b) in model.k.iter().zip(&truth.k) {
         assert!((a - b).abs() < 1e-6, "identified K {a} vs {b}");

@@ -114,9 +114,9 @@ pub const TREE_MIN_LEAF: usize = 5;
 /// model), and the segment itself (the gains are set on it, see [`Prepared::tune`]).
 #[derive(Debug, Clone)]
 pub struct Prepared {
-    arx: observers::ArxLaguerreModel,
+    arx: observers::LinearModel,
     fal: Option<Box<fuzzy_ts::FuzzyArxLaguerre>>,
-    path: Option<observers::ArxLaguerreModel>,
+    path: Option<observers::LinearModel>,
     fit: Vec<f64>,
     /// Pole ζ_a chosen by the identification.
     pub zeta_a: f64,
@@ -187,7 +187,7 @@ impl Prepared {
             PoleChoice::DEFAULT_SEARCH,
         )?;
         let n_a = m.n_a();
-        let arx = observers::ArxLaguerreModel::from_state_space(&m.state_space())?;
+        let arx = observers::LinearModel::from_state_space(&m.state_space())?;
         let fal = if fuzzy {
             let cfg = ArxLaguerreConfig::new(n_a, 0, PoleChoice::DEFAULT_SEARCH)?;
             let f = fuzzy_ts::FuzzyArxLaguerre::identify(
@@ -226,7 +226,7 @@ impl Prepared {
                         cfg.get().max_path_order,
                     )?;
                     let modes = p.modes().iter().filter(|m| m.frequency_hz > 0.0).count();
-                    (observers::ArxLaguerreModel::from_ar(&p.ar)?, modes)
+                    (observers::LinearModel::from_ar(&p.ar)?, modes)
                 }
             };
             let err = (

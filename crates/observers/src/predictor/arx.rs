@@ -2,7 +2,7 @@
 //! shift update of AR-form paths, and the dense O(n²) reference.
 
 use super::Predictor;
-use super::{ArxLaguerreModel, LaguerreStructure};
+use super::{LaguerreStructure, LinearModel};
 use crate::error::ObserverError;
 use crate::law::Correction;
 
@@ -124,7 +124,7 @@ enum Kernel {
     Shift(Box<ShiftKernel>),
 }
 
-/// The O(n) update of a model in shift (AR) form ([`ArxLaguerreModel::is_shift_form`]):
+/// The O(n) update of a model in shift (AR) form ([`LinearModel::is_shift_form`]):
 /// X̂(k+1) = S X̂(k) + e₁ Ŷ(k) + K_p e with S the down-shift (A X̂ is a copy), and the fault
 /// entering the output directly: Ŷ(k+1) = Kᵀ X̂(k+1) + s. The state holds the (corrected)
 /// output history, so an injection is not fed back as if it had been measured; a unit d̂ moves
@@ -166,7 +166,7 @@ impl ShiftKernel {
 /// with the fault direction f normalised to Kᵀ f = 1 (so d̂ is in output units: a unit d̂ moves
 /// the next prediction by one unit).
 ///
-/// Models with the Laguerre structure ([`ArxLaguerreModel::laguerre_structure`]: every
+/// Models with the Laguerre structure ([`LinearModel::laguerre_structure`]: every
 /// `from_poles` model and every `laguerre-id` model up to `laguerre_id::MAX_STATES` states)
 /// run the O(n) bank cascade on fixed-size arrays; any other A runs the dense O(n²) product.
 /// The two paths agree to rounding ([`ArxLaguerrePredictor::new_dense`] forces the dense one).
@@ -184,14 +184,14 @@ impl ArxLaguerrePredictor {
     /// proportional output-injection vector K_p. Uses the O(n) Laguerre cascade when the model
     /// has the Laguerre structure, the dense product otherwise.
     pub fn new(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         fault_direction: &[f64],
         kp: &[f64],
     ) -> Result<Self, ObserverError> {
         Self::build(model, fault_direction, kp, true)
     }
 
-    /// The predictor of a shift-form (AR) model ([`ArxLaguerreModel::from_ar`]) with the
+    /// The predictor of a shift-form (AR) model ([`LinearModel::from_ar`]) with the
     /// proportional injection K_p, run by an O(n) shift update; the fault d̂ (and the law's
     /// level-1 injection) adds to the next prediction directly instead of entering the state,
     /// so [`ArxLaguerrePredictor::fault_direction`] is zero.
@@ -199,13 +199,13 @@ impl ArxLaguerrePredictor {
     /// # Errors
     /// [`ObserverError::InvalidParameter`] when the model is not in shift form or K_p is not
     /// finite; [`ObserverError::DimensionMismatch`] when K_p has another length.
-    pub fn new_path(model: &ArxLaguerreModel, kp: &[f64]) -> Result<Self, ObserverError> {
+    pub fn new_path(model: &LinearModel, kp: &[f64]) -> Result<Self, ObserverError> {
         model.validate()?;
         if !model.is_shift_form() {
             return Err(ObserverError::InvalidParameter {
                 name: "model",
                 value: model.order() as f64,
-                reason: "not in shift (AR) form: build it with ArxLaguerreModel::from_ar",
+                reason: "not in shift (AR) form: build it with LinearModel::from_ar",
             });
         }
         let n = model.order();
@@ -241,7 +241,7 @@ impl ArxLaguerrePredictor {
     /// As [`ArxLaguerrePredictor::new`] but always with the dense O(n²) update (the reference
     /// path; results agree with the cascade to rounding).
     pub fn new_dense(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         fault_direction: &[f64],
         kp: &[f64],
     ) -> Result<Self, ObserverError> {
@@ -249,7 +249,7 @@ impl ArxLaguerrePredictor {
     }
 
     fn build(
-        model: &ArxLaguerreModel,
+        model: &LinearModel,
         fault_direction: &[f64],
         kp: &[f64],
         allow_cascade: bool,

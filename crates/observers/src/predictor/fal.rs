@@ -2,7 +2,7 @@
 
 use super::Predictor;
 use super::arx::dot;
-use super::{ArxLaguerreModel, ArxLaguerrePredictor};
+use super::{ArxLaguerrePredictor, LinearModel};
 use crate::error::ObserverError;
 use crate::law::Correction;
 
@@ -38,9 +38,9 @@ impl FalPredictor {
         }
     }
 
-    /// The ARX-Laguerre part of the model as this crate's [`ArxLaguerreModel`].
-    pub fn base_model(fal: &fuzzy_ts::FuzzyArxLaguerre) -> Result<ArxLaguerreModel, ObserverError> {
-        ArxLaguerreModel::from_state_space(&fal.base().state_space())
+    /// The ARX-Laguerre part of the model as this crate's [`LinearModel`].
+    pub fn base_model(fal: &fuzzy_ts::FuzzyArxLaguerre) -> Result<LinearModel, ObserverError> {
+        LinearModel::from_state_space(&fal.base().state_space())
     }
 }
 

@@ -44,4 +44,4 @@ mod model;
 pub use arx::ArxLaguerrePredictor;
 pub use fal::FalPredictor;
 pub use mode::{ModalParams, SecondOrderPredictor, discretize_mode};
-pub use model::{ArxLaguerreModel, LAGUERRE_STRUCTURE_TOLERANCE, LaguerreStructure};
+pub use model::{LAGUERRE_STRUCTURE_TOLERANCE, LaguerreStructure, LinearModel};

@@ -3,10 +3,13 @@
 
 use crate::error::ObserverError;
 
-/// An ARX-Laguerre state-space model (eqs 2.28–2.32, 4.11–4.15):
-/// X(k+1) = A X(k) + b_y y(k) + b_u u(k), y(k) = Kᵀ X(k).
+/// The linear one-step model the ARX-type observers run (eqs 2.28–2.32, 4.11–4.15):
+/// X(k+1) = A X(k) + b_y y(k) + b_u u(k), y(k) = Kᵀ X(k) — an identified ARX-Laguerre model
+/// (`laguerre_id::ArxLaguerreModel`, converted by [`LinearModel::from_state_space`]; the one
+/// ARX-Laguerre model type of the workspace is that one) or the calibrated structural path of a
+/// machine model in shift form ([`LinearModel::from_ar`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ArxLaguerreModel {
+pub struct LinearModel {
     /// A, n×n, row-major.
     pub a: Vec<f64>,
     /// b_y, length n.
@@ -37,7 +40,7 @@ pub struct LaguerreStructure {
 }
 
 /// Largest absolute deviation from the Laguerre block structure that
-/// [`ArxLaguerreModel::laguerre_structure`] accepts (the entries are at most 1 in magnitude).
+/// [`LinearModel::laguerre_structure`] accepts (the entries are at most 1 in magnitude).
 pub const LAGUERRE_STRUCTURE_TOLERANCE: f64 = 1e-12;
 
 /// The Laguerre blocks of eqs (2.29)–(2.32): (A row-major, b_y, b_u) for n = n_a + n_b.
@@ -67,7 +70,7 @@ fn laguerre_blocks(
     (a, b_y, b_u)
 }
 
-impl ArxLaguerreModel {
+impl LinearModel {
     /// Number of states n.
     pub fn order(&self) -> usize {
         self.k.len()
@@ -149,7 +152,7 @@ impl ArxLaguerreModel {
     ///
     /// N_a is the index of the first non-zero entry of b_u (its first entry √(1−ζ_b²) is never
     /// zero), or n when b_u = 0 (AR form); ζ_a = A₀₀ and ζ_b = A_{N_a N_a}. Every entry of A, b_y
-    /// and b_u is then compared with the blocks [`ArxLaguerreModel::from_poles`] builds, so
+    /// and b_u is then compared with the blocks [`LinearModel::from_poles`] builds, so
     /// `from_poles` models and `laguerre-id` state spaces are recognised exactly.
     pub fn laguerre_structure(&self) -> Option<LaguerreStructure> {
         let n = self.order();
@@ -209,7 +212,7 @@ impl ArxLaguerreModel {
         Ok(m)
     }
 
-    /// Whether the model is in the shift (AR) form of [`ArxLaguerreModel::from_ar`]: A the
+    /// Whether the model is in the shift (AR) form of [`LinearModel::from_ar`]: A the
     /// down-shift, b_y = e₁, b_u = 0 (exactly).
     pub fn is_shift_form(&self) -> bool {
         let n = self.order();
@@ -237,7 +240,7 @@ impl ArxLaguerreModel {
     }
 }
 
-impl ArxLaguerreModel {
+impl LinearModel {
     /// Convert an identified model's explicit matrices (eqs 4.11–4.15, `laguerre-id`), which use
     /// the same convention X(k+1) = A X + b_y y + b_u u, ŷ = Kᵀ X.
     pub fn from_state_space(ss: &laguerre_id::StateSpace) -> Result<Self, ObserverError> {
