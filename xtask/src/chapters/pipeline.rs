@@ -840,7 +840,7 @@ fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<
         }
     ));
     n.push(format!(
-        "Model fitting: observers that need an identified model (ARX-Laguerre, fuzzy ARX-Laguerre) fit it on the first {} s of the healthy recording; normal windows are cut only after that segment, so no scored window was seen by the identification.",
+        "Model fitting: every observer model (ARX-Laguerre, fuzzy ARX-Laguerre, and the machine model the physics observers run on) is identified or calibrated on the first {} s of the healthy recording only; normal windows are cut only after that segment, so no scored window was seen by the identification or the calibration.",
         inputs::FIT_SECONDS
     ));
     n.push("Pooled (load- or speed-variant) tables keep every n-th window of each fault recording (n = number of pooled conditions), so every class has about as many windows as in a single-condition cell; the normal recording, shared by all conditions, keeps all its windows, cut into one contiguous segment per condition.".to_string());
