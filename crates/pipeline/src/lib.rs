@@ -13,7 +13,9 @@
 //! the error enum. Decisions: `docs/equations/xtask-chapters.md`, "Observers and models".
 
 mod error;
+pub mod evaluate;
 pub use error::PipelineError;
+pub use evaluate::{CellOutcome, Protocol, Win};
 
 /// `Result` with [`PipelineError`].
 pub type Result<T> = std::result::Result<T, PipelineError>;

@@ -7,8 +7,9 @@
 //! deterministic (the bitmap is encoded by plotters' `image` backend via a temporary file).
 
 use super::inputs::{Cache, RecKey};
-use super::report::{Cell, OurTable, Protocol, class_label};
+use super::report::{Cell, OurTable, class_label};
 use super::tables::{Condition, DissTable};
+use ::pipeline::Protocol;
 use ::pipeline::{Method, TreeDraw};
 use plotters::coord::Shift;
 use plotters::prelude::*;

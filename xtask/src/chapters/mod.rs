@@ -195,10 +195,28 @@ mod tests {
     /// reproduced byte for byte. Skips without the data unless `CI=true`.
     /// The boundary: the chapters schedule and report, the `pipeline` crate owns the method.
     /// xtask does not even depend on the crates that build observers, features or classifiers,
-    /// so it cannot build an observer or fit a classifier itself. (Its window splits are still
-    /// its own; see the `pipeline` crate's README for what is left to move.)
+    /// so it cannot build an observer or fit a classifier itself, and its sources hold no split
+    /// of windows into training and test (`pipeline::evaluate` does that).
     #[test]
     fn xtask_builds_no_observer_and_fits_no_classifier() {
+        for (name, src) in [
+            ("pipeline.rs", include_str!("pipeline.rs")),
+            ("report.rs", include_str!("report.rs")),
+            ("inputs.rs", include_str!("inputs.rs")),
+            ("figures.rs", include_str!("figures.rs")),
+        ] {
+            for needle in [
+                "SplitMix",
+                "fn random_split",
+                "fn time_split",
+                ".partition(",
+            ] {
+                assert!(
+                    !src.contains(needle),
+                    "{name} splits windows itself (`{needle}`): that belongs in `pipeline::evaluate`"
+                );
+            }
+        }
         let manifest = include_str!("../../Cargo.toml");
         for dep in ["observers", "classify", "residual-features"] {
             assert!(

@@ -8,12 +8,14 @@
 
 use super::inputs::{self, Cache, RecKey};
 use super::report::{
-    Cell, CellOutcome, ChapterReport, DataNote, OurTable, Protocol, ResidualRatios, SourceColumns,
-    class_label, pct,
+    Cell, ChapterReport, DataNote, OurTable, ResidualRatios, SourceColumns, class_label, pct,
 };
 use super::tables::{self, Condition, DissTable};
 use crate::common::Context;
-use ::pipeline::{self as pl, ClassifierKind, Method};
+use ::pipeline::evaluate::{
+    evaluate, leave_one_condition_out, leave_one_size_out, random_split, time_split,
+};
+use ::pipeline::{self as pl, ClassifierKind, Method, Protocol, Win};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
@@ -104,19 +106,6 @@ fn chapter_spec(ch: u8) -> anyhow::Result<(Vec<Method>, ClassifierKind, &'static
         ),
         other => anyhow::bail!("no chapter {other} (chapters 2–5 have tables)"),
     })
-}
-
-/// One window of a cell's dataset.
-#[derive(Debug, Clone, Copy)]
-struct Win {
-    class: usize,
-    /// Window index within its recording, and the recording's window count.
-    pos: usize,
-    count: usize,
-    /// Condition index (load or speed) and crack index (None for normal).
-    cond: usize,
-    crack: Option<usize>,
-    energy: f64,
 }
 
 /// What one (source, recording) job yields: window energies, a short residual trace for the
@@ -692,21 +681,7 @@ fn run_cell(
         Protocol::LeaveOneSizeOut => {
             let all: Vec<usize> = (0..d.cracks.len()).collect();
             let wins = windows_for(cfg, cache, d, feats, source, &all)?;
-            let (mut train, mut test) = (Vec::new(), Vec::new());
-            for w in wins {
-                match w.crack {
-                    None => {
-                        if w.pos * 4 < w.count * 3 {
-                            train.push(w)
-                        } else {
-                            test.push(w)
-                        }
-                    }
-                    Some(c) if c == ci => test.push(w),
-                    Some(_) => train.push(w),
-                }
-            }
-            folds.push((train, test));
+            folds.push(leave_one_size_out(&wins, ci));
         }
         Protocol::LeaveOneConditionOut => {
             if !pooled {
@@ -716,103 +691,10 @@ fn run_cell(
                 )));
             }
             let wins = cell_windows(cfg, cache, d, feats, source, ci)?;
-            let nconds = conditions(cfg, d).len();
-            for held in 0..nconds {
-                let (train, test): (Vec<Win>, Vec<Win>) = wins.iter().partition(|w| w.cond != held);
-                folds.push((train, test));
-            }
+            folds.extend(leave_one_condition_out(&wins, conditions(cfg, d).len()));
         }
     }
-    evaluate(&folds, nclass, clf).map(Cell::Measured)
-}
-
-/// Deterministic SplitMix64 (for the random split only; no dependency needed).
-struct SplitMix(u64);
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-}
-
-/// Stratified random 75/25 split (per class, Fisher–Yates with a seeded SplitMix64).
-fn random_split(wins: &[Win], nclass: usize, seed: u64) -> (Vec<Win>, Vec<Win>) {
-    let mut rng = SplitMix(0x5EED_0000 + seed);
-    let (mut train, mut test) = (Vec::new(), Vec::new());
-    for c in 0..nclass {
-        let mut idx: Vec<usize> = (0..wins.len()).filter(|&i| wins[i].class == c).collect();
-        for i in (1..idx.len()).rev() {
-            let j = (rng.next() % (i as u64 + 1)) as usize;
-            idx.swap(i, j);
-        }
-        let ntrain = (idx.len() * 3).div_ceil(4);
-        for (k, &i) in idx.iter().enumerate() {
-            if k < ntrain {
-                train.push(wins[i])
-            } else {
-                test.push(wins[i])
-            }
-        }
-    }
-    (train, test)
-}
-
-/// First 75 % of each recording's windows train, the rest test.
-fn time_split(wins: &[Win]) -> (Vec<Win>, Vec<Win>) {
-    wins.iter().partition(|w| w.pos * 4 < w.count * 3)
-}
-
-/// Train and test each fold; sum the confusions.
-fn evaluate(
-    folds: &[(Vec<Win>, Vec<Win>)],
-    nclass: usize,
-    clf: ClassifierKind,
-) -> anyhow::Result<CellOutcome> {
-    let mut conf = vec![vec![0u64; nclass]; nclass];
-    let mut accs = Vec::new();
-    let (mut n_train, mut n_test) = (0, 0);
-    for (train, test) in folds {
-        let xtr: Vec<f64> = train.iter().map(|w| w.energy).collect();
-        let ytr: Vec<usize> = train.iter().map(|w| w.class).collect();
-        let xte: Vec<f64> = test.iter().map(|w| w.energy).collect();
-        let pred = pl::fit_predict(clf, &xtr, &ytr, &xte, nclass)?;
-        let mut correct = 0usize;
-        for (w, &p) in test.iter().zip(&pred) {
-            conf[w.class][p.min(nclass - 1)] += 1;
-            if w.class == p {
-                correct += 1;
-            }
-        }
-        accs.push(100.0 * correct as f64 / test.len().max(1) as f64);
-        n_train = train.len();
-        n_test = test.len();
-    }
-    let per_class = conf
-        .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            let n: u64 = row.iter().sum();
-            (n > 0).then(|| 100.0 * row[i] as f64 / n as f64)
-        })
-        .collect();
-    let total: u64 = conf.iter().flatten().sum();
-    let diag: u64 = (0..nclass).map(|i| conf[i][i]).sum();
-    let average = 100.0 * diag as f64 / total.max(1) as f64;
-    let spread = (accs.len() > 1).then(|| {
-        let m = accs.iter().sum::<f64>() / accs.len() as f64;
-        (accs.iter().map(|a| (a - m).powi(2)).sum::<f64>() / (accs.len() - 1) as f64).sqrt()
-    });
-    Ok(CellOutcome {
-        per_class,
-        average,
-        spread,
-        confusion: conf,
-        n_train,
-        n_test,
-    })
+    Ok(Cell::Measured(evaluate(&folds, nclass, clf)?))
 }
 
 fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<String> {

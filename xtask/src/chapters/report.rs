@@ -4,62 +4,9 @@
 //! Nothing here computes an accuracy; it only lays out what the pipeline measured.
 
 use super::tables::DissTable;
+use ::pipeline::{CellOutcome, Protocol};
 use serde::Serialize;
 use std::fmt::Write as _;
-
-/// Which evaluation protocol produced a table.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Protocol {
-    /// The dissertation's: windows pooled, stratified random 75 / 25 split, repeated over seeds.
-    RandomWindows,
-    /// Each recording's first 75 % of windows train, its last 25 % test (no window is a
-    /// neighbour of a test window except at the single cut).
-    TimeBlocked,
-    /// Train on the other crack sizes, test on this one (no seeded fault shared).
-    LeaveOneSizeOut,
-    /// Train on the other loads (or speeds), test on this one; with one recording per class and
-    /// condition this is the grouped-by-recording protocol.
-    LeaveOneConditionOut,
-}
-
-impl Protocol {
-    /// Short name used in files.
-    pub fn key(self) -> &'static str {
-        match self {
-            Protocol::RandomWindows => "random_windows",
-            Protocol::TimeBlocked => "time_blocked",
-            Protocol::LeaveOneSizeOut => "leave_one_size_out",
-            Protocol::LeaveOneConditionOut => "leave_one_condition_out",
-        }
-    }
-    /// Heading used in Markdown.
-    pub fn title(self) -> &'static str {
-        match self {
-            Protocol::RandomWindows => "dissertation protocol (random 75/25 split of windows)",
-            Protocol::TimeBlocked => "time-blocked split (first 75 % of each recording trains)",
-            Protocol::LeaveOneSizeOut => "leave one fault size out",
-            Protocol::LeaveOneConditionOut => "grouped by recording (leave one load/speed out)",
-        }
-    }
-}
-
-/// The outcome of one cell (one classification problem).
-#[derive(Debug, Clone, Serialize)]
-pub struct CellOutcome {
-    /// Per-class accuracy in percent, in the table's row order (`None`: class absent from test).
-    pub per_class: Vec<Option<f64>>,
-    /// Average classification accuracy over all test windows (eq. 5.37), percent.
-    pub average: f64,
-    /// Standard deviation of the average over repetitions (seeds or folds), percent.
-    pub spread: Option<f64>,
-    /// Confusion matrix summed over repetitions: `confusion[true][predicted]`.
-    pub confusion: Vec<Vec<u64>>,
-    /// Training windows per repetition.
-    pub n_train: usize,
-    /// Test windows per repetition.
-    pub n_test: usize,
-}
 
 /// A cell: measured, or not applicable with the reason.
 #[derive(Debug, Clone, Serialize)]
