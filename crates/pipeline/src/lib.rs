@@ -427,14 +427,19 @@ pub fn window_energies(r: &[f64], len: usize, count: usize) -> Result<Vec<f64>> 
     Ok(out)
 }
 
+/// The chapter-5 tree's limits ([`TREE_MAX_DEPTH`], [`TREE_MIN_LEAF`]).
+fn tree_params() -> GiniTreeParams {
+    GiniTreeParams {
+        max_depth: Some(TREE_MAX_DEPTH),
+        min_samples_leaf: TREE_MIN_LEAF,
+        ..GiniTreeParams::default()
+    }
+}
+
 fn spec(kind: ClassifierKind) -> ClassifierSpec {
     match kind {
         ClassifierKind::Svm => ClassifierSpec::svm(),
-        ClassifierKind::Tree => ClassifierSpec::GiniTree(GiniTreeParams {
-            max_depth: Some(TREE_MAX_DEPTH),
-            min_samples_leaf: TREE_MIN_LEAF,
-            ..GiniTreeParams::default()
-        }),
+        ClassifierKind::Tree => ClassifierSpec::GiniTree(tree_params()),
     }
 }
 
@@ -513,15 +518,7 @@ fn fit_predict_uncached(
 pub fn tree_rules(x: &[f64], y: &[usize], labels: &[String]) -> Result<(String, TreeDraw)> {
     let data = energy_dataset(x, y, labels.to_vec(), "E")?;
     let train: Vec<usize> = (0..x.len()).collect();
-    let tree = classify::GiniTree::fit(
-        &GiniTreeParams {
-            max_depth: Some(TREE_MAX_DEPTH),
-            min_samples_leaf: TREE_MIN_LEAF,
-            ..GiniTreeParams::default()
-        },
-        &data,
-        &train,
-    )?;
+    let tree = classify::GiniTree::fit(&tree_params(), &data, &train)?;
     let names = vec!["E".to_string()];
     let mut text = String::from(
         "Rules learned by the Gini tree on the window energy E (thresholds in the residual's units squared):\n\n```text\n",
