@@ -3,6 +3,7 @@
 //! One small binary with a subcommand enum. Algorithm code lives in the library crates; each
 //! module here only wires crates together, writes reports and figures, and checks results.
 
+mod calibration;
 mod chapters;
 mod close_loop;
 mod common;
@@ -44,6 +45,8 @@ enum Task {
     CloseLoop(close_loop::Args),
     /// Calibrate a machine model on a healthy recording (the loop's result, saved as JSON).
     Calibrate(hybrid_fdd_cli::close_loop::CalibrateArgs),
+    /// Calibrate the simulator to the measured CWRU rig; compare simulated and measured records.
+    CalibrateRig(calibration::Args),
     /// Diagnose a recording (or a directory, or with --all-real every CWRU recording):
     /// normal, inner, outer, ball or a combination, training-free.
     Diagnose(diagnose::Args),
@@ -73,6 +76,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Task::All(a) => chapters::run(&ctx, &[2, 3, 4, 5], a),
         Task::CloseLoop(a) => close_loop::run(&ctx, a),
         Task::Calibrate(a) => hybrid_fdd_cli::close_loop::calibrate(a),
+        Task::CalibrateRig(a) => calibration::run(&ctx, a),
         Task::Diagnose(a) => diagnose::run(&ctx, a),
     }
 }

@@ -58,7 +58,9 @@ impl Housing {
 pub struct Contact {
     /// Load–deflection constant `k_b` (the dissertation's `C_P`), N/m^1.5.
     pub hertz_constant: f64,
-    /// Radial clearance subtracted from every ball's deflection, m (≥ 0).
+    /// Radial clearance subtracted from every ball's deflection, m. Negative values are a
+    /// radial preload (interference fit): every ball is compressed by `|clearance_m|` at the
+    /// centred position, so the load zone spans the whole circumference.
     pub clearance_m: f64,
 }
 
@@ -292,9 +294,9 @@ impl ModelSpec {
         check_range(
             "clearance_m",
             self.contact.clearance_m,
-            0.0,
+            -1e-4,
             1e-3,
-            "0 ..= 1 mm",
+            "-0.1 mm (preload) ..= 1 mm",
         )?;
         check_range("radial_load_n", self.radial_load_n, 0.0, 1e6, "0 ..= 1e6 N")?;
         check_range("rpm", self.speed.rpm, 0.0, 1e5, "0 ..= 100000")?;

@@ -32,6 +32,7 @@ mod optimize;
 pub mod path;
 pub mod physics;
 pub mod report;
+pub mod rig;
 mod runner;
 pub mod scenario;
 pub mod spectrum;
