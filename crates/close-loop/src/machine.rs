@@ -145,23 +145,19 @@ impl MachineModel {
     ) -> Self {
         let fr = ctx.op.shaft_hz() * st.base.ratio;
         let mut lines: Vec<MachineLine> = Vec::new();
-        // a line at (half) a shaft order within the harmonic tolerance (or a quarter order)
-        // moves with the speed; any other line is a tone fixed in Hz
-        let tol = ctx.cfg.get().harmonic_tolerance;
+        // a line the loop names a shaft harmonic (integer order up to `max_harmonic_order`,
+        // half order up to 5½, within the harmonic tolerance) moves with the speed; any other
+        // line — CWRU's ~4.2 kHz interference comb among them — is a tone fixed in Hz
         for l in &st.lines {
-            let f = l.frequency_hz;
-            let k2 = (2.0 * f / fr).round();
-            let near = k2 >= 1.0 && (f - k2 / 2.0 * fr).abs() <= (tol * f).min(0.25 * fr);
-            lines.push(if near {
-                MachineLine::ShaftHarmonic {
-                    order: k2 / 2.0,
+            lines.push(match crate::runner::classify_line(*l, fr, ctx.cfg.get()) {
+                crate::Effect::ShaftHarmonic { order, .. } => MachineLine::ShaftHarmonic {
+                    order,
                     amplitude: l.amplitude(),
-                }
-            } else {
-                MachineLine::Tone {
-                    frequency_hz: f,
+                },
+                _ => MachineLine::Tone {
+                    frequency_hz: l.frequency_hz,
                     amplitude: l.amplitude(),
-                }
+                },
             });
         }
         let mut housing_mode = None;

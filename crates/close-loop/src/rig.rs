@@ -150,8 +150,14 @@ pub struct RigModel {
     pub units: String,
     /// Bearing designation of the 5-DOF model.
     pub bearing: String,
-    /// The healthy machine.
+    /// The healthy machine, as calibrated on the healthy recording (its lines at that
+    /// recording's levels).
     pub healthy: MachineModel,
+    /// The healthy machine's lines as the fault records' measurement chain sees them (tones —
+    /// the chain's interference — rescaled to the training records; shaft orders unchanged):
+    /// what [`RigModel::synthesize`] uses.
+    #[serde(default)]
+    pub chain_lines: Vec<MachineLine>,
     /// The paths the 5-DOF excitation of each fault location is seen through (unit excitation
     /// variance: the severity gains carry the level).
     pub impact_paths: Vec<ImpactPath>,
@@ -159,6 +165,11 @@ pub struct RigModel {
     /// it sets how far round the bearing the balls stay loaded, hence the load-zone
     /// modulation of the impacts).
     pub preload_m: f64,
+    /// Horizontal sensitivity of the sensor relative to vertical: the fault excitation is the
+    /// vertical housing acceleration plus this times the horizontal pedestal acceleration
+    /// (fitted on outer-race records with the spall off the sensor axis; 0 without any).
+    #[serde(default)]
+    pub sensor_horizontal: f64,
     /// Spall depth used in the excitation model, m.
     pub depth_m: f64,
     /// Slip fraction used in the excitation model.
@@ -211,7 +222,8 @@ fn bad(name: &'static str, value: f64, min: f64, max: f64) -> CloseLoopError {
 
 /// The 5-DOF excitation of `class` (spalls of `size_mm` at depth [`DEPTH_M`], outer race at
 /// `outer_angle_rad`, slip [`SLIP_FRACTION`], every ball preloaded by `preload_m`): `n` samples of the housing acceleration (m/s²)
-/// with the sprung-mass resonance moved to [`EXCITATION_HOUSING_HZ`], mean removed. Zeros for
+/// with the sprung-mass resonance moved to [`EXCITATION_HOUSING_HZ`], and of the horizontal
+/// pedestal acceleration, means removed. Zeros for
 /// [`FaultClass::None`] (a healthy bearing's own response is part of the healthy machine).
 ///
 /// # Errors
@@ -227,9 +239,12 @@ pub fn excitation(
     fs: f64,
     n: usize,
     seed: u64,
-) -> Result<Vec<f64>, CloseLoopError> {
+) -> Result<Excitation, CloseLoopError> {
     if class == FaultClass::None {
-        return Ok(vec![0.0; n]);
+        return Ok(Excitation {
+            vertical: vec![0.0; n],
+            horizontal: vec![0.0; n],
+        });
     }
     if !(size_mm.is_finite() && size_mm > 0.0) {
         return Err(bad("size_mm", size_mm, f64::MIN_POSITIVE, 10.0));
@@ -255,18 +270,52 @@ pub fn excitation(
         o.angle_rad = outer_angle_rad;
     }
     sc.spec.validate().map_err(model_err)?;
-    let rec = sc.simulate().map_err(model_err)?;
-    let mut x = rec.accel;
-    if x.len() < n {
+    let rec = sc.with_states(true).simulate().map_err(model_err)?;
+    let (mut x, states) = (rec.accel, rec.states.unwrap_or_default());
+    if x.len() < n || states.len() < n {
         return Err(CloseLoopError::ModelLength {
             expected: n,
-            found: x.len(),
+            found: x.len().min(states.len()),
         });
     }
     x.truncate(n);
-    let m = x.iter().sum::<f64>() / n.max(1) as f64;
-    x.iter_mut().for_each(|v| *v -= m);
-    Ok(x)
+    // horizontal pedestal acceleration: central difference of its velocity (state 7)
+    let v: Vec<f64> = states[..n].iter().map(|s| s[7]).collect();
+    let mut h: Vec<f64> = (0..n)
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
+            (v[b] - v[a]) * fs / (b - a).max(1) as f64
+        })
+        .collect();
+    for y in [&mut x, &mut h] {
+        let m = y.iter().sum::<f64>() / n.max(1) as f64;
+        y.iter_mut().for_each(|v| *v -= m);
+    }
+    Ok(Excitation {
+        vertical: x,
+        horizontal: h,
+    })
+}
+
+/// The 5-DOF excitation seen by the sensor: vertical housing acceleration and horizontal
+/// pedestal acceleration (m/s²).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Excitation {
+    /// Vertical (sprung-mass) acceleration, anti-alias filtered.
+    pub vertical: Vec<f64>,
+    /// Horizontal pedestal acceleration (central difference of the sampled velocity).
+    pub horizontal: Vec<f64>,
+}
+
+impl Excitation {
+    /// What a sensor with horizontal sensitivity `kappa` (relative to vertical) sees.
+    pub fn seen(&self, kappa: f64) -> Vec<f64> {
+        self.vertical
+            .iter()
+            .zip(&self.horizontal)
+            .map(|(v, h)| v + kappa * h)
+            .collect()
+    }
 }
 
 /// Mean square.
@@ -341,7 +390,18 @@ impl RigModel {
     /// The healthy machine's signal: path noise, floor and lines (seeded), `n` samples at rig
     /// speed `rpm` (nominal; the calibrated speed ratio is applied).
     pub fn background(&self, rpm: f64, n: usize, seed: u64) -> Vec<f64> {
-        background_of(&self.healthy, self.fs_hz, rpm, n, seed)
+        let lines = if self.chain_lines.is_empty() {
+            &self.healthy.lines
+        } else {
+            &self.chain_lines
+        };
+        background_of(&self.healthy, lines, self.fs_hz, rpm, n, seed)
+    }
+
+    /// The healthy machine as its calibration recording holds it (lines at that recording's
+    /// levels): what the healthy recording is compared with.
+    pub fn background_as_calibrated(&self, rpm: f64, n: usize, seed: u64) -> Vec<f64> {
+        background_of(&self.healthy, &self.healthy.lines, self.fs_hz, rpm, n, seed)
     }
 
     /// The fault's contribution: for each location of the class, the 5-DOF excitation of its
@@ -373,6 +433,7 @@ impl RigModel {
                 s.n + WARMUP,
                 s.seed,
             )?;
+            let e = e.seen(self.sensor_horizontal);
             let x: Vec<f64> = mix(&e, q, s.seed ^ 0x5EED_0F_F1)
                 .iter()
                 .map(|v| g * v)
@@ -529,7 +590,14 @@ fn kurtosis(y: &[f64]) -> f64 {
 }
 
 /// The healthy machine's signal (see [`RigModel::background`]).
-fn background_of(machine: &MachineModel, fs: f64, rpm: f64, n: usize, seed: u64) -> Vec<f64> {
+fn background_of(
+    machine: &MachineModel,
+    lines: &[MachineLine],
+    fs: f64,
+    rpm: f64,
+    n: usize,
+    seed: u64,
+) -> Vec<f64> {
     let h = &machine;
     let mut g = Gaussian::new(seed ^ 0xB6C0_5EED);
     let mut y = vec![0.0; n];
@@ -544,7 +612,7 @@ fn background_of(machine: &MachineModel, fs: f64, rpm: f64, n: usize, seed: u64)
         y.iter_mut().for_each(|v| *v += floor_sd * g.sample());
     }
     let fr = rpm / 60.0 * h.speed_ratio;
-    for l in &h.lines {
+    for l in lines {
         let (f, a) = match *l {
             MachineLine::ShaftHarmonic { order, amplitude } => (order * fr, amplitude),
             MachineLine::Tone {
@@ -562,11 +630,63 @@ fn background_of(machine: &MachineModel, fs: f64, rpm: f64, n: usize, seed: u64)
     y
 }
 
+/// The tones of the healthy machine (lines fixed in Hz: the measurement chain's interference,
+/// e.g. CWRU's ~4.2 kHz comb) belong to the recording chain, not to the machine, and differ
+/// between the healthy recording and the fault records. Each tone's amplitude is rescaled by the
+/// median, over the training records, of the square root of its peak excess (largest PSD within
+/// ±2 bins over the median of ±50 Hz) relative to the healthy recording's.
+fn chain_tones(
+    machine: &MachineModel,
+    healthy: &[f64],
+    training: &[TrainingRecord<'_>],
+    fs: f64,
+) -> Result<Vec<MachineLine>, CloseLoopError> {
+    let mut lines = machine.lines.clone();
+    let welch = Welch::new(fs, ((fs / 3.0).log2().round().exp2() as usize).max(1024))?;
+    let df = welch.df();
+    let excess = |p: &[f64], f: f64| {
+        let k = (f / df).round() as usize;
+        let w = ((50.0 / df).round() as usize).max(4);
+        if k + w >= p.len() || k < w {
+            return None;
+        }
+        let peak = p[k - 2..=k + 2].iter().copied().fold(0.0, f64::max);
+        let med = crate::spectrum::median(&p[k - w..=k + w]);
+        Some((peak - med).max(0.0))
+    };
+    let p_h = welch.try_psd(healthy)?;
+    let p_t: Vec<Vec<f64>> = training
+        .iter()
+        .map(|t| welch.try_psd(t.y))
+        .collect::<Result<_, _>>()?;
+    for l in lines.iter_mut() {
+        if let MachineLine::Tone {
+            frequency_hz,
+            amplitude,
+        } = l
+        {
+            let Some(h) = excess(&p_h, *frequency_hz).filter(|h| *h > 0.0) else {
+                continue;
+            };
+            let mut r: Vec<f64> = p_t
+                .iter()
+                .filter_map(|p| excess(p, *frequency_hz))
+                .map(|e| (e / h).sqrt())
+                .collect();
+            if !r.is_empty() {
+                r.sort_by(f64::total_cmp);
+                *amplitude *= r[r.len() / 2];
+            }
+        }
+    }
+    Ok(lines)
+}
+
 /// Impact paths and gains fitted for one preload.
 struct PathFit {
     paths: Vec<ImpactPath>,
     gains: Vec<f64>,
-    sims: Vec<Vec<f64>>,
+    sims: Vec<Excitation>,
 }
 
 impl PathFit {
@@ -613,7 +733,7 @@ fn fit_paths(
             t.y.len().min(len) + WARMUP,
             1000 + i as u64,
         )?;
-        let s_x = smooth(&welch.try_psd(&x)?, half);
+        let s_x = smooth(&welch.try_psd(&x.vertical)?, half);
         let r: Vec<f64> = measured[i]
             .0
             .iter()
@@ -654,7 +774,7 @@ fn fit_paths(
         sims,
     };
     for (i, t) in training.iter().enumerate() {
-        let through = fit.path_of(t.location).filter(&fit.sims[i]);
+        let through = fit.path_of(t.location).filter(&fit.sims[i].vertical);
         let ms_x = mean_square(&through[WARMUP.min(through.len() / 2)..]);
         if !(ms_x > 0.0 && ms_x.is_finite()) {
             return Err(CloseLoopError::Model {
@@ -701,6 +821,14 @@ pub fn calibrate_rig(
     rule: &str,
 ) -> Result<RigModel, CloseLoopError> {
     let machine = crate::machine::calibrate(healthy, fs, rpm, bearing, cfg)?;
+    // outer-race records with the spall off the vertical (sensor) axis calibrate the sensor's
+    // horizontal sensitivity; the rest calibrate paths and severities
+    let off_axis =
+        |t: &TrainingRecord<'_>| t.location == Location::Outer && t.outer_angle_rad.sin().abs() < 0.5;
+    let cross: Vec<TrainingRecord<'_>> = training.iter().copied().filter(off_axis).collect();
+    let training: Vec<TrainingRecord<'_>> =
+        training.iter().copied().filter(|t| !off_axis(t)).collect();
+    let training = training.as_slice();
     if training.is_empty() {
         return Err(CloseLoopError::Model {
             reason: "no training fault record to calibrate the impact paths on".into(),
@@ -715,6 +843,7 @@ pub fn calibrate_rig(
         .iter()
         .map(|t| Ok((smooth(&welch.try_psd(t.y)?, half), variance(t.y))))
         .collect::<Result<_, CloseLoopError>>()?;
+    let chain_lines = chain_tones(&machine, healthy, training, fs)?;
     let kurt: Vec<f64> = training.iter().map(|t| kurtosis(t.y)).collect();
     // the contact load: the preload whose fitted rig gives the training records' kurtosis best
     // (mean |ln(simulated / measured kurtosis)|), on 2 s excitations
@@ -727,8 +856,14 @@ pub fn calibrate_rig(
         let mut err = 0.0;
         for (i, t) in training.iter().enumerate() {
             let (g, path) = (&fit.gains[i], fit.path_of(t.location));
-            let through = path.filter(&fit.sims[i].iter().map(|v| g * v).collect::<Vec<_>>());
-            let bg = background_of(&machine, fs, t.rpm, through.len(), 7 + i as u64);
+            let through = path.filter(
+                &fit.sims[i]
+                    .vertical
+                    .iter()
+                    .map(|v| g * v)
+                    .collect::<Vec<_>>(),
+            );
+            let bg = background_of(&machine, &chain_lines, fs, t.rpm, through.len(), 7 + i as u64);
             let y: Vec<f64> = through.iter().zip(&bg).map(|(a, b)| a + b).collect();
             err += (kurtosis(&y[WARMUP.min(y.len() / 2)..]) / kurt[i])
                 .ln()
@@ -744,57 +879,65 @@ pub fn calibrate_rig(
     let fit = fit_paths(
         bearing, preload_m, fs, &machine, training, &measured, &s_h, ms_h, &welch, half, long,
     )?;
-    let mut severities = Vec::with_capacity(training.len());
-    for (i, t) in training.iter().enumerate() {
-        let path = fit.path_of(t.location);
-        let bg = background_of(&machine, fs, t.rpm, fit.sims[i].len(), 7 + i as u64);
-        let excess = (measured[i].1 - ms_h).max(0.0);
-        // gain and kurtosis of the simulated record for a random fraction q
-        let at = |q: f64| {
-            let through = path.filter(&mix(&fit.sims[i], q, 11 + i as u64));
-            let skip = WARMUP.min(through.len() / 2);
-            let g = (excess / mean_square(&through[skip..]).max(1e-300)).sqrt();
-            let y: Vec<f64> = through[skip..]
-                .iter()
-                .zip(&bg[skip..])
-                .map(|(a, b)| g * a + b)
-                .collect();
-            (g, kurtosis(&y))
-        };
-        let (mut lo, mut hi) = (0.0, 0.99);
-        let q = if at(lo).1 <= kurt[i] {
-            0.0
-        } else if at(hi).1 >= kurt[i] {
-            hi
-        } else {
-            for _ in 0..14 {
-                let mid = 0.5 * (lo + hi);
-                if at(mid).1 > kurt[i] {
-                    lo = mid;
-                } else {
-                    hi = mid;
+    // severities (gain, random fraction) of every training record for a sensor κ
+    let severities_for = |kappa: f64| {
+        let mut out = Vec::with_capacity(training.len());
+        for (i, t) in training.iter().enumerate() {
+            let path = fit.path_of(t.location);
+            let seen = fit.sims[i].seen(kappa);
+            let bg = background_of(&machine, &chain_lines, fs, t.rpm, fit.sims[i].vertical.len(), 7 + i as u64);
+            let excess = (measured[i].1 - ms_h).max(0.0);
+            // gain and kurtosis of the simulated record for a random fraction q
+            let at = |q: f64| {
+                let through = path.filter(&mix(&seen, q, 11 + i as u64));
+                let skip = WARMUP.min(through.len() / 2);
+                let g = (excess / mean_square(&through[skip..]).max(1e-300)).sqrt();
+                let y: Vec<f64> = through[skip..]
+                    .iter()
+                    .zip(&bg[skip..])
+                    .map(|(a, b)| g * a + b)
+                    .collect();
+                (g, kurtosis(&y))
+            };
+            let (mut lo, mut hi) = (0.0, 0.99);
+            let q = if at(lo).1 <= kurt[i] {
+                0.0
+            } else if at(hi).1 >= kurt[i] {
+                hi
+            } else {
+                for _ in 0..14 {
+                    let mid = 0.5 * (lo + hi);
+                    if at(mid).1 > kurt[i] {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
                 }
-            }
-            0.5 * (lo + hi)
-        };
-        severities.push(Severity {
-            location: t.location,
-            size_mm: t.size_mm,
-            gain: at(q).0,
-            random_fraction: q,
-            record: t.name.to_string(),
-        });
-    }
-    let impact_paths = fit.paths;
-    Ok(RigModel {
+                0.5 * (lo + hi)
+            };
+            out.push(Severity {
+                location: t.location,
+                size_mm: t.size_mm,
+                gain: at(q).0,
+                random_fraction: q,
+                record: t.name.to_string(),
+            });
+        }
+        out
+    };
+    let severities = severities_for(0.0);
+    let impact_paths = fit.paths.clone();
+    let mut rig = RigModel {
         format: FORMAT.to_string(),
         version: VERSION,
         fs_hz: fs,
         units: "unknown".to_string(),
         bearing: machine.bearing.clone(),
-        healthy: machine,
+        healthy: machine.clone(),
+        chain_lines: chain_lines.clone(),
         impact_paths,
         preload_m,
+        sensor_horizontal: 0.0,
         depth_m: DEPTH_M,
         slip_fraction: SLIP_FRACTION,
         severities,
@@ -803,6 +946,65 @@ pub fn calibrate_rig(
             training_records: training.iter().map(|t| t.name.to_string()).collect(),
             training_rule: rule.to_string(),
         },
+    };
+    rig.provenance
+        .training_records
+        .extend(cross.iter().map(|t| t.name.to_string()));
+    // κ from the off-axis records with the κ = 0 severities, then the severities again with κ
+    rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross, ms_h)?;
+    if rig.sensor_horizontal > 0.0 {
+        rig.severities = severities_for(rig.sensor_horizontal);
+    }
+    Ok(rig)
+}
+
+/// The sensor's horizontal sensitivity κ: for each off-axis outer-race record, the κ in [0, 20]
+/// (bisection) at which the rig's simulated mean square — the 6 o'clock severity of its size —
+/// matches the measured one; the geometric mean over the records (0 without any).
+fn fit_horizontal(
+    rig: &RigModel,
+    bearing: Bearing,
+    cross: &[TrainingRecord<'_>],
+    ms_h: f64,
+) -> Result<f64, CloseLoopError> {
+    let mut logs = Vec::new();
+    for (i, t) in cross.iter().enumerate() {
+        let (g, q) = rig.severity(Location::Outer, t.size_mm)?;
+        let e = excitation(
+            bearing,
+            rig.preload_m,
+            FaultClass::Outer,
+            t.size_mm,
+            t.rpm * rig.healthy.speed_ratio,
+            t.outer_angle_rad,
+            rig.fs_hz,
+            t.y.len().min((4.0 * rig.fs_hz) as usize) + WARMUP,
+            2000 + i as u64,
+        )?;
+        let path = rig.impact_path(Location::Outer)?;
+        let ms = |k: f64| {
+            let f = path.filter(&mix(&e.seen(k), q, 13 + i as u64));
+            g * g * mean_square(&f[WARMUP..])
+        };
+        let target = (variance(t.y) - ms_h).max(0.0);
+        let (mut lo, mut hi) = (0.0f64, 20.0f64);
+        if ms(hi) < target || ms(lo) > target {
+            continue;
+        }
+        for _ in 0..30 {
+            let mid = 0.5 * (lo + hi);
+            if ms(mid) < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        logs.push((0.5 * (lo + hi)).max(1e-6).ln());
+    }
+    Ok(if logs.is_empty() {
+        0.0
+    } else {
+        (logs.iter().sum::<f64>() / logs.len() as f64).exp()
     })
 }
 

@@ -379,7 +379,7 @@ pub(super) const MAX_HALF_ORDER: f64 = 5.5;
 /// Name a line: a shaft harmonic when it sits within `harmonic_tolerance` of an order k·fr
 /// (k = 1 … `max_harmonic_order`) or a half order (½ … 5½) and nearer to it than to a multiple of
 /// the declared line frequency; a tone otherwise.
-pub(super) fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effect {
+pub(crate) fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effect {
     let f = line.frequency_hz;
     let k2 = (2.0 * f / fr).round();
     let order = k2 / 2.0;

@@ -497,6 +497,7 @@ mod modulation;
 mod resonance;
 mod speed;
 
+pub(crate) use lines::classify_line;
 use lines::{fit_line, line_candidates, shaft_force_candidate};
 use modulation::modulation_candidates;
 use resonance::resonance_candidates;
