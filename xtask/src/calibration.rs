@@ -103,9 +103,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         .filter(|e| bearing_data::record_path(dir, e.number).is_ok_and(|p| p.exists()))
         .collect();
     let is_training = |e: &CatalogEntry| {
-        e.fs_hz == 12_000
-            && e.load_hp == 0
-            && e.outer_position != Some(OuterPosition::Opposite12)
+        e.fs_hz == 12_000 && e.load_hp == 0 && e.outer_position != Some(OuterPosition::Opposite12)
     };
     let mut loaded = Vec::new();
     for e in &entries {

@@ -52,6 +52,18 @@ pub const IMPACT_PATH_ORDER: usize = 48;
 /// Settling samples discarded before a synthesized recording (path start-up).
 const WARMUP: usize = 4096;
 
+/// The committed calibration of the CWRU rig (`cargo xtask calibrate-rig`): 6205 drive end,
+/// 12 kHz, units g.
+pub const CWRU_RIG_JSON: &str = include_str!("../rig/cwru-12k.json");
+
+/// The calibrated CWRU rig ([`CWRU_RIG_JSON`], validated).
+///
+/// # Errors
+/// [`CloseLoopError::MachineModelFormat`] if the committed file is not a valid rig model.
+pub fn cwru_rig() -> Result<RigModel, CloseLoopError> {
+    RigModel::from_json(CWRU_RIG_JSON)
+}
+
 /// Where a fault sits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -823,8 +835,9 @@ pub fn calibrate_rig(
     let machine = crate::machine::calibrate(healthy, fs, rpm, bearing, cfg)?;
     // outer-race records with the spall off the vertical (sensor) axis calibrate the sensor's
     // horizontal sensitivity; the rest calibrate paths and severities
-    let off_axis =
-        |t: &TrainingRecord<'_>| t.location == Location::Outer && t.outer_angle_rad.sin().abs() < 0.5;
+    let off_axis = |t: &TrainingRecord<'_>| {
+        t.location == Location::Outer && t.outer_angle_rad.sin().abs() < 0.5
+    };
     let cross: Vec<TrainingRecord<'_>> = training.iter().copied().filter(off_axis).collect();
     let training: Vec<TrainingRecord<'_>> =
         training.iter().copied().filter(|t| !off_axis(t)).collect();
@@ -863,7 +876,14 @@ pub fn calibrate_rig(
                     .map(|v| g * v)
                     .collect::<Vec<_>>(),
             );
-            let bg = background_of(&machine, &chain_lines, fs, t.rpm, through.len(), 7 + i as u64);
+            let bg = background_of(
+                &machine,
+                &chain_lines,
+                fs,
+                t.rpm,
+                through.len(),
+                7 + i as u64,
+            );
             let y: Vec<f64> = through.iter().zip(&bg).map(|(a, b)| a + b).collect();
             err += (kurtosis(&y[WARMUP.min(y.len() / 2)..]) / kurt[i])
                 .ln()
@@ -885,7 +905,14 @@ pub fn calibrate_rig(
         for (i, t) in training.iter().enumerate() {
             let path = fit.path_of(t.location);
             let seen = fit.sims[i].seen(kappa);
-            let bg = background_of(&machine, &chain_lines, fs, t.rpm, fit.sims[i].vertical.len(), 7 + i as u64);
+            let bg = background_of(
+                &machine,
+                &chain_lines,
+                fs,
+                t.rpm,
+                fit.sims[i].vertical.len(),
+                7 + i as u64,
+            );
             let excess = (measured[i].1 - ms_h).max(0.0);
             // gain and kurtosis of the simulated record for a random fraction q
             let at = |q: f64| {

@@ -159,16 +159,27 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
             };
             let sig =
                 bearing_data::read_csv_file(path, &bearing_data::CsvOptions::new(fs, column))?;
+            // `simulate` states the unit of `accel` in its JSON sidecar (g for the calibrated
+            // rig, m/s² for the 5-DOF parameter sets; m/s² when there is no sidecar)
+            let in_g = has_accel
+                && std::fs::read_to_string(path.with_extension("json"))
+                    .ok()
+                    .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+                    .is_some_and(|v| v["accel_unit"] == "g");
             Ok(Loaded {
                 samples: sig.into_samples(),
                 fs_hz: fs,
                 rpm: None,
-                unit: if has_accel {
-                    "m/s² (`cargo xtask simulate` output)"
-                } else {
-                    "CSV units (not stated in the file)"
+                unit: match (has_accel, in_g) {
+                    (true, true) => "g (`simulate` output, calibrated CWRU rig)",
+                    (true, false) => "m/s² (`simulate` output)",
+                    _ => "CSV units (not stated in the file)",
                 },
-                units: if has_accel { "m/s^2" } else { "unknown" },
+                units: match (has_accel, in_g) {
+                    (true, true) => "g",
+                    (true, false) => "m/s^2",
+                    _ => "unknown",
+                },
                 fault_size_in: None,
             })
         }

@@ -1,6 +1,12 @@
-//! `hybrid-fdd simulate` (and `cargo xtask simulate`): run the 5-DOF bearing model (crate `bearing-model`) and write a CSV
-//! recording: one header row, `time_s,accel` (housing acceleration in m/s²), plus all ten
-//! states with `--states`. A JSON sidecar (`<out>.json`) records every parameter used.
+//! `hybrid-fdd simulate` (and `cargo xtask simulate`): simulate a recording and write it as CSV:
+//! one header row, `time_s,accel`, plus all ten states with `--states` (5-DOF sets only). A JSON
+//! sidecar (`<out>.json`) records every parameter used and the unit of `accel` (`accel_unit`).
+//!
+//! At CWRU conditions (6205, 12 kHz) the default is the **calibrated rig**
+//! (`close_loop::rig::cwru_rig`, `cargo xtask calibrate-rig`): the 5-DOF model behind the
+//! measured paths of the CWRU rig, in g like the CWRU data. `--params cwru` (the physically
+//! consistent, uncalibrated 5-DOF set) and `--params table2.1` (the dissertation's) give the bare
+//! 5-DOF housing acceleration in m/s².
 
 use anyhow::Context as _;
 use bearing_model::{
@@ -28,9 +34,14 @@ pub struct Args {
     /// Seed of slip, parameter uncertainty and noise.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Parameter set: cwru (physically consistent CWRU rig) | table2.1 (dissertation, as printed).
-    #[arg(long, default_value = "cwru")]
+    /// Parameter set: auto (the calibrated CWRU rig for the 6205 at 12 kHz, else cwru) |
+    /// calibrated | cwru (physically consistent, uncalibrated 5-DOF set) | table2.1
+    /// (dissertation, as printed).
+    #[arg(long, default_value = "auto")]
     pub params: String,
+    /// Outer-race spall position, o'clock: 6 (load zone), 3 or 12 (CWRU's positions).
+    #[arg(long, default_value_t = 6)]
+    pub outer_clock: u8,
     /// Bearing: 6205 (CWRU drive end) | 6203 (fan end).
     #[arg(long, default_value = "6205")]
     pub bearing: String,
@@ -73,7 +84,10 @@ const STATE_NAMES: [&str; 10] = [
 /// Build the scenario the flags describe (all validation errors are `bearing-model`'s).
 pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
     let class: FaultClass = args.fault.parse()?;
-    let set: ParamSet = args.params.parse()?;
+    let set: ParamSet = match args.params.to_ascii_lowercase().as_str() {
+        "auto" | "calibrated" => ParamSet::CwruRig,
+        other => other.parse()?,
+    };
     let bearing: Bearing = args.bearing.parse()?;
     anyhow::ensure!(
         args.rpm.is_finite() && args.rpm > 0.0,
@@ -105,6 +119,9 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
             class,
             Spall::new(args.fault_size * 1e-3).with_depth(args.fault_depth * 1e-3),
         );
+        if let Some(o) = sc.spec.faults.outer.as_mut() {
+            o.angle_rad = outer_angle(args.outer_clock)?;
+        }
     }
     if let Some(f) = args.resonance {
         sc.spec.housing.resonance_hz = f;
@@ -113,6 +130,123 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
         sc = sc.with_fault_onset(t);
     }
     Ok(sc)
+}
+
+/// Spall angle of an o'clock position (y up: 6 o'clock = −π/2, 3 o'clock = 0, 12 = π/2).
+fn outer_angle(clock: u8) -> anyhow::Result<f64> {
+    Ok(match clock {
+        6 => -std::f64::consts::FRAC_PI_2,
+        3 => 0.0,
+        12 => std::f64::consts::FRAC_PI_2,
+        9 => std::f64::consts::PI,
+        other => anyhow::bail!("--outer-clock must be 3, 6, 9 or 12 (got {other})"),
+    })
+}
+
+/// Whether the flags ask for the calibrated rig: `calibrated`, or `auto` at its conditions.
+///
+/// # Errors
+/// `--params calibrated` away from the rig's conditions (bearing, sampling rate).
+pub fn wants_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<bool> {
+    let p = args.params.to_ascii_lowercase();
+    let at = rig.check_compatible(args.fs, args.bearing.trim()).is_ok();
+    match p.as_str() {
+        "calibrated" if !at => anyhow::bail!(
+            "the calibrated rig is the {} at {} Hz; got --bearing {} --fs {} (use --params cwru)",
+            rig.bearing,
+            rig.fs_hz,
+            args.bearing,
+            args.fs
+        ),
+        "calibrated" => Ok(true),
+        "auto" => Ok(at),
+        _ => Ok(false),
+    }
+}
+
+/// Flags that only the bare 5-DOF sets use, set away from their defaults.
+fn bare_only_flags(args: &Args) -> Vec<&'static str> {
+    let mut v = Vec::new();
+    let d = |a: f64, b: f64| (a - b).abs() > 1e-12;
+    if args.states {
+        v.push("--states");
+    }
+    if args.snr_db.is_some() {
+        v.push("--snr-db");
+    }
+    if d(args.radial_load, 0.0) {
+        v.push("--radial-load");
+    }
+    if args.resonance.is_some() {
+        v.push("--resonance");
+    }
+    if args.onset.is_some() {
+        v.push("--onset");
+    }
+    if d(args.max_step, SimConfig::DEFAULT_MAX_STEP) {
+        v.push("--max-step");
+    }
+    if d(args.fault_depth, CWRU_DEPTH_M * 1e3) {
+        v.push("--fault-depth");
+    }
+    if d(args.slip, 0.01) {
+        v.push("--slip");
+    }
+    v
+}
+
+/// Simulate with the calibrated rig: the recording (g) and its sidecar's `rig` object.
+///
+/// # Errors
+/// Flags the rig does not take, and the rig's typed errors.
+pub fn simulate_rig(
+    args: &Args,
+    rig: &close_loop::rig::RigModel,
+) -> anyhow::Result<(Vec<f64>, serde_json::Value)> {
+    let bare = bare_only_flags(args);
+    anyhow::ensure!(
+        bare.is_empty(),
+        "{} only apply to the bare 5-DOF sets (--params cwru|table2.1), not to the calibrated rig",
+        bare.join(", ")
+    );
+    let class: FaultClass = args.fault.parse()?;
+    anyhow::ensure!(
+        args.rpm.is_finite() && args.rpm > 0.0,
+        "--rpm must be > 0 (got {})",
+        args.rpm
+    );
+    anyhow::ensure!(
+        args.duration.is_finite() && args.duration > 0.0 && args.duration <= 3600.0,
+        "--duration must be in (0, 3600] s (got {})",
+        args.duration
+    );
+    let n = (args.duration * args.fs).round() as usize;
+    let mut syn = close_loop::rig::Synthesis::new(class, args.fault_size, args.rpm, n, args.seed);
+    syn.outer_angle_rad = outer_angle(args.outer_clock)?;
+    let y = rig.synthesize(&syn)?;
+    let mut used = serde_json::Map::new();
+    for loc in close_loop::rig::Location::ALL
+        .into_iter()
+        .filter(|l| l.in_class(class))
+    {
+        let (g, q) = rig.severity(loc, args.fault_size)?;
+        used.insert(
+            loc.name().into(),
+            serde_json::json!({ "gain": g, "random_fraction": q }),
+        );
+    }
+    let info = serde_json::json!({
+        "format": rig.format,
+        "version": rig.version,
+        "units": rig.units,
+        "provenance": rig.provenance,
+        "preload_m": rig.preload_m,
+        "sensor_horizontal": rig.sensor_horizontal,
+        "speed_ratio": rig.healthy.speed_ratio,
+        "severity_used": used,
+        "calibrated_sizes_mm": rig.severities.iter().map(|s| (s.location.name(), s.size_mm)).collect::<Vec<_>>(),
+    });
+    Ok((y, info))
 }
 
 /// Write a recording as CSV: header `time_s,accel[,states…]`, one row per sample.
@@ -141,6 +275,10 @@ pub fn write_csv(path: &Path, rec: &bearing_model::Recording) -> anyhow::Result<
 
 /// Run the task.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let rig = close_loop::rig::cwru_rig().context("loading the calibrated CWRU rig")?;
+    if wants_rig(&args, &rig)? {
+        return run_rig(&args, &rig);
+    }
     let sc = scenario(&args)?;
     let model = sc.model().context("invalid model parameters")?;
     let t = std::time::Instant::now();
@@ -153,6 +291,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let meta = serde_json::json!({
         "generator": "cargo xtask simulate (bearing-model)",
         "columns": { "time_s": "s", "accel": "housing (sprung-mass) acceleration, m/s^2" },
+        "accel_unit": "m/s^2",
         "fs_hz": rec.fs_hz,
         "samples": rec.accel.len(),
         "step_s": rec.step_s,
@@ -179,6 +318,67 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     println!(
         "lines: fr {:.2} Hz, FTF {:.2}, BPFO {:.2}, BPFI {:.2}, ball defect (2xBSF) {:.2} Hz; metadata {}",
         sc.spec.speed.hz(),
+        o.ftf,
+        o.bpfo,
+        o.bpfi,
+        o.ball_defect,
+        side.display()
+    );
+    Ok(())
+}
+
+/// The calibrated rig's branch of [`run`].
+fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
+    let t = std::time::Instant::now();
+    let (y, info) = simulate_rig(args, rig)?;
+    let wall = t.elapsed().as_secs_f64();
+    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let rec = bearing_model::Recording {
+        fs_hz: args.fs,
+        accel: y,
+        states: None,
+        step_s: f64::NAN,
+        steps: 0,
+        noise_std: 0.0,
+    };
+    write_csv(&args.out, &rec)?;
+    let geometry = args.bearing.parse::<Bearing>()?.geometry();
+    let shaft_hz = args.rpm / 60.0 * rig.healthy.speed_ratio;
+    let meta = serde_json::json!({
+        "generator": "cargo xtask simulate (calibrated CWRU rig, close_loop::rig)",
+        "columns": { "time_s": "s", "accel": format!("acceleration at the drive-end sensor, {} (calibrated CWRU rig; the CWRU data read as g)", rig.units) },
+        "accel_unit": rig.units,
+        "fs_hz": args.fs,
+        "samples": rec.accel.len(),
+        "step_s": null,
+        "noise_std_m_s2": null,
+        "fault": args.fault,
+        "fault_size_mm": args.fault_size,
+        "outer_clock": args.outer_clock,
+        "params": "calibrated",
+        "fault_orders": geometry.orders(),
+        "shaft_hz": shaft_hz,
+        "spec": null,
+        "sim": null,
+        "rig": info,
+    });
+    let side = args.out.with_extension("json");
+    std::fs::write(&side, serde_json::to_string_pretty(&meta)?)
+        .with_context(|| format!("writing {}", side.display()))?;
+    println!(
+        "wrote {} ({} samples at {} Hz, accel in {}; calibrated CWRU rig; {:.1} simulated s per wall s)",
+        args.out.display(),
+        rec.accel.len(),
+        args.fs,
+        rig.units,
+        args.duration / wall.max(1e-9)
+    );
+    let o = geometry.orders().at(shaft_hz);
+    println!(
+        "lines: fr {:.2} Hz, FTF {:.2}, BPFO {:.2}, BPFI {:.2}, ball defect (2xBSF) {:.2} Hz; metadata {}",
+        shaft_hz,
         o.ftf,
         o.bpfo,
         o.bpfi,

@@ -931,8 +931,8 @@ fn tuning_section(
     let mut healthy_ratio = ResidualRatios::new();
     let _ = writeln!(
         b,
-        "Gains are set on the healthy fit segment only (rule: docs/equations/xtask-chapters.md). The bound of eqs 2.44 / 3.21 / 4.20–4.29 / 5.28 is measured first on the segment's first half: Γ₀ = RMS(Δᵐ⁻¹û), û the lumped uncertainty of the same model under its linear (PI) law (its extended state d̂₀ plus its residual r₀) averaged over one shaft revolution, so that the unpredictable innovation averages out (m = 3 for Levant laws, 2 otherwise); then Γ = c·Γ₀ with c from {:?} (no search over c: on a healthy segment any sliding injection beyond the uncertainty adds to the one-step error, so a search would run to the smallest c it is offered) and the linear design default, `for_recordings` or innovations (K_p = b_y: the identified one-step predictor itself), whichever gives the smallest residual RMS on the segment's second half without growing (linear laws have no Γ). No test window and no label is used.\n",
-        pl::GAMMA_MULTIPLES
+        "Gains are set on the healthy fit segment only (rule: docs/equations/xtask-chapters.md). The bound of eqs 2.44 / 3.21 / 4.20–4.29 / 5.28 is measured first on the segment's first half: Γ₀ = RMS(Δᵐ⁻¹û), û the lumped uncertainty of the same model under its linear (PI) law (its extended state d̂₀ plus its residual r₀) averaged over one shaft revolution, so that the unpredictable innovation averages out (m = 3 for Levant laws, 2 otherwise); then Γ = Γ₀ (no search over c: on a healthy segment any sliding injection beyond the uncertainty adds to the one-step error, so a search would run to the smallest c it is offered; only when no linear design runs the law stably with Γ₀ are the fallbacks c = {:?} tried in that order, and the c used is in the table) and the linear design default, `for_recordings` or innovations (K_p = b_y: the identified one-step predictor itself), whichever gives the smallest residual RMS on the segment's second half without growing (linear laws have no Γ). No test window and no label is used.\n",
+        &pl::GAMMA_MULTIPLES[1..]
     );
     let _ = writeln!(
         b,
