@@ -190,12 +190,54 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         }),
     );
     bar.finish_and_clear();
+    // measured against simulated spectra of the healthy record and the first held-out record of
+    // each location and outer-race position
+    let welch = close_loop::spectrum::Welch::new(FS, 512)?;
+    let f: Vec<f64> = (0..welch.n_bins()).map(|k| welch.frequency(k)).collect();
+    let mut panels = vec![(
+        "97 normal (fit; healthy machine at 97's levels)".to_string(),
+        f.clone(),
+        vec![
+            ("measured".to_string(), welch.try_psd(&healthy)?),
+            ("simulated".to_string(), welch.try_psd(&sim_h)?),
+        ],
+    )];
+    let mut seen = Vec::new();
+    for (e, y, rpm) in &loaded {
+        let key = (e.fault, e.outer_position);
+        if is_training(e) || e.fs_hz != 12_000 || seen.contains(&key) {
+            continue;
+        }
+        seen.push(key);
+        let loc = location(e).context("fault record without a location")?;
+        let size_mm = e.fault_diameter_in().context("no fault size")? * 25.4;
+        let mut s = Synthesis::new(loc.class(), size_mm, *rpm, y.len(), u64::from(e.number));
+        s.outer_angle_rad = outer_angle(e);
+        panels.push((
+            format!("{} {} (held out, {:.0} rpm)", e.number, e.class_name(), rpm),
+            f.clone(),
+            vec![
+                ("measured".to_string(), welch.try_psd(y)?),
+                ("simulated".to_string(), welch.try_psd(&model.synthesize(&s)?)?),
+            ],
+        ));
+    }
+    let figure = crate::chapters::figures::spectra(
+        "Calibrated rig: Welch PSD, measured vs simulated (g²/Hz, 12 kHz DE)",
+        &panels,
+    )?;
     let mut rows: Vec<Row> = rows.into_iter().collect::<anyhow::Result<_>>()?;
     rows[1..].sort_by_key(|r| (r.role != "fit", r.role.len(), r.number));
-    write(ctx, &model, &rows, args.check)
+    write(ctx, &model, &rows, &figure, args.check)
 }
 
-fn write(ctx: &Context, model: &RigModel, rows: &[Row], check: bool) -> anyhow::Result<()> {
+fn write(
+    ctx: &Context,
+    model: &RigModel,
+    rows: &[Row],
+    figure: &[u8],
+    check: bool,
+) -> anyhow::Result<()> {
     let out = ctx.root.join("results/calibration");
     let mut md = String::from(
         "# The simulator calibrated to the measured CWRU rig\n\n\
@@ -347,6 +389,7 @@ fn write(ctx: &Context, model: &RigModel, rows: &[Row], check: bool) -> anyhow::
         }
         std::fs::write(p, text)?;
     }
+    std::fs::write(out.join("psd_measured_vs_simulated.png"), figure)?;
     print!("{summary}");
     println!("wrote {}", out.display());
     Ok(())

@@ -561,3 +561,82 @@ pub fn chapter_figures(
     }
     Ok(out)
 }
+
+/// Power spectra in dB, one panel per (title, frequency grid, curves), the curves overlaid
+/// (measured against simulated: `cargo xtask calibrate-rig`).
+pub fn spectra(
+    title: &str,
+    panels: &[(String, Vec<f64>, Vec<(String, Vec<f64>)>)],
+) -> anyhow::Result<Vec<u8>> {
+    let text = has_font();
+    let cols = 2usize;
+    let rows = panels.len().div_ceil(cols).max(1);
+    render(1100, 230 * rows as u32 + 50, |root| {
+        let body = if text {
+            root.titled(title, (FONT, 20)).map_err(e)?
+        } else {
+            root.clone()
+        };
+        let areas = body.split_evenly((rows, cols));
+        for ((name, f, curves), area) in panels.iter().zip(areas.iter()) {
+            let db: Vec<Vec<f64>> = curves
+                .iter()
+                .map(|(_, p)| p.iter().map(|v| 10.0 * v.max(1e-30).log10()).collect())
+                .collect();
+            let (lo, hi) = db
+                .iter()
+                .flatten()
+                .skip(1)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(*v), b.max(*v))
+                });
+            let f_max = f.last().copied().unwrap_or(1.0);
+            let mut b = ChartBuilder::on(area);
+            b.margin(6)
+                .x_label_area_size(if text { 28 } else { 0 })
+                .y_label_area_size(if text { 50 } else { 0 });
+            if text {
+                b.caption(name, (FONT, 14));
+            }
+            let mut chart = b
+                .build_cartesian_2d(0.0..f_max, (lo - 3.0).max(hi - 90.0)..hi + 3.0)
+                .map_err(e)?;
+            let mut mesh = chart.configure_mesh();
+            mesh.disable_mesh();
+            if text {
+                mesh.x_desc("frequency (Hz)")
+                    .y_desc("dB (units²/Hz)")
+                    .label_style((FONT, 11))
+                    .x_labels(7)
+                    .y_labels(5);
+            } else {
+                mesh.x_labels(0).y_labels(0);
+            }
+            mesh.draw().map_err(e)?;
+            for (i, ((label, _), d)) in curves.iter().zip(&db).enumerate() {
+                let s = chart
+                    .draw_series(LineSeries::new(
+                        f.iter().zip(d).skip(1).map(|(a, b)| (*a, *b)),
+                        COLORS[i % COLORS.len()].stroke_width(1),
+                    ))
+                    .map_err(e)?;
+                if text {
+                    let c = COLORS[i % COLORS.len()];
+                    s.label(label.as_str()).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
+                    });
+                }
+            }
+            if text {
+                chart
+                    .configure_series_labels()
+                    .label_font((FONT, 11))
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(e)?;
+            }
+        }
+        Ok(())
+    })
+}

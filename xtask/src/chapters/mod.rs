@@ -15,7 +15,7 @@
 //! - [`figures`]: PNG figures with plotters;
 //! - `--check`: everything is generated in memory first, so checking is a byte comparison.
 
-mod figures;
+pub(crate) mod figures;
 mod inputs;
 mod pipeline;
 mod report;

@@ -732,7 +732,7 @@ fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<
     ));
     if ch >= 4 {
         n.push(format!("Multi-fault substitute windows: {} samples at {} Hz ({} ms), at most {} per recording (simulation cost).", inputs::MULTI_WINDOW, inputs::MULTI_FS, inputs::MULTI_WINDOW as f64 / inputs::MULTI_FS * 1000.0, if cfg.quick { cfg.windows_per_rec.min(inputs::MULTI_WINDOWS) } else { inputs::MULTI_WINDOWS }));
-        n.push("Multi-fault tables (4.7–4.11, 5.7–5.11): the SHSE Lab data is not public. These tables run on a SIMULATED substitute from `bearing-model` (eight classes: normal, IR, OR, ball, IR-OR, IR-ball, OR-ball, IR-OR-ball; 300/400/450/500 rpm; 3 and 6 mm faults; with slip and noise). They are labelled as simulated everywhere and are not measurements.".to_string());
+        n.push("Multi-fault tables (4.7–4.11, 5.7–5.11): the SHSE Lab data is not public. These tables run on a SIMULATED substitute: the calibrated CWRU rig (`close_loop::rig`, results/calibration/: the 5-DOF model's spalls behind the paths measured on the CWRU rig, the healthy machine of 97, units g; combined faults as the superposition of the spalls' responses) at the dissertation's conditions (eight classes: normal, IR, OR, ball, IR-OR, IR-ball, OR-ball, IR-OR-ball; 300/400/450/500 rpm; 3 and 6 mm faults — beyond the largest calibrated spall, 0.71 mm, whose severity is held; the background level calibrated at 1797 rpm is held at the lower speeds). The dissertation's data was acoustic emission at 250 kHz; ours is simulated vibration at 12 kHz. Calibrated to measured signal statistics only, never to an accuracy. They are labelled as simulated everywhere and are not measurements.".to_string());
     }
     n.push("Dissertation protocol inconsistency: the text says 1600 windows = 1200 train + 400 test, yet \"75 instances per class\" train and \"100\" (ch. 2–3) or \"25\" (ch. 4) test per class; we use the 75 % / 25 % split of 400 windows per class that the totals imply.".to_string());
     n
@@ -806,7 +806,7 @@ fn data_note(
         )
     } else {
         format!(
-            "SIMULATED substitute for the private SHSE data ({}), `bearing-model` 5-DOF model with slip and noise, {} Hz. Windows per class: {}. Crack sizes 3 and 6 mm.",
+            "SIMULATED substitute for the private SHSE data ({}), the calibrated CWRU rig (5-DOF spalls behind the measured paths, g; simulated vibration, not the dissertation's 250 kHz acoustic emission), {} Hz. Windows per class: {}. Crack sizes 3 and 6 mm.",
             match d.condition {
                 Condition::FixedSpeed { rpm } => format!("{rpm} rpm"),
                 _ => format!("speeds {:?} rpm pooled", cfg.rpms),
