@@ -218,7 +218,10 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
             f.clone(),
             vec![
                 ("measured".to_string(), welch.try_psd(y)?),
-                ("simulated".to_string(), welch.try_psd(&model.synthesize(&s)?)?),
+                (
+                    "simulated".to_string(),
+                    welch.try_psd(&model.synthesize(&s)?)?,
+                ),
             ],
         ));
     }

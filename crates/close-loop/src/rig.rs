@@ -182,6 +182,11 @@ pub struct RigModel {
     /// (fitted on outer-race records with the spall off the sensor axis; 0 without any).
     #[serde(default)]
     pub sensor_horizontal: f64,
+    /// The fault records' measurement chain (their anti-alias roll-off): a zero-phase FIR
+    /// applied to every synthesized recording (empty = none). Identified from the training
+    /// records (see [`calibrate_rig`]).
+    #[serde(default)]
+    pub chain_fir: Vec<f64>,
     /// Spall depth used in the excitation model, m.
     pub depth_m: f64,
     /// Slip fraction used in the excitation model.
@@ -492,6 +497,7 @@ impl RigModel {
                 *a += b;
             }
         }
+        let y = apply_fir(&self.chain_fir, &y);
         if let Some(i) = y.iter().position(|v| !v.is_finite()) {
             return Err(CloseLoopError::NonFinite { index: i });
         }
@@ -692,6 +698,100 @@ fn chain_tones(
         }
     }
     Ok(lines)
+}
+
+/// Zero-phase FIR (odd length, symmetric `h`), zero padding at the edges; `x` itself when `h`
+/// is empty.
+fn apply_fir(h: &[f64], x: &[f64]) -> Vec<f64> {
+    if h.is_empty() {
+        return x.to_vec();
+    }
+    let m = h.len() / 2;
+    let n = x.len();
+    (0..n)
+        .map(|i| {
+            let lo = i.saturating_sub(m);
+            let hi = (i + m).min(n - 1);
+            (lo..=hi).map(|j| h[j + m - i] * x[j]).sum()
+        })
+        .collect()
+}
+
+/// Half length of the chain FIR (taps = 2·CHAIN_HALF + 1).
+const CHAIN_HALF: usize = 64;
+
+/// The measurement chain: the median over the training records of the smoothed ratio of the
+/// measured PSD to the rig's (no chain yet) simulated PSD, normalised to unit geometric mean over
+/// 300 Hz–fs/3 and clamped at 1 — so it holds only what attenuates (the roll-off of the records'
+/// anti-alias filter, which the all-pole paths cannot follow) — as a Hann-windowed zero-phase FIR
+/// of `2·CHAIN_HALF + 1` taps by frequency sampling of its square root. Empty when nothing is
+/// attenuated by more than 1 dB.
+fn chain_response(
+    rig: &RigModel,
+    training: &[TrainingRecord<'_>],
+    measured: &[(Vec<f64>, f64)],
+    welch: &Welch,
+    half: usize,
+) -> Result<Vec<f64>, CloseLoopError> {
+    let fs = rig.fs_hz;
+    let nb = welch.n_bins();
+    let mut logs: Vec<Vec<f64>> = Vec::new();
+    for (i, t) in training.iter().enumerate() {
+        let n = t.y.len().min((4.0 * fs) as usize);
+        let mut syn = Synthesis::new(t.location.class(), t.size_mm, t.rpm, n, 3000 + i as u64);
+        syn.outer_angle_rad = t.outer_angle_rad;
+        let sim = rig.synthesize(&syn)?;
+        let s_sim = smooth(&welch.try_psd(&sim)?, half);
+        logs.push(
+            measured[i]
+                .0
+                .iter()
+                .zip(&s_sim)
+                .map(|(a, b)| (a.max(1e-300) / b.max(1e-300)).ln())
+                .collect(),
+        );
+    }
+    if logs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let med: Vec<f64> = (0..nb)
+        .map(|k| {
+            let mut v: Vec<f64> = logs.iter().map(|l| l[k]).collect();
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        })
+        .collect();
+    let band: Vec<usize> = (0..nb)
+        .filter(|&k| (300.0..=fs / 3.0).contains(&welch.frequency(k)))
+        .collect();
+    let mean = band.iter().map(|&k| med[k]).sum::<f64>() / band.len().max(1) as f64;
+    let r: Vec<f64> = med.iter().map(|v| (v - mean).min(0.0).exp()).collect();
+    if r.iter().all(|v| *v > 10f64.powf(-0.1)) {
+        return Ok(Vec::new());
+    }
+    // frequency sampling of √R on an N-point grid, zero phase, Hann window
+    let nfft = 1024usize;
+    let amp = |f: f64| {
+        let x = f / welch.df();
+        let k = (x.floor() as usize).min(nb - 2);
+        let t = (x - k as f64).clamp(0.0, 1.0);
+        ((1.0 - t) * r[k] + t * r[k + 1]).sqrt()
+    };
+    let h_k: Vec<f64> = (0..=nfft / 2)
+        .map(|k| amp(k as f64 * fs / nfft as f64))
+        .collect();
+    let mut h = vec![0.0; 2 * CHAIN_HALF + 1];
+    for (j, v) in h.iter_mut().enumerate() {
+        let m = j as f64 - CHAIN_HALF as f64;
+        let mut acc = h_k[0];
+        for (k, a) in h_k.iter().enumerate().skip(1) {
+            let w = if k == nfft / 2 { 1.0 } else { 2.0 };
+            acc += w * a * (2.0 * PI * k as f64 * m / nfft as f64).cos();
+        }
+        let win = 0.5 * (1.0 + (PI * m / (CHAIN_HALF as f64 + 1.0)).cos());
+        *v = acc / nfft as f64 * win;
+    }
+    Ok(h)
 }
 
 /// Impact paths and gains fitted for one preload.
@@ -900,23 +1000,26 @@ pub fn calibrate_rig(
         bearing, preload_m, fs, &machine, training, &measured, &s_h, ms_h, &welch, half, long,
     )?;
     // severities (gain, random fraction) of every training record for a sensor κ
-    let severities_for = |kappa: f64| {
+    let severities_for = |kappa: f64, chain: &[f64]| {
         let mut out = Vec::with_capacity(training.len());
         for (i, t) in training.iter().enumerate() {
             let path = fit.path_of(t.location);
             let seen = fit.sims[i].seen(kappa);
-            let bg = background_of(
-                &machine,
-                &chain_lines,
-                fs,
-                t.rpm,
-                fit.sims[i].vertical.len(),
-                7 + i as u64,
+            let bg = apply_fir(
+                chain,
+                &background_of(
+                    &machine,
+                    &chain_lines,
+                    fs,
+                    t.rpm,
+                    fit.sims[i].vertical.len(),
+                    7 + i as u64,
+                ),
             );
             let excess = (measured[i].1 - ms_h).max(0.0);
             // gain and kurtosis of the simulated record for a random fraction q
             let at = |q: f64| {
-                let through = path.filter(&mix(&seen, q, 11 + i as u64));
+                let through = apply_fir(chain, &path.filter(&mix(&seen, q, 11 + i as u64)));
                 let skip = WARMUP.min(through.len() / 2);
                 let g = (excess / mean_square(&through[skip..]).max(1e-300)).sqrt();
                 let y: Vec<f64> = through[skip..]
@@ -952,7 +1055,7 @@ pub fn calibrate_rig(
         }
         out
     };
-    let severities = severities_for(0.0);
+    let severities = severities_for(0.0, &[]);
     let impact_paths = fit.paths.clone();
     let mut rig = RigModel {
         format: FORMAT.to_string(),
@@ -965,6 +1068,7 @@ pub fn calibrate_rig(
         impact_paths,
         preload_m,
         sensor_horizontal: 0.0,
+        chain_fir: Vec::new(),
         depth_m: DEPTH_M,
         slip_fraction: SLIP_FRACTION,
         severities,
@@ -980,7 +1084,13 @@ pub fn calibrate_rig(
     // κ from the off-axis records with the κ = 0 severities, then the severities again with κ
     rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross, ms_h)?;
     if rig.sensor_horizontal > 0.0 {
-        rig.severities = severities_for(rig.sensor_horizontal);
+        rig.severities = severities_for(rig.sensor_horizontal, &[]);
+    }
+    // the measurement chain's response (the fault records' anti-alias roll-off), then the
+    // severities once more behind it
+    rig.chain_fir = chain_response(&rig, training, &measured, &welch, half)?;
+    if !rig.chain_fir.is_empty() {
+        rig.severities = severities_for(rig.sensor_horizontal, &rig.chain_fir);
     }
     Ok(rig)
 }

@@ -44,7 +44,11 @@ fn severity_interpolates_in_log_size_and_holds_outside() {
     r.severities.retain(|s| s.location == Location::Inner);
     r.severities.truncate(2);
     let (a, b) = (r.severities[0].clone(), r.severities[1].clone());
-    let (lo, hi) = if a.size_mm < b.size_mm { (a, b) } else { (b, a) };
+    let (lo, hi) = if a.size_mm < b.size_mm {
+        (a, b)
+    } else {
+        (b, a)
+    };
     let mid = (lo.size_mm * hi.size_mm).sqrt();
     let (g, q) = r.severity(Location::Inner, mid).unwrap();
     assert!((g - (lo.gain * hi.gain).sqrt()).abs() < 1e-9 * g);
@@ -95,12 +99,14 @@ fn synthesis_is_seeded_superposes_and_errors_are_typed() {
         r.synthesize(&Synthesis::new(FaultClass::Inner, 0.3, 0.0, n, 1)),
         Err(CloseLoopError::InvalidRpm { .. })
     ));
-    assert!(r
-        .synthesize(&Synthesis::new(FaultClass::Inner, 0.3, 1797.0, 100, 1))
-        .is_err());
-    assert!(r
-        .synthesize(&Synthesis::new(FaultClass::Inner, 20.0, 1797.0, n, 1))
-        .is_err());
+    assert!(
+        r.synthesize(&Synthesis::new(FaultClass::Inner, 0.3, 1797.0, 100, 1))
+            .is_err()
+    );
+    assert!(
+        r.synthesize(&Synthesis::new(FaultClass::Inner, 20.0, 1797.0, n, 1))
+            .is_err()
+    );
 }
 
 /// Calibrate on records simulated by a known rig: the recovered rig predicts the levels of
@@ -121,7 +127,13 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         .enumerate()
         .map(|(i, (loc, size))| {
             truth
-                .synthesize(&Synthesis::new(loc.class(), *size, 1797.0, n, 10 + i as u64))
+                .synthesize(&Synthesis::new(
+                    loc.class(),
+                    *size,
+                    1797.0,
+                    n,
+                    10 + i as u64,
+                ))
                 .unwrap()
         })
         .collect();
