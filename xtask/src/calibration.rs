@@ -258,8 +258,11 @@ fn write(
          from {:?} µm by the training records' kurtosis). One impact path per fault location (AR \
          order {}) and one severity gain per record fitted on: {} ({} records: {}). Everything else is held out: the 1–3 hp records, the \
          outer race at 12 o'clock at every load (the 5-DOF model's spall moved there, severity of the \
-         6 o'clock spall of that size) and the 48 kHz drive-end records (decimated to 12 kHz). Only PSDs and \
-         mean squares are fitted; no label beyond the catalogued location and size, and no accuracy. \
+         6 o'clock spall of that size) and the 48 kHz drive-end records (decimated to 12 kHz). Only the training \
+         records' PSDs, mean squares and kurtosis are fitted (the severity's random fraction matches \
+         the kurtosis; the measurement chain's roll-off, a {}-tap zero-phase FIR, is the median \
+         measured/simulated PSD ratio); no label beyond the catalogued location and size, and no \
+         accuracy. \
          Between calibrated sizes the gain is interpolated log-log; beyond them the nearest \
          calibrated gain is held. Simulated recordings have the measured record's length and speed \
          (seed = record number). Targets on held-out records: RMS and every band energy within a \
@@ -275,6 +278,7 @@ fn write(
         model.provenance.training_rule,
         model.provenance.training_records.len(),
         model.provenance.training_records.join(", "),
+        model.chain_fir.len(),
     ));
     md.push_str(
         "| severity | size (mm) | gain | random fraction | record |\n|---|---|---|---|---|\n",

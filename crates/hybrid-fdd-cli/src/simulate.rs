@@ -437,6 +437,49 @@ mod tests {
     }
 
     #[test]
+    fn the_calibrated_rig_is_the_default_at_cwru_conditions() {
+        let rig = close_loop::rig::cwru_rig().unwrap();
+        let args = parse(&[
+            "--fault",
+            "outer",
+            "--duration",
+            "0.5",
+            "--out",
+            "/tmp/x.csv",
+        ]);
+        assert!(wants_rig(&args, &rig).unwrap());
+        let (y, info) = simulate_rig(&args, &rig).unwrap();
+        assert_eq!(y.len(), 6000);
+        assert!(info["severity_used"]["outer"]["gain"].as_f64().unwrap() > 0.0);
+        // other conditions or explicit sets: the bare 5-DOF model
+        let bare = parse(&["--fs", "48000", "--out", "/tmp/x.csv"]);
+        assert!(!wants_rig(&bare, &rig).unwrap());
+        let bare = parse(&["--params", "cwru", "--out", "/tmp/x.csv"]);
+        assert!(!wants_rig(&bare, &rig).unwrap());
+        // the rig asked for away from its conditions, or with a bare-model flag: errors
+        let bad = parse(&[
+            "--params",
+            "calibrated",
+            "--fs",
+            "48000",
+            "--out",
+            "/tmp/x.csv",
+        ]);
+        assert!(wants_rig(&bad, &rig).is_err());
+        let bad = parse(&["--snr-db", "20", "--out", "/tmp/x.csv"]);
+        assert!(simulate_rig(&bad, &rig).is_err());
+        let bad = parse(&[
+            "--outer-clock",
+            "5",
+            "--fault",
+            "outer",
+            "--out",
+            "/tmp/x.csv",
+        ]);
+        assert!(simulate_rig(&bad, &rig).is_err());
+    }
+
+    #[test]
     fn bad_flags_are_errors() {
         let bad = |extra: &[&str]| {
             let mut v = extra.to_vec();
