@@ -246,6 +246,7 @@ fn bad(name: &'static str, value: f64, min: f64, max: f64) -> CloseLoopError {
 /// # Errors
 /// [`CloseLoopError::Model`] when the 5-DOF model rejects the parameters (a spall wider than the
 /// ball, a speed out of range) or the simulation fails.
+#[allow(clippy::too_many_arguments)] // the 5-DOF operating point, spelled out
 pub fn excitation(
     bearing: Bearing,
     preload_m: f64,
@@ -426,7 +427,7 @@ impl RigModel {
     /// impact path; combined faults superpose these responses.
     ///
     /// # Errors
-    /// As [`excitation`] and [`RigModel::gain`].
+    /// As [`excitation`] and [`RigModel::severity`].
     pub fn fault_signal(&self, s: &Synthesis) -> Result<Vec<f64>, CloseLoopError> {
         let bearing: Bearing =
             self.bearing
@@ -451,7 +452,7 @@ impl RigModel {
                 s.seed,
             )?;
             let e = e.seen(self.sensor_horizontal);
-            let x: Vec<f64> = mix(&e, q, s.seed ^ 0x5EED_0F_F1)
+            let x: Vec<f64> = mix(&e, q, s.seed ^ 0x5EED_0FF1)
                 .iter()
                 .map(|v| g * v)
                 .collect();

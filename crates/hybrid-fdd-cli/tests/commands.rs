@@ -40,6 +40,9 @@ fn simulate_then_close_the_loop_then_calibrate() {
         "2",
         "--seed",
         "5",
+        // the bare 5-DOF model (the loop's declared model), not the calibrated rig
+        "--params",
+        "cwru",
         "--out",
         &csv,
     ])

@@ -562,12 +562,12 @@ pub fn chapter_figures(
     Ok(out)
 }
 
+/// One spectrum panel: title, frequency grid (Hz), labelled curves (PSD values).
+pub type SpectrumPanel = (String, Vec<f64>, Vec<(String, Vec<f64>)>);
+
 /// Power spectra in dB, one panel per (title, frequency grid, curves), the curves overlaid
 /// (measured against simulated: `cargo xtask calibrate-rig`).
-pub fn spectra(
-    title: &str,
-    panels: &[(String, Vec<f64>, Vec<(String, Vec<f64>)>)],
-) -> anyhow::Result<Vec<u8>> {
+pub fn spectra(title: &str, panels: &[SpectrumPanel]) -> anyhow::Result<Vec<u8>> {
     let text = has_font();
     let cols = 2usize;
     let rows = panels.len().div_ceil(cols).max(1);
