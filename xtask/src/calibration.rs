@@ -254,9 +254,8 @@ fn write(
     md.push_str(&format!(
         "**Calibration.** Healthy machine: {} (the closed loop's machine model: structural path of \
          order {}, {} lines, speed ratio {:.5}; its tones — the measurement chain's interference — \
-         rescaled to the training records' chain; the 97 row keeps 97's own levels). Sensor: horizontal sensitivity {:.3} of the vertical. Contact load: radial preload {:.1} µm per ball for the \
-         impact paths (chosen from {:?} µm by the training records' kurtosis), and each training \
-         record's own bearing preload from the same grid (column `preload`). One impact path per fault location (AR \
+         rescaled to the training records' chain; the 97 row keeps 97's own levels). Sensor: horizontal sensitivity {:.3} of the vertical. Contact load: radial preload {:.1} µm per ball (chosen \
+         from {:?} µm by the training records' kurtosis). One impact path per fault location (AR \
          order {}) and one severity gain per record fitted on: {} ({} records: {}). Everything else is held out: the 1–3 hp records, the \
          outer race at 12 o'clock at every load (the 5-DOF model's spall moved there, severity of the \
          6 o'clock spall of that size) and the 48 kHz drive-end records (decimated to 12 kHz). Only the training \
@@ -282,17 +281,15 @@ fn write(
         model.chain_fir.len(),
     ));
     md.push_str(
-        "| severity | size (mm) | gain | random fraction | preload (µm) | record |\n|---|---|---|---|---|---|\n",
+        "| severity | size (mm) | gain | random fraction | record |\n|---|---|---|---|---|\n",
     );
     for s in &model.severities {
         md.push_str(&format!(
-            "| {} | {:.3} | {:.4e} | {:.3} | {} | {} |\n",
+            "| {} | {:.3} | {:.4e} | {:.3} | {} |\n",
             s.location.name(),
             s.size_mm,
             s.gain,
             s.random_fraction,
-            s.preload_m
-                .map_or("–".to_string(), |p| format!("{:.1}", p * 1e6)),
             s.record
         ));
     }

@@ -124,11 +124,6 @@ pub struct Severity {
     /// enough).
     #[serde(default)]
     pub random_fraction: f64,
-    /// Radial preload of this bearing, m (each CWRU fault was seeded in its own bearing and
-    /// mounted once for all loads): chosen so the impacts alone give the record's kurtosis best;
-    /// `null`: the rig's [`RigModel::preload_m`].
-    #[serde(default)]
-    pub preload_m: Option<f64>,
     /// The training record it was fitted on.
     pub record: String,
 }
@@ -410,20 +405,6 @@ impl RigModel {
         out(last)
     }
 
-    /// The preload of the calibrated bearing of `location` nearest in log size to `size_mm`
-    /// (the rig's [`RigModel::preload_m`] when it has none).
-    pub fn preload_for(&self, location: Location, size_mm: f64) -> f64 {
-        self.severities
-            .iter()
-            .filter(|s| s.location == location)
-            .min_by(|a, b| {
-                let d = |s: &Severity| (s.size_mm / size_mm.max(1e-12)).ln().abs();
-                d(a).total_cmp(&d(b))
-            })
-            .and_then(|s| s.preload_m)
-            .unwrap_or(self.preload_m)
-    }
-
     /// The healthy machine's signal: path noise, floor and lines (seeded), `n` samples at rig
     /// speed `rpm` (nominal; the calibrated speed ratio is applied).
     pub fn background(&self, rpm: f64, n: usize, seed: u64) -> Vec<f64> {
@@ -461,7 +442,7 @@ impl RigModel {
             // path: combined faults are the superposition of the spalls' responses
             let e = excitation(
                 bearing,
-                self.preload_for(loc, s.size_mm),
+                self.preload_m,
                 loc.class(),
                 s.size_mm,
                 s.rpm * self.healthy.speed_ratio,
@@ -612,7 +593,7 @@ fn mix(x: &[f64], q: f64, seed: u64) -> Vec<f64> {
 }
 
 /// Preloads the calibration tries, m.
-pub const PRELOADS_M: &[f64] = &[0.0, 0.5e-6, 1e-6, 2e-6, 4e-6, 8e-6, 16e-6];
+pub const PRELOADS_M: &[f64] = &[0.0, 0.5e-6, 1e-6, 2e-6, 4e-6, 8e-6];
 
 fn variance(y: &[f64]) -> f64 {
     let m = y.iter().sum::<f64>() / y.len().max(1) as f64;
@@ -1019,65 +1000,12 @@ pub fn calibrate_rig(
     let fit = fit_paths(
         bearing, preload_m, fs, &machine, training, &measured, &s_h, ms_h, &welch, half, long,
     )?;
-    // each record's bearing preload: the one whose impacts alone (q = 0, κ = 0, no chain) give
-    // its kurtosis best; its excitation at that preload
-    let mut own: Vec<(f64, Excitation)> = Vec::with_capacity(training.len());
-    for (i, t) in training.iter().enumerate() {
-        let path = fit.path_of(t.location);
-        let excess = (measured[i].1 - ms_h).max(0.0);
-        let mut best: Option<(f64, f64)> = None;
-        for &p in PRELOADS_M {
-            let e = excitation(
-                bearing,
-                p,
-                t.location.class(),
-                t.size_mm,
-                t.rpm * machine.speed_ratio,
-                t.outer_angle_rad,
-                fs,
-                short + WARMUP,
-                1000 + i as u64,
-            )?;
-            let through = path.filter(&e.vertical);
-            let g = (excess / mean_square(&through[WARMUP..]).max(1e-300)).sqrt();
-            let bg = background_of(
-                &machine,
-                &chain_lines,
-                fs,
-                t.rpm,
-                through.len(),
-                7 + i as u64,
-            );
-            let y: Vec<f64> = through[WARMUP..]
-                .iter()
-                .zip(&bg[WARMUP..])
-                .map(|(a, b)| g * a + b)
-                .collect();
-            let err = (kurtosis(&y) / kurt[i]).ln().abs();
-            if best.is_none_or(|b| err < b.1) {
-                best = Some((p, err));
-            }
-        }
-        let p = best.map_or(preload_m, |b| b.0);
-        let e = excitation(
-            bearing,
-            p,
-            t.location.class(),
-            t.size_mm,
-            t.rpm * machine.speed_ratio,
-            t.outer_angle_rad,
-            fs,
-            t.y.len().min(long) + WARMUP,
-            1000 + i as u64,
-        )?;
-        own.push((p, e));
-    }
     // severities (gain, random fraction) of every training record for a sensor κ
     let severities_for = |kappa: f64, chain: &[f64]| {
         let mut out = Vec::with_capacity(training.len());
         for (i, t) in training.iter().enumerate() {
             let path = fit.path_of(t.location);
-            let seen = own[i].1.seen(kappa);
+            let seen = fit.sims[i].seen(kappa);
             let bg = apply_fir(
                 chain,
                 &background_of(
@@ -1085,7 +1013,7 @@ pub fn calibrate_rig(
                     &chain_lines,
                     fs,
                     t.rpm,
-                    own[i].1.vertical.len(),
+                    fit.sims[i].vertical.len(),
                     7 + i as u64,
                 ),
             );
@@ -1123,7 +1051,6 @@ pub fn calibrate_rig(
                 size_mm: t.size_mm,
                 gain: at(q).0,
                 random_fraction: q,
-                preload_m: Some(own[i].0),
                 record: t.name.to_string(),
             });
         }
@@ -1183,7 +1110,7 @@ fn fit_horizontal(
         let (g, q) = rig.severity(Location::Outer, t.size_mm)?;
         let e = excitation(
             bearing,
-            rig.preload_for(Location::Outer, t.size_mm),
+            rig.preload_m,
             FaultClass::Outer,
             t.size_mm,
             t.rpm * rig.healthy.speed_ratio,
