@@ -36,6 +36,34 @@ pub fn calibrate(
     Ok(crate::close_loop(&model, y, fs, &op, cfg)?.machine)
 }
 
+/// Parse one of this crate's versioned JSON files and check its `format` and `version`.
+pub(crate) fn parse_versioned<T: serde::de::DeserializeOwned>(
+    text: &str,
+    format: &str,
+    version: u32,
+    head: impl Fn(&T) -> (&String, u32),
+) -> Result<T, CloseLoopError> {
+    let m: T = serde_json::from_str(text).map_err(|e| CloseLoopError::MachineModelFormat {
+        reason: e.to_string(),
+    })?;
+    let (f, v) = head(&m);
+    if f != format {
+        return Err(CloseLoopError::MachineModelMismatch {
+            what: "format",
+            expected: format.to_string(),
+            found: f.clone(),
+        });
+    }
+    if v != version {
+        return Err(CloseLoopError::MachineModelMismatch {
+            what: "version",
+            expected: version.to_string(),
+            found: v.to_string(),
+        });
+    }
+    Ok(m)
+}
+
 /// The `format` string of a machine model file.
 pub const FORMAT: &str = "hybrid-fdd/machine-model";
 /// The current `version`.
@@ -281,24 +309,7 @@ impl MachineModel {
     /// # Errors
     /// [`CloseLoopError::MachineModelFormat`] or [`CloseLoopError::MachineModelMismatch`].
     pub fn from_json(text: &str) -> Result<Self, CloseLoopError> {
-        let m: Self =
-            serde_json::from_str(text).map_err(|e| CloseLoopError::MachineModelFormat {
-                reason: e.to_string(),
-            })?;
-        if m.format != FORMAT {
-            return Err(CloseLoopError::MachineModelMismatch {
-                what: "format",
-                expected: FORMAT.to_string(),
-                found: m.format,
-            });
-        }
-        if m.version != VERSION {
-            return Err(CloseLoopError::MachineModelMismatch {
-                what: "version",
-                expected: VERSION.to_string(),
-                found: m.version.to_string(),
-            });
-        }
+        let m: Self = parse_versioned(text, FORMAT, VERSION, |m: &Self| (&m.format, m.version))?;
         let positive = [
             ("fs_hz", m.fs_hz),
             ("speed_ratio", m.speed_ratio),

@@ -521,24 +521,9 @@ impl RigModel {
     /// [`CloseLoopError::MachineModelFormat`] for malformed JSON or values,
     /// [`CloseLoopError::MachineModelMismatch`] for another format or version.
     pub fn from_json(text: &str) -> Result<Self, CloseLoopError> {
-        let m: Self =
-            serde_json::from_str(text).map_err(|e| CloseLoopError::MachineModelFormat {
-                reason: e.to_string(),
-            })?;
-        if m.format != FORMAT {
-            return Err(CloseLoopError::MachineModelMismatch {
-                what: "format",
-                expected: FORMAT.to_string(),
-                found: m.format,
-            });
-        }
-        if m.version != VERSION {
-            return Err(CloseLoopError::MachineModelMismatch {
-                what: "version",
-                expected: VERSION.to_string(),
-                found: m.version.to_string(),
-            });
-        }
+        let m: Self = crate::machine::parse_versioned(text, FORMAT, VERSION, |m: &Self| {
+            (&m.format, m.version)
+        })?;
         let fmt = |reason: String| CloseLoopError::MachineModelFormat { reason };
         if !(m.fs_hz.is_finite() && m.fs_hz > 0.0) {
             return Err(fmt(format!("`fs_hz` must be > 0, got {}", m.fs_hz)));

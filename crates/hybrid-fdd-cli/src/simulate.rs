@@ -89,11 +89,7 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
         other => other.parse()?,
     };
     let bearing: Bearing = args.bearing.parse()?;
-    anyhow::ensure!(
-        args.rpm.is_finite() && args.rpm > 0.0,
-        "--rpm must be > 0 (got {})",
-        args.rpm
-    );
+    check_rpm(args.rpm)?;
     anyhow::ensure!(
         args.slip.is_finite() && args.slip >= 0.0,
         "--slip must be >= 0 (got {})",
@@ -130,6 +126,14 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
         sc = sc.with_fault_onset(t);
     }
     Ok(sc)
+}
+
+fn check_rpm(rpm: f64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        rpm.is_finite() && rpm > 0.0,
+        "--rpm must be > 0 (got {rpm})"
+    );
+    Ok(())
 }
 
 /// Spall angle of an o'clock position (y up: 6 o'clock = −π/2, 3 o'clock = 0, 12 = π/2).
@@ -210,11 +214,7 @@ pub fn simulate_rig(
         bare.join(", ")
     );
     let class: FaultClass = args.fault.parse()?;
-    anyhow::ensure!(
-        args.rpm.is_finite() && args.rpm > 0.0,
-        "--rpm must be > 0 (got {})",
-        args.rpm
-    );
+    check_rpm(args.rpm)?;
     anyhow::ensure!(
         args.duration.is_finite() && args.duration > 0.0 && args.duration <= 3600.0,
         "--duration must be in (0, 3600] s (got {})",
@@ -315,16 +315,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         rec.step_s,
         (sc.sim.duration_s + sc.sim.settle_s) / wall.max(1e-9)
     );
+    print_lines(sc.spec.speed.hz(), &o, &side);
+    Ok(())
+}
+
+/// The kinematic lines of the simulated speed and where the metadata went.
+fn print_lines(fr: f64, o: &bearing_model::FaultOrders, side: &Path) {
     println!(
-        "lines: fr {:.2} Hz, FTF {:.2}, BPFO {:.2}, BPFI {:.2}, ball defect (2xBSF) {:.2} Hz; metadata {}",
-        sc.spec.speed.hz(),
+        "lines: fr {fr:.2} Hz, FTF {:.2}, BPFO {:.2}, BPFI {:.2}, ball defect (2xBSF) {:.2} Hz; metadata {}",
         o.ftf,
         o.bpfo,
         o.bpfi,
         o.ball_defect,
         side.display()
     );
-    Ok(())
 }
 
 /// The calibrated rig's branch of [`run`].
@@ -376,15 +380,7 @@ fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
         args.duration / wall.max(1e-9)
     );
     let o = geometry.orders().at(shaft_hz);
-    println!(
-        "lines: fr {:.2} Hz, FTF {:.2}, BPFO {:.2}, BPFI {:.2}, ball defect (2xBSF) {:.2} Hz; metadata {}",
-        shaft_hz,
-        o.ftf,
-        o.bpfo,
-        o.bpfi,
-        o.ball_defect,
-        side.display()
-    );
+    print_lines(shaft_hz, &o, &side);
     Ok(())
 }
 
