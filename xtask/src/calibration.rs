@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use anyhow::Context as _;
 use bearing_data::{CatalogEntry, FaultLocation, LoadOptions, OuterPosition, SensorEnd};
-use close_loop::rig::{self, Location, RigModel, SignalStats, Synthesis, TrainingRecord};
+use close_loop::rig::{self, Comparison, Location, RigModel, Synthesis, TrainingRecord};
 
 use crate::common::Context;
 
@@ -57,28 +57,7 @@ struct Row {
     class: String,
     role: &'static str,
     rpm: f64,
-    measured: SignalStats,
-    simulated: SignalStats,
-}
-
-impl Row {
-    fn rms_ratio(&self) -> f64 {
-        self.simulated.rms / self.measured.rms
-    }
-    fn kurt_err(&self) -> f64 {
-        self.simulated.kurtosis / self.measured.kurtosis - 1.0
-    }
-    fn band_ratios(&self) -> [f64; 4] {
-        std::array::from_fn(|b| self.simulated.band_energy[b] / self.measured.band_energy[b])
-    }
-    fn meets(&self) -> (bool, bool, bool) {
-        let within = |r: f64| (1.0 / 1.5..=1.5).contains(&r);
-        (
-            within(self.rms_ratio()),
-            self.band_ratios().iter().all(|r| within(*r)),
-            self.kurt_err().abs() <= 0.3,
-        )
-    }
+    cmp: Comparison,
 }
 
 /// Run the task.
@@ -171,8 +150,10 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
                     "held out (48 kHz record, decimated)"
                 },
                 rpm: *rpm,
-                measured: rig::signal_stats(y, FS, f)?,
-                simulated: rig::signal_stats(&sim, FS, f)?,
+                cmp: Comparison {
+                    measured: rig::signal_stats(y, FS, f)?,
+                    simulated: rig::signal_stats(&sim, FS, f)?,
+                },
             })
         })
         .collect();
@@ -185,8 +166,10 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
             class: "normal".into(),
             role: "fit (healthy)",
             rpm: rpm_h,
-            measured: rig::signal_stats(&healthy, FS, None)?,
-            simulated: rig::signal_stats(&sim_h, FS, None)?,
+            cmp: Comparison {
+                measured: rig::signal_stats(&healthy, FS, None)?,
+                simulated: rig::signal_stats(&sim_h, FS, None)?,
+            },
         }),
     );
     bar.finish_and_clear();
@@ -300,12 +283,12 @@ fn write(
         let (mut a, mut b, mut c) = (0, 0, 0);
         let mut per_band = [0usize; 4];
         for r in &set {
-            let (x, y, z) = r.meets();
+            let (x, y, z) = r.cmp.meets();
             a += usize::from(x);
             b += usize::from(y);
             c += usize::from(z);
-            for (k, v) in r.band_ratios().iter().enumerate() {
-                per_band[k] += usize::from((1.0 / 1.5..=1.5).contains(v));
+            for (k, v) in r.cmp.band_ratios().iter().enumerate() {
+                per_band[k] += usize::from(Comparison::within(*v));
             }
         }
         let med = |mut v: Vec<f64>| {
@@ -315,8 +298,8 @@ fn write(
         summary.push_str(&format!(
             "| {role} | {n} | {a} | {b} ({}) | {c} | {:.2} | {:.0} % |\n",
             per_band.map(|v| v.to_string()).join(" / "),
-            med(set.iter().map(|r| r.rms_ratio()).collect()),
-            100.0 * med(set.iter().map(|r| r.kurt_err().abs()).collect()),
+            med(set.iter().map(|r| r.cmp.rms_ratio()).collect()),
+            100.0 * med(set.iter().map(|r| r.cmp.kurtosis_error().abs()).collect()),
         ));
     }
     md.push_str(
@@ -336,8 +319,8 @@ fn write(
     );
     let opt = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.1}"));
     for r in rows {
-        let (m, s) = (&r.measured, &r.simulated);
-        let br = r.band_ratios();
+        let (m, s) = (&r.cmp.measured, &r.cmp.simulated);
+        let br = r.cmp.band_ratios();
         md.push_str(&format!(
             "| {} | {} | {} | {:.0} | {:.4} | {:.4} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {} | {} | {} |\n",
             r.number,
@@ -346,7 +329,7 @@ fn write(
             r.rpm,
             m.rms,
             s.rms,
-            r.rms_ratio(),
+            r.cmp.rms_ratio(),
             m.kurtosis,
             s.kurtosis,
             m.crest,

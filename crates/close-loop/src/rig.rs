@@ -1205,3 +1205,46 @@ pub fn signal_stats(
         line_prominence_db,
     })
 }
+
+/// Simulated against measured statistics of one condition, and the calibration targets of
+/// issue "A simulator calibrated to the measured rig": RMS and every band energy within a factor
+/// [`Comparison::FACTOR`], kurtosis within [`Comparison::KURTOSIS_TOLERANCE`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Comparison {
+    /// Of the measured recording.
+    pub measured: SignalStats,
+    /// Of the simulated one.
+    pub simulated: SignalStats,
+}
+
+impl Comparison {
+    /// Largest ratio (either way) of RMS and band energies that meets the target.
+    pub const FACTOR: f64 = 1.5;
+    /// Largest relative kurtosis error that meets the target.
+    pub const KURTOSIS_TOLERANCE: f64 = 0.3;
+
+    /// RMS simulated / measured.
+    pub fn rms_ratio(&self) -> f64 {
+        self.simulated.rms / self.measured.rms
+    }
+    /// Kurtosis simulated / measured − 1.
+    pub fn kurtosis_error(&self) -> f64 {
+        self.simulated.kurtosis / self.measured.kurtosis - 1.0
+    }
+    /// Band energies simulated / measured.
+    pub fn band_ratios(&self) -> [f64; 4] {
+        std::array::from_fn(|b| self.simulated.band_energy[b] / self.measured.band_energy[b])
+    }
+    /// Whether a ratio is within [`Comparison::FACTOR`] either way.
+    pub fn within(ratio: f64) -> bool {
+        (1.0 / Self::FACTOR..=Self::FACTOR).contains(&ratio)
+    }
+    /// (RMS, all four bands, kurtosis) targets met.
+    pub fn meets(&self) -> (bool, bool, bool) {
+        (
+            Self::within(self.rms_ratio()),
+            self.band_ratios().iter().all(|r| Self::within(*r)),
+            self.kurtosis_error().abs() <= Self::KURTOSIS_TOLERANCE,
+        )
+    }
+}
