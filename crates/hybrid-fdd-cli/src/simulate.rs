@@ -223,7 +223,9 @@ pub fn simulate_rig(
     let n = (args.duration * args.fs).round() as usize;
     let mut syn = close_loop::rig::Synthesis::new(class, args.fault_size, args.rpm, n, args.seed);
     syn.outer_angle_rad = outer_angle(args.outer_clock)?;
-    let y = rig.synthesize(&syn)?;
+    let y = rig
+        .synthesize(&syn)
+        .context("the calibrated rig cannot simulate this")?;
     let mut used = serde_json::Map::new();
     for loc in close_loop::rig::Location::ALL
         .into_iter()
@@ -278,6 +280,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let rig = close_loop::rig::cwru_rig().context("loading the calibrated CWRU rig")?;
     if wants_rig(&args, &rig)? {
         return run_rig(&args, &rig);
+    }
+    if args.params.eq_ignore_ascii_case("auto") {
+        println!(
+            "note: the bare 5-DOF model (m/s^2): the calibrated rig exists for the {} at {} Hz only",
+            rig.bearing, rig.fs_hz
+        );
     }
     let sc = scenario(&args)?;
     let model = sc.model().context("invalid model parameters")?;
