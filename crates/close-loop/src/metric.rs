@@ -52,10 +52,15 @@ pub fn estimation_lsd(segments_measured: usize, segments_model: Option<usize>) -
     10.0 / std::f64::consts::LN_10 * var.sqrt()
 }
 
-/// Root mean square (0 for an empty slice).
-pub fn rms(x: &[f64]) -> f64 {
+/// Mean square (0 for an empty slice).
+pub fn mean_square(x: &[f64]) -> f64 {
     if x.is_empty() {
         return 0.0;
     }
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+    x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64
+}
+
+/// Root mean square (0 for an empty slice).
+pub fn rms(x: &[f64]) -> f64 {
+    mean_square(x).sqrt()
 }

@@ -336,10 +336,7 @@ impl Excitation {
     }
 }
 
-/// Mean square.
-fn mean_square(x: &[f64]) -> f64 {
-    x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64
-}
+use crate::metric::mean_square;
 
 /// Moving average of a PSD over ±`half` bins (edges use what exists).
 fn smooth(p: &[f64], half: usize) -> Vec<f64> {
@@ -585,12 +582,10 @@ fn variance(y: &[f64]) -> f64 {
     y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / y.len().max(1) as f64
 }
 
+/// Kurtosis (`residual-features`'); NaN for a constant signal, which calibration never feeds it
+/// (records with no excess power are refused before).
 fn kurtosis(y: &[f64]) -> f64 {
-    let m = y.iter().sum::<f64>() / y.len().max(1) as f64;
-    let n = y.len().max(1) as f64;
-    let m2 = y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / n;
-    let m4 = y.iter().map(|v| (v - m).powi(4)).sum::<f64>() / n;
-    m4 / (m2 * m2).max(1e-300)
+    residual_features::kurtosis(y).unwrap_or(f64::NAN)
 }
 
 /// The healthy machine's signal (see [`RigModel::background`]).
@@ -1167,14 +1162,20 @@ pub fn signal_stats(
             found: y.len(),
         });
     }
-    let n = y.len() as f64;
-    let mean = y.iter().sum::<f64>() / n;
-    let m2 = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
-    let m4 = y.iter().map(|v| (v - mean).powi(4)).sum::<f64>() / n;
-    if !(m2 > 0.0 && m2.is_finite()) {
-        return Err(CloseLoopError::ZeroSignal);
-    }
-    let peak = y.iter().map(|v| (v - mean).abs()).fold(0.0, f64::max);
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let c: Vec<f64> = y.iter().map(|v| v - mean).collect();
+    let stat = |r: Result<f64, residual_features::FeatureError>| match r {
+        Ok(v) => Ok(v),
+        Err(residual_features::FeatureError::ZeroSpread { .. }) => Err(CloseLoopError::ZeroSignal),
+        Err(e) => Err(CloseLoopError::Spectral {
+            reason: e.to_string(),
+        }),
+    };
+    let (rms, kurtosis, crest) = (
+        stat(residual_features::rms(&c))?,
+        stat(residual_features::kurtosis(&c))?,
+        stat(residual_features::crest_factor(&c))?,
+    );
     let welch = Welch::new(fs, 1024)?;
     let p = welch.try_psd(y)?;
     let mut band = [0.0; 4];
@@ -1198,9 +1199,9 @@ pub fn signal_stats(
         _ => None,
     };
     Ok(SignalStats {
-        rms: m2.sqrt(),
-        kurtosis: m4 / (m2 * m2),
-        crest: peak / m2.sqrt(),
+        rms,
+        kurtosis,
+        crest,
         band_energy: band,
         line_prominence_db,
     })

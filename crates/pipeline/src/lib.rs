@@ -164,12 +164,7 @@ pub struct Tuning {
     pub growth: f64,
 }
 
-fn rms(x: &[f64]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
-}
+use close_loop::metric::rms;
 
 /// RMS of x / RMS of y (0 when y is silent).
 pub fn rms_ratio(x: &[f64], y: &[f64]) -> f64 {
