@@ -7,10 +7,34 @@ use crate::effect::{Line, Mode, Modulation};
 use crate::{CloseLoopError, DeclaredFault, DeclaredModel, OperatingPoint};
 use std::f64::consts::PI;
 
-/// Deterministic normal generator (SplitMix64 + Box–Muller); no external RNG needed.
+/// SplitMix64 (Steele, Lea & Flood 2014): the workspace's one hand-written seeded generator
+/// (the loop's noise, the rig's synthesis, the chapters' random window split), 64-bit state,
+/// identical output on every platform.
+#[derive(Debug, Clone)]
+pub struct SplitMix64 {
+    state: u64,
+}
+
+impl SplitMix64 {
+    /// A generator whose state starts at `state`.
+    pub fn from_state(state: u64) -> Self {
+        Self { state }
+    }
+
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+}
+
+/// Deterministic normal generator ([`SplitMix64`] + Box–Muller); no external RNG needed.
 #[derive(Debug, Clone)]
 pub struct Gaussian {
-    state: u64,
+    bits: SplitMix64,
     spare: Option<f64>,
 }
 
@@ -18,17 +42,13 @@ impl Gaussian {
     /// Seeded generator.
     pub fn new(seed: u64) -> Self {
         Self {
-            state: seed ^ 0x9E37_79B9_7F4A_7C15,
+            bits: SplitMix64::from_state(seed ^ 0x9E37_79B9_7F4A_7C15),
             spare: None,
         }
     }
 
     fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.bits.next_u64()
     }
 
     /// Uniform in (0, 1).

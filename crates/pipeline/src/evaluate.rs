@@ -77,26 +77,14 @@ pub struct Win {
     pub energy: f64,
 }
 
-/// Deterministic SplitMix64 (for the random split only; no dependency needed).
-struct SplitMix(u64);
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-}
-
 /// Stratified random 75/25 split (per class, Fisher–Yates with a seeded SplitMix64).
 pub fn random_split(wins: &[Win], nclass: usize, seed: u64) -> (Vec<Win>, Vec<Win>) {
-    let mut rng = SplitMix(0x5EED_0000 + seed);
+    let mut rng = close_loop::scenario::SplitMix64::from_state(0x5EED_0000 + seed);
     let (mut train, mut test) = (Vec::new(), Vec::new());
     for c in 0..nclass {
         let mut idx: Vec<usize> = (0..wins.len()).filter(|&i| wins[i].class == c).collect();
         for i in (1..idx.len()).rev() {
-            let j = (rng.next() % (i as u64 + 1)) as usize;
+            let j = (rng.next_u64() % (i as u64 + 1)) as usize;
             idx.swap(i, j);
         }
         let ntrain = (idx.len() * 3).div_ceil(4);
