@@ -174,3 +174,59 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         );
     }
 }
+
+/// Bad calibration input is a typed error, never a panic: no training record, a training record
+/// shorter than one spectral segment, a non-finite healthy record.
+#[test]
+fn calibration_rejects_bad_input_with_typed_errors() {
+    let truth = rig::cwru_rig().unwrap();
+    let fs = truth.fs_hz;
+    let healthy = truth.background_as_calibrated(1797.0, (4.0 * fs) as usize, 2);
+    let cfg = LoopConfig::default().check().unwrap();
+    let cal = |h: &[f64], t: &[TrainingRecord<'_>]| {
+        rig::calibrate_rig(h, fs, 1797.0, Bearing::Skf6205, t, &cfg, "test")
+    };
+    assert!(cal(&healthy, &[]).is_err());
+    let short = vec![0.1; 100];
+    let rec = TrainingRecord {
+        name: "short",
+        location: Location::Inner,
+        size_mm: 0.178,
+        outer_angle_rad: 0.0,
+        rpm: 1797.0,
+        y: &short,
+    };
+    assert!(cal(&healthy, &[rec]).is_err());
+    let mut bad = healthy.clone();
+    bad[10] = f64::NAN;
+    let y = truth
+        .synthesize(&Synthesis::new(FaultClass::Inner, 0.178, 1797.0, 24_000, 3))
+        .unwrap();
+    let rec = TrainingRecord { y: &y, ..rec };
+    assert!(cal(&bad, &[rec]).is_err());
+}
+
+#[test]
+fn signal_stats_measure_and_reject() {
+    // a Gaussian-like signal: kurtosis near 3, crest a few; a constant or short one is an error
+    let r = rig::cwru_rig().unwrap();
+    let y = r.background(1797.0, 24_000, 4);
+    let s = rig::signal_stats(&y, r.fs_hz, Some(100.0)).unwrap();
+    assert!((2.5..4.0).contains(&s.kurtosis), "{}", s.kurtosis);
+    assert!(s.crest > 2.0 && s.rms > 0.0);
+    let total: f64 = s.band_energy.iter().sum();
+    assert!(
+        (total / (s.rms * s.rms) - 1.0).abs() < 0.1,
+        "bands {total} vs {}",
+        s.rms * s.rms
+    );
+    assert!(s.line_prominence_db.is_some());
+    assert!(matches!(
+        rig::signal_stats(&[1.0; 8000], r.fs_hz, None),
+        Err(CloseLoopError::ZeroSignal)
+    ));
+    assert!(matches!(
+        rig::signal_stats(&y[..100], r.fs_hz, None),
+        Err(CloseLoopError::TooShort { .. })
+    ));
+}
