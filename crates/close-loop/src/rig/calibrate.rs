@@ -1,0 +1,509 @@
+//! Calibration of a rig on measured records (module docs of [`super`]): the healthy machine,
+//! the contact preload, the impact paths, the severities, the sensor's horizontal sensitivity and
+//! the measurement chain.
+
+use super::{
+    DEPTH_M, Excitation, FORMAT, IMPACT_PATH_ORDER, ImpactPath, Location, RigModel, RigProvenance,
+    SLIP_FRACTION, SMOOTH_HZ, Severity, Synthesis, VERSION, WARMUP, apply_fir, background_of,
+    excitation, mean_square, mix, smooth,
+};
+use crate::CloseLoopError;
+use crate::machine::{MachineLine, MachineModel};
+use crate::path::StructuralPath;
+use crate::spectrum::Welch;
+use bearing_model::{Bearing, FaultClass};
+use std::f64::consts::PI;
+
+/// Preloads the calibration tries, m.
+pub const PRELOADS_M: &[f64] = &[0.0, 0.5e-6, 1e-6, 2e-6, 4e-6, 8e-6];
+
+fn variance(y: &[f64]) -> f64 {
+    let m = y.iter().sum::<f64>() / y.len().max(1) as f64;
+    y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / y.len().max(1) as f64
+}
+
+/// Kurtosis (`residual-features`'); NaN for a constant signal, which calibration never feeds it
+/// (records with no excess power are refused before).
+fn kurtosis(y: &[f64]) -> f64 {
+    residual_features::kurtosis(y).unwrap_or(f64::NAN)
+}
+
+/// The tones of the healthy machine (lines fixed in Hz: the measurement chain's interference,
+/// e.g. CWRU's ~4.2 kHz comb) belong to the recording chain, not to the machine, and differ
+/// between the healthy recording and the fault records. Each tone's amplitude is rescaled by the
+/// median, over the training records, of the square root of its peak excess (largest PSD within
+/// ±2 bins over the median of ±50 Hz) relative to the healthy recording's.
+fn chain_tones(
+    machine: &MachineModel,
+    healthy: &[f64],
+    training: &[TrainingRecord<'_>],
+    fs: f64,
+) -> Result<Vec<MachineLine>, CloseLoopError> {
+    let mut lines = machine.lines.clone();
+    let welch = Welch::new(fs, ((fs / 3.0).log2().round().exp2() as usize).max(1024))?;
+    let df = welch.df();
+    let excess = |p: &[f64], f: f64| {
+        let k = (f / df).round() as usize;
+        let w = ((50.0 / df).round() as usize).max(4);
+        if k + w >= p.len() || k < w {
+            return None;
+        }
+        let peak = p[k - 2..=k + 2].iter().copied().fold(0.0, f64::max);
+        let med = crate::spectrum::median(&p[k - w..=k + w]);
+        Some((peak - med).max(0.0))
+    };
+    let p_h = welch.try_psd(healthy)?;
+    let p_t: Vec<Vec<f64>> = training
+        .iter()
+        .map(|t| welch.try_psd(t.y))
+        .collect::<Result<_, _>>()?;
+    for l in lines.iter_mut() {
+        if let MachineLine::Tone {
+            frequency_hz,
+            amplitude,
+        } = l
+        {
+            let Some(h) = excess(&p_h, *frequency_hz).filter(|h| *h > 0.0) else {
+                continue;
+            };
+            let mut r: Vec<f64> = p_t
+                .iter()
+                .filter_map(|p| excess(p, *frequency_hz))
+                .map(|e| (e / h).sqrt())
+                .collect();
+            if !r.is_empty() {
+                r.sort_by(f64::total_cmp);
+                *amplitude *= r[r.len() / 2];
+            }
+        }
+    }
+    Ok(lines)
+}
+
+/// Half length of the chain FIR (taps = 2·CHAIN_HALF + 1).
+const CHAIN_HALF: usize = 64;
+
+/// The measurement chain: the median over the training records of the smoothed ratio of the
+/// measured PSD to the rig's (no chain yet) simulated PSD, normalised to unit geometric mean over
+/// 300 Hz–fs/3 and clamped at 1 — so it holds only what attenuates (the roll-off of the records'
+/// anti-alias filter, which the all-pole paths cannot follow) — as a Hann-windowed zero-phase FIR
+/// of `2·CHAIN_HALF + 1` taps by frequency sampling of its square root. Empty when nothing is
+/// attenuated by more than 1 dB.
+fn chain_response(
+    rig: &RigModel,
+    training: &[TrainingRecord<'_>],
+    measured: &[(Vec<f64>, f64)],
+    welch: &Welch,
+    half: usize,
+) -> Result<Vec<f64>, CloseLoopError> {
+    let fs = rig.fs_hz;
+    let nb = welch.n_bins();
+    let mut logs: Vec<Vec<f64>> = Vec::new();
+    for (i, t) in training.iter().enumerate() {
+        let n = t.y.len().min((4.0 * fs) as usize);
+        let mut syn = Synthesis::new(t.location.class(), t.size_mm, t.rpm, n, 3000 + i as u64);
+        syn.outer_angle_rad = t.outer_angle_rad;
+        let sim = rig.synthesize(&syn)?;
+        let s_sim = smooth(&welch.try_psd(&sim)?, half);
+        logs.push(
+            measured[i]
+                .0
+                .iter()
+                .zip(&s_sim)
+                .map(|(a, b)| (a.max(1e-300) / b.max(1e-300)).ln())
+                .collect(),
+        );
+    }
+    if logs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let med: Vec<f64> = (0..nb)
+        .map(|k| {
+            let mut v: Vec<f64> = logs.iter().map(|l| l[k]).collect();
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        })
+        .collect();
+    let band: Vec<usize> = (0..nb)
+        .filter(|&k| (300.0..=fs / 3.0).contains(&welch.frequency(k)))
+        .collect();
+    let mean = band.iter().map(|&k| med[k]).sum::<f64>() / band.len().max(1) as f64;
+    let r: Vec<f64> = med.iter().map(|v| (v - mean).min(0.0).exp()).collect();
+    if r.iter().all(|v| *v > 10f64.powf(-0.1)) {
+        return Ok(Vec::new());
+    }
+    // frequency sampling of √R on an N-point grid, zero phase, Hann window
+    let nfft = 1024usize;
+    let amp = |f: f64| {
+        let x = f / welch.df();
+        let k = (x.floor() as usize).min(nb - 2);
+        let t = (x - k as f64).clamp(0.0, 1.0);
+        ((1.0 - t) * r[k] + t * r[k + 1]).sqrt()
+    };
+    let h_k: Vec<f64> = (0..=nfft / 2)
+        .map(|k| amp(k as f64 * fs / nfft as f64))
+        .collect();
+    let mut h = vec![0.0; 2 * CHAIN_HALF + 1];
+    for (j, v) in h.iter_mut().enumerate() {
+        let m = j as f64 - CHAIN_HALF as f64;
+        let mut acc = h_k[0];
+        for (k, a) in h_k.iter().enumerate().skip(1) {
+            let w = if k == nfft / 2 { 1.0 } else { 2.0 };
+            acc += w * a * (2.0 * PI * k as f64 * m / nfft as f64).cos();
+        }
+        let win = 0.5 * (1.0 + (PI * m / (CHAIN_HALF as f64 + 1.0)).cos());
+        *v = acc / nfft as f64 * win;
+    }
+    Ok(h)
+}
+
+/// Impact paths and gains fitted for one preload.
+struct PathFit {
+    paths: Vec<ImpactPath>,
+    gains: Vec<f64>,
+    sims: Vec<Excitation>,
+}
+
+impl PathFit {
+    fn path_of(&self, loc: Location) -> &StructuralPath {
+        &self
+            .paths
+            .iter()
+            .find(|p| p.location == loc)
+            .unwrap_or(&self.paths[0])
+            .path
+    }
+}
+
+/// For each location with training records: the AR path of the pooled log ratio of smoothed
+/// excess PSD (measured minus healthy, at least a tenth of the measured) to smoothed excitation
+/// PSD, each record's ratio normalised to zero mean log; then each record's gain from its excess
+/// mean square.
+#[allow(clippy::too_many_arguments)]
+fn fit_paths(
+    bearing: Bearing,
+    preload_m: f64,
+    fs: f64,
+    machine: &MachineModel,
+    training: &[TrainingRecord<'_>],
+    measured: &[(Vec<f64>, f64)],
+    s_h: &[f64],
+    ms_h: f64,
+    welch: &Welch,
+    half: usize,
+    len: usize,
+) -> Result<PathFit, CloseLoopError> {
+    let nb = welch.n_bins();
+    let mut sims = Vec::with_capacity(training.len());
+    let mut ratios = Vec::with_capacity(training.len());
+    for (i, t) in training.iter().enumerate() {
+        let x = excitation(
+            bearing,
+            preload_m,
+            t.location.class(),
+            t.size_mm,
+            t.rpm * machine.speed_ratio,
+            t.outer_angle_rad,
+            fs,
+            t.y.len().min(len) + WARMUP,
+            1000 + i as u64,
+        )?;
+        let s_x = smooth(&welch.try_psd(&x.vertical)?, half);
+        let r: Vec<f64> = measured[i]
+            .0
+            .iter()
+            .zip(s_h)
+            .zip(&s_x)
+            .map(|((a, b), x)| ((a - b).max(0.1 * a) / x.max(1e-300)).max(1e-300).ln())
+            .collect();
+        let mean = r[1..].iter().sum::<f64>() / (nb - 1) as f64;
+        ratios.push(r.iter().map(|v| v - mean).collect::<Vec<f64>>());
+        sims.push(x);
+    }
+    let mut paths = Vec::new();
+    for loc in Location::ALL {
+        let idx: Vec<usize> = (0..training.len())
+            .filter(|&i| training[i].location == loc && ratios[i].iter().all(|v| v.is_finite()))
+            .collect();
+        if idx.is_empty() {
+            continue;
+        }
+        let shape: Vec<f64> = (0..nb)
+            .map(|k| (idx.iter().map(|&i| ratios[i][k]).sum::<f64>() / idx.len() as f64).exp())
+            .collect();
+        let mut path = StructuralPath::from_psd(&shape, welch.df(), fs, IMPACT_PATH_ORDER)?;
+        path.excitation_variance = 1.0;
+        paths.push(ImpactPath {
+            location: loc,
+            path,
+        });
+    }
+    if paths.is_empty() {
+        return Err(CloseLoopError::Model {
+            reason: "no training fault record carries a usable spectrum".into(),
+        });
+    }
+    let mut fit = PathFit {
+        paths,
+        gains: Vec::new(),
+        sims,
+    };
+    for (i, t) in training.iter().enumerate() {
+        let through = fit.path_of(t.location).filter(&fit.sims[i].vertical);
+        let ms_x = mean_square(&through[WARMUP.min(through.len() / 2)..]);
+        if !(ms_x > 0.0 && ms_x.is_finite()) {
+            return Err(CloseLoopError::Model {
+                reason: format!("the excitation of {} is zero", t.name),
+            });
+        }
+        fit.gains
+            .push(((measured[i].1 - ms_h).max(0.0) / ms_x).sqrt());
+    }
+    Ok(fit)
+}
+
+/// A measured or simulated training record for [`calibrate_rig`].
+#[derive(Debug, Clone, Copy)]
+pub struct TrainingRecord<'a> {
+    /// Name (for the provenance).
+    pub name: &'a str,
+    /// Fault location.
+    pub location: Location,
+    /// Spall width, mm.
+    pub size_mm: f64,
+    /// Outer-race spall position, rad (6 o'clock = −π/2).
+    pub outer_angle_rad: f64,
+    /// Nominal speed, rpm.
+    pub rpm: f64,
+    /// The samples (rig units), at the rig's sampling rate.
+    pub y: &'a [f64],
+}
+
+/// Calibrate a rig: the healthy machine on `healthy` (at `fs`, `rpm`), the impact path and one
+/// severity per training record (module docs). `rule` says how the training records were chosen.
+///
+/// # Errors
+/// The errors of [`crate::machine::calibrate`], of the Welch PSD and of [`excitation`];
+/// [`CloseLoopError::Model`] when no training record carries more power than the healthy
+/// machine.
+pub fn calibrate_rig(
+    healthy: &[f64],
+    fs: f64,
+    rpm: f64,
+    bearing: Bearing,
+    training: &[TrainingRecord<'_>],
+    cfg: &crate::CheckedConfig,
+    rule: &str,
+) -> Result<RigModel, CloseLoopError> {
+    let machine = crate::machine::calibrate(healthy, fs, rpm, bearing, cfg)?;
+    // outer-race records with the spall off the vertical (sensor) axis calibrate the sensor's
+    // horizontal sensitivity; the rest calibrate paths and severities
+    let off_axis = |t: &TrainingRecord<'_>| {
+        t.location == Location::Outer && t.outer_angle_rad.sin().abs() < 0.5
+    };
+    let cross: Vec<TrainingRecord<'_>> = training.iter().copied().filter(off_axis).collect();
+    let training: Vec<TrainingRecord<'_>> =
+        training.iter().copied().filter(|t| !off_axis(t)).collect();
+    let training = training.as_slice();
+    if training.is_empty() {
+        return Err(CloseLoopError::Model {
+            reason: "no training fault record to calibrate the impact paths on".into(),
+        });
+    }
+    let nperseg = ((fs / 12.0).log2().round().exp2() as usize).max(crate::MIN_NPERSEG);
+    let welch = Welch::new(fs, nperseg)?;
+    let half = ((SMOOTH_HZ / welch.df()).round() as usize).max(1);
+    let s_h = smooth(&welch.try_psd(healthy)?, half);
+    let ms_h = variance(healthy);
+    let measured: Vec<(Vec<f64>, f64)> = training
+        .iter()
+        .map(|t| Ok((smooth(&welch.try_psd(t.y)?, half), variance(t.y))))
+        .collect::<Result<_, CloseLoopError>>()?;
+    let chain_lines = chain_tones(&machine, healthy, training, fs)?;
+    let kurt: Vec<f64> = training.iter().map(|t| kurtosis(t.y)).collect();
+    // the contact load: the preload whose fitted rig gives the training records' kurtosis best
+    // (mean |ln(simulated / measured kurtosis)|), on 2 s excitations
+    let short = (2.0 * fs) as usize;
+    let mut best: Option<(f64, f64)> = None;
+    for &preload in PRELOADS_M {
+        let fit = fit_paths(
+            bearing, preload, fs, &machine, training, &measured, &s_h, ms_h, &welch, half, short,
+        )?;
+        let mut err = 0.0;
+        for (i, t) in training.iter().enumerate() {
+            let (g, path) = (&fit.gains[i], fit.path_of(t.location));
+            let through = path.filter(
+                &fit.sims[i]
+                    .vertical
+                    .iter()
+                    .map(|v| g * v)
+                    .collect::<Vec<_>>(),
+            );
+            let bg = background_of(
+                &machine,
+                &chain_lines,
+                fs,
+                t.rpm,
+                through.len(),
+                7 + i as u64,
+            );
+            let y: Vec<f64> = through.iter().zip(&bg).map(|(a, b)| a + b).collect();
+            err += (kurtosis(&y[WARMUP.min(y.len() / 2)..]) / kurt[i])
+                .ln()
+                .abs();
+        }
+        let err = err / training.len() as f64;
+        if best.is_none_or(|b| err < b.1) {
+            best = Some((preload, err));
+        }
+    }
+    let preload_m = best.map_or(0.0, |b| b.0);
+    let long = (4.0 * fs) as usize;
+    let fit = fit_paths(
+        bearing, preload_m, fs, &machine, training, &measured, &s_h, ms_h, &welch, half, long,
+    )?;
+    // severities (gain, random fraction) of every training record for a sensor κ
+    let severities_for = |kappa: f64, chain: &[f64]| {
+        let mut out = Vec::with_capacity(training.len());
+        for (i, t) in training.iter().enumerate() {
+            let path = fit.path_of(t.location);
+            let seen = fit.sims[i].seen(kappa);
+            let bg = apply_fir(
+                chain,
+                &background_of(
+                    &machine,
+                    &chain_lines,
+                    fs,
+                    t.rpm,
+                    fit.sims[i].vertical.len(),
+                    7 + i as u64,
+                ),
+            );
+            let excess = (measured[i].1 - ms_h).max(0.0);
+            // gain and kurtosis of the simulated record for a random fraction q
+            let at = |q: f64| {
+                let through = apply_fir(chain, &path.filter(&mix(&seen, q, 11 + i as u64)));
+                let skip = WARMUP.min(through.len() / 2);
+                let g = (excess / mean_square(&through[skip..]).max(1e-300)).sqrt();
+                let y: Vec<f64> = through[skip..]
+                    .iter()
+                    .zip(&bg[skip..])
+                    .map(|(a, b)| g * a + b)
+                    .collect();
+                (g, kurtosis(&y))
+            };
+            let (mut lo, mut hi) = (0.0, 0.99);
+            let q = if at(lo).1 <= kurt[i] {
+                0.0
+            } else if at(hi).1 >= kurt[i] {
+                hi
+            } else {
+                for _ in 0..14 {
+                    let mid = 0.5 * (lo + hi);
+                    if at(mid).1 > kurt[i] {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                0.5 * (lo + hi)
+            };
+            out.push(Severity {
+                location: t.location,
+                size_mm: t.size_mm,
+                gain: at(q).0,
+                random_fraction: q,
+                record: t.name.to_string(),
+            });
+        }
+        out
+    };
+    let severities = severities_for(0.0, &[]);
+    let impact_paths = fit.paths.clone();
+    let mut rig = RigModel {
+        format: FORMAT.to_string(),
+        version: VERSION,
+        fs_hz: fs,
+        units: "unknown".to_string(),
+        bearing: machine.bearing.clone(),
+        healthy: machine.clone(),
+        chain_lines: chain_lines.clone(),
+        impact_paths,
+        preload_m,
+        sensor_horizontal: 0.0,
+        chain_fir: Vec::new(),
+        depth_m: DEPTH_M,
+        slip_fraction: SLIP_FRACTION,
+        severities,
+        provenance: RigProvenance {
+            healthy_record: String::new(),
+            training_records: training.iter().map(|t| t.name.to_string()).collect(),
+            training_rule: rule.to_string(),
+        },
+    };
+    rig.provenance
+        .training_records
+        .extend(cross.iter().map(|t| t.name.to_string()));
+    // κ from the off-axis records with the κ = 0 severities, then the severities again with κ
+    rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross, ms_h)?;
+    if rig.sensor_horizontal > 0.0 {
+        rig.severities = severities_for(rig.sensor_horizontal, &[]);
+    }
+    // the measurement chain's response (the fault records' anti-alias roll-off), then the
+    // severities once more behind it
+    rig.chain_fir = chain_response(&rig, training, &measured, &welch, half)?;
+    if !rig.chain_fir.is_empty() {
+        rig.severities = severities_for(rig.sensor_horizontal, &rig.chain_fir);
+    }
+    Ok(rig)
+}
+
+/// The sensor's horizontal sensitivity κ: for each off-axis outer-race record, the κ in [0, 20]
+/// (bisection) at which the rig's simulated mean square — the 6 o'clock severity of its size —
+/// matches the measured one; the geometric mean over the records (0 without any).
+fn fit_horizontal(
+    rig: &RigModel,
+    bearing: Bearing,
+    cross: &[TrainingRecord<'_>],
+    ms_h: f64,
+) -> Result<f64, CloseLoopError> {
+    let mut logs = Vec::new();
+    for (i, t) in cross.iter().enumerate() {
+        let (g, q) = rig.severity(Location::Outer, t.size_mm)?;
+        let e = excitation(
+            bearing,
+            rig.preload_m,
+            FaultClass::Outer,
+            t.size_mm,
+            t.rpm * rig.healthy.speed_ratio,
+            t.outer_angle_rad,
+            rig.fs_hz,
+            t.y.len().min((4.0 * rig.fs_hz) as usize) + WARMUP,
+            2000 + i as u64,
+        )?;
+        let path = rig.impact_path(Location::Outer)?;
+        let ms = |k: f64| {
+            let f = path.filter(&mix(&e.seen(k), q, 13 + i as u64));
+            g * g * mean_square(&f[WARMUP..])
+        };
+        let target = (variance(t.y) - ms_h).max(0.0);
+        let (mut lo, mut hi) = (0.0f64, 20.0f64);
+        if ms(hi) < target || ms(lo) > target {
+            continue;
+        }
+        for _ in 0..30 {
+            let mid = 0.5 * (lo + hi);
+            if ms(mid) < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        logs.push((0.5 * (lo + hi)).max(1e-6).ln());
+    }
+    Ok(if logs.is_empty() {
+        0.0
+    } else {
+        (logs.iter().sum::<f64>() / logs.len() as f64).exp()
+    })
+}
