@@ -21,6 +21,7 @@ fn data(n_features: usize) -> Dataset {
                 recording: format!("{c}-{r}"),
                 load_hp: r as u32,
                 fault_size_mils: (c > 0).then_some(7),
+                speed_rpm: None,
             };
             // overlapping classes so the SVM has real work (about 10 % overlap)
             let rows = (0..200)

@@ -41,6 +41,7 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
             recording: n.to_string(),
             load_hp: 0,
             fault_size_mils: (class > 0).then_some(7),
+            speed_rpm: None,
         };
         b.add_recording(&info, rows);
     }

@@ -73,6 +73,7 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
                 recording: n.to_string(),
                 load_hp,
                 fault_size_mils,
+                speed_rpm: None,
             };
             b.add_recording(&info, rows);
         }

@@ -22,6 +22,7 @@ fn main() -> Result<(), classify::ClassifyError> {
                 recording: format!("{c}-{r}"),
                 load_hp: r,
                 fault_size_mils: (c > 0).then_some(7),
+                speed_rpm: None,
             };
             let rows = (0..200)
                 .map(|_| vec![c as f64 + 0.8 * rng.random::<f64>()])

@@ -19,6 +19,10 @@ pub struct WindowMeta {
     pub load_hp: u32,
     /// Fault diameter in thousandths of an inch (7, 14, 21, 28); `None` for normal windows.
     pub fault_size_mils: Option<u32>,
+    /// Shaft speed in rpm, when the protocols should group by it ([`crate::leave_one_condition_out`]
+    /// with [`crate::OperatingCondition::Speed`]); `None` when unknown or irrelevant.
+    #[serde(default)]
+    pub speed_rpm: Option<u32>,
     /// Position of the window within its recording (0 = first in time).
     pub index_in_recording: usize,
 }
@@ -187,6 +191,9 @@ pub struct RecordingInfo {
     pub load_hp: u32,
     /// Fault size in mils, `None` for normal.
     pub fault_size_mils: Option<u32>,
+    /// Shaft speed in rpm, `None` when unknown (see [`WindowMeta::speed_rpm`]).
+    #[serde(default)]
+    pub speed_rpm: Option<u32>,
 }
 
 impl DatasetBuilder {
@@ -198,6 +205,7 @@ impl DatasetBuilder {
                 recording: info.recording.clone(),
                 load_hp: info.load_hp,
                 fault_size_mils: info.fault_size_mils,
+                speed_rpm: info.speed_rpm,
                 index_in_recording: k,
             });
             self.rows.push(row);

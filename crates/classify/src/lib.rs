@@ -24,8 +24,10 @@
 //!   differently from one process to the next. `linfa-trees` remains a dev-dependency: a test
 //!   checks both give the same tree on tie-free data.
 //! - `ndarray`: only because linfa takes `ndarray` matrices.
-//! - `rand` 0.9 + `rand_chacha`: seeded, platform-independent splits (we never pass an RNG into
-//!   linfa, so linfa's internal rand 0.8 is not needed here).
+//! - `rand` 0.9 + `rand_xoshiro`: SplitMix64, the workspace's seeded generator (also the closed
+//!   loop's), for splits specified bit for bit and platform-independent (we never pass an RNG
+//!   into linfa, so linfa's internal rand 0.8 is not needed here). `rand_chacha` is only a
+//!   dev-dependency (test data).
 //! - `rayon`: the one-vs-one pair machines are independent and train in parallel.
 //! - `serde` / `serde_json`: trained classifiers, plans and evaluations are saved and reloaded.
 //! - `thiserror`: the crate's one error enum.
@@ -42,6 +44,7 @@
 //!             recording: format!("{class}-{r}"),
 //!             load_hp: load,
 //!             fault_size_mils: (class == 1).then_some(7 + 7 * r),
+//!             speed_rpm: None,
 //!         };
 //!         b.add_recording(&info, (0..20).map(|k| vec![base + 0.01 * k as f64]).collect());
 //!     }
@@ -72,8 +75,9 @@ pub use evaluate::{Evaluation, FoldResult, Summary, evaluate};
 pub use metrics::ConfusionMatrix;
 pub use model::{ClassifierSpec, TrainedClassifier};
 pub use protocol::{
-    DegenerateClassPolicy, Fold, GroupedConfig, Protocol, RandomSplitConfig, SplitPlan,
-    grouped_by_recording, leave_one_fault_size_out, leave_one_load_out, random_window_split,
+    DegenerateClassPolicy, Fold, GroupedConfig, OperatingCondition, Protocol, RANDOM_SPLIT_STREAM,
+    RandomSplitConfig, SplitPlan, grouped_by_recording, leave_one_condition_out,
+    leave_one_fault_size_out, leave_one_load_out, random_window_split, time_blocked,
 };
 pub use scale::Standardizer;
 pub use svm::{ClassWeight, FeatureTransform, LinearSvmParams, OvoLinearSvm, PairMachine, Scaling};

@@ -1,12 +1,20 @@
 //! Evaluation protocols: which windows train and which test.
 //!
-//! Four named protocols (see the project references, "How honest is a CWRU accuracy?"):
+//! Five named protocols (see the project references, "How honest is a CWRU accuracy?"):
 //! 1. [`random_window_split`]: stratified random 75/25 split of windows over several seeds — the
 //!    dissertation's protocol (windows of one recording land on both sides);
-//! 2. [`grouped_by_recording`]: stratified k-fold over recordings — no recording on both sides;
-//! 3. [`leave_one_load_out`]: train on the other loads, test on one;
-//! 4. [`leave_one_fault_size_out`]: train on the other crack sizes, test on one — the split that
+//! 2. [`time_blocked`]: each recording's first 75 % of windows train, its last 25 % test — still
+//!    every recording on both sides, but no test window is interleaved with training windows;
+//! 3. [`grouped_by_recording`]: stratified k-fold over recordings — no recording on both sides;
+//! 4. [`leave_one_condition_out`] ([`leave_one_load_out`]): train on the other loads (or speeds),
+//!    test on one;
+//! 5. [`leave_one_fault_size_out`]: train on the other crack sizes, test on one — the split that
 //!    shares no seeded bearing between training and test.
+//!
+//! Randomness is one generator, SplitMix64 (`rand_xoshiro`, the rust-random project's; chosen
+//! because its stream is specified bit for bit and also drives the closed loop's noise), with an
+//! explicit Fisher–Yates shuffle (`j = next_u64 mod (i + 1)`), so a split is reproducible from
+//! its seed in any language.
 //!
 //! A class that cannot be held out under a grouped protocol (it has a single value of the grouping
 //! key — e.g. CWRU's single normal recording 97, or the normal class under leave-one-fault-size-out,
@@ -17,9 +25,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 
-use rand::SeedableRng;
-use rand::seq::SliceRandom;
-use rand_chacha::ChaCha8Rng;
+use rand::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
 use serde::{Deserialize, Serialize};
 
 use crate::dataset::{Dataset, WindowMeta};
@@ -36,6 +43,48 @@ pub enum Protocol {
     LeaveOneLoadOut,
     /// Leave one fault size out.
     LeaveOneFaultSizeOut,
+    /// Each recording's early windows train, its late windows test.
+    TimeBlocked,
+    /// Leave one shaft speed out.
+    LeaveOneSpeedOut,
+}
+
+impl Protocol {
+    /// Short stable key for file names and JSON (`random_windows`, `time_blocked`,
+    /// `grouped_by_recording`, `leave_one_load_out`, `leave_one_speed_out`,
+    /// `leave_one_fault_size_out`).
+    pub fn key(self) -> &'static str {
+        match self {
+            Protocol::RandomWindows => "random_windows",
+            Protocol::TimeBlocked => "time_blocked",
+            Protocol::GroupedByRecording => "grouped_by_recording",
+            Protocol::LeaveOneLoadOut => "leave_one_load_out",
+            Protocol::LeaveOneSpeedOut => "leave_one_speed_out",
+            Protocol::LeaveOneFaultSizeOut => "leave_one_fault_size_out",
+        }
+    }
+}
+
+/// The operating condition [`leave_one_condition_out`] groups by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum OperatingCondition {
+    /// Motor load ([`WindowMeta::load_hp`]).
+    Load,
+    /// Shaft speed ([`WindowMeta::speed_rpm`]; every window must carry one).
+    Speed,
+}
+
+/// The stream offset of [`random_window_split`]: seed `s` starts SplitMix64 at state
+/// `RANDOM_SPLIT_STREAM + s`.
+pub const RANDOM_SPLIT_STREAM: u64 = 0x5EED_0000;
+
+/// Fisher–Yates shuffle with `j = next_u64 mod (i + 1)` (the bias of the modulo is below
+/// 2⁻⁴⁰ for any dataset that fits in memory).
+fn shuffle(v: &mut [usize], rng: &mut SplitMix64) {
+    for i in (1..v.len()).rev() {
+        let j = (rng.next_u64() % (i as u64 + 1)) as usize;
+        v.swap(i, j);
+    }
 }
 
 impl fmt::Display for Protocol {
@@ -45,6 +94,8 @@ impl fmt::Display for Protocol {
             Protocol::GroupedByRecording => "grouped by recording",
             Protocol::LeaveOneLoadOut => "leave one load out",
             Protocol::LeaveOneFaultSizeOut => "leave one fault size out",
+            Protocol::TimeBlocked => "time-blocked (early windows train, late windows test)",
+            Protocol::LeaveOneSpeedOut => "leave one speed out",
         })
     }
 }
@@ -100,7 +151,7 @@ impl Default for DegenerateClassPolicy {
 pub struct RandomSplitConfig {
     /// Fraction of each class's windows used for testing, in (0, 1). Default 0.25.
     pub test_fraction: f64,
-    /// One fold per seed (ChaCha8). Default 0..10.
+    /// One fold per seed (SplitMix64 from [`RANDOM_SPLIT_STREAM`] + seed). Default 0..10.
     pub seeds: Vec<u64>,
 }
 
@@ -146,12 +197,15 @@ fn check_fraction(name: &'static str, f: f64) -> Result<()> {
     }
 }
 
-/// Number of test items out of `n`, at least 1 and at most `n − 1` when `n ≥ 2`.
+/// Number of test items out of `n`: `n − ⌈(1 − fraction)·n⌉` (the training side gets the
+/// rounding, as in the dissertation's 75/25 split), at least 1 and at most `n − 1` when `n ≥ 2`.
 fn n_test(n: usize, fraction: f64) -> usize {
     if n < 2 {
         return 0;
     }
-    ((n as f64 * fraction).round() as usize).clamp(1, n - 1)
+    // The tolerance keeps an exact product (0.75 · 400) from rounding up by one ulp.
+    let n_train = ((1.0 - fraction) * n as f64 - 1e-9).ceil() as usize;
+    n.saturating_sub(n_train).clamp(1, n - 1)
 }
 
 /// Protocol 1: stratified random split of windows, one fold per seed.
@@ -182,14 +236,15 @@ pub fn random_window_split(data: &Dataset, config: &RandomSplitConfig) -> Result
     }
     let mut folds = Vec::new();
     for &seed in &config.seeds {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut rng = SplitMix64::seed_from_u64(RANDOM_SPLIT_STREAM.wrapping_add(seed));
         let (mut train, mut test) = (Vec::new(), Vec::new());
         for idx in &by_class {
             let mut shuffled = idx.clone();
-            shuffled.shuffle(&mut rng);
+            shuffle(&mut shuffled, &mut rng);
             let k = n_test(idx.len(), config.test_fraction);
-            test.extend_from_slice(&shuffled[..k]);
-            train.extend_from_slice(&shuffled[k..]);
+            let cut = idx.len() - k;
+            train.extend_from_slice(&shuffled[..cut]);
+            test.extend_from_slice(&shuffled[cut..]);
         }
         train.sort_unstable();
         test.sort_unstable();
@@ -330,7 +385,7 @@ fn finish(
     })
 }
 
-/// Protocol 2: stratified k-fold over recordings. Each class's recordings (sorted by id, then
+/// Protocol 3: stratified k-fold over recordings. Each class's recordings (sorted by id, then
 /// shuffled with `seed`) are dealt to the folds in turn, so no recording has windows in both the
 /// training and the test side of a fold (except degenerate classes, see [`DegenerateClassPolicy`]).
 ///
@@ -344,7 +399,7 @@ pub fn grouped_by_recording(data: &Dataset, config: &GroupedConfig) -> Result<Sp
             reason: "must be >= 2",
         });
     }
-    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+    let mut rng = SplitMix64::seed_from_u64(config.seed);
     let mut recs: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); data.n_classes()];
     for m in data.meta() {
         recs[m.class].insert(&m.recording);
@@ -352,8 +407,10 @@ pub fn grouped_by_recording(data: &Dataset, config: &GroupedConfig) -> Result<Sp
     let mut fold_of: BTreeMap<(usize, String), usize> = BTreeMap::new();
     let mut notes = Vec::new();
     for (c, set) in recs.iter().enumerate() {
-        let mut list: Vec<&str> = set.iter().copied().collect();
-        list.shuffle(&mut rng);
+        let list: Vec<&str> = set.iter().copied().collect();
+        let mut order: Vec<usize> = (0..list.len()).collect();
+        shuffle(&mut order, &mut rng);
+        let list: Vec<&str> = order.iter().map(|&k| list[k]).collect();
         for (k, r) in list.iter().enumerate() {
             fold_of.insert((c, (*r).to_string()), k % config.folds);
         }
@@ -381,40 +438,103 @@ pub fn grouped_by_recording(data: &Dataset, config: &GroupedConfig) -> Result<Sp
     )
 }
 
-/// Protocol 3: one fold per load present; train on the other loads, test on this one.
-/// (CWRU uses one seeded bearing per fault at all loads, so this still shares the bearing.)
+/// Protocol 2: every recording's first `1 − test_fraction` of windows (in time, by
+/// [`WindowMeta::index_in_recording`]) train and the rest test; one fold. Every recording is on
+/// both sides, but only at the single cut is a test window a neighbour of a training window.
 ///
 /// # Errors
-/// Invalid policy fraction, fewer than two loads, no usable fold.
-pub fn leave_one_load_out(data: &Dataset, policy: DegenerateClassPolicy) -> Result<SplitPlan> {
-    let loads: BTreeSet<u32> = data.meta().iter().map(|m| m.load_hp).collect();
-    if loads.len() < 2 {
-        return Err(ClassifyError::InvalidParameter {
-            name: "loads",
-            value: loads.len() as f64,
-            reason: "leave-one-load-out needs at least two loads",
-        });
+/// Invalid fraction, no usable fold.
+pub fn time_blocked(data: &Dataset, test_fraction: f64) -> Result<SplitPlan> {
+    check_fraction("test_fraction", test_fraction)?;
+    let mut recs: BTreeMap<(usize, &str), Vec<(usize, usize)>> = BTreeMap::new();
+    for (i, m) in data.meta().iter().enumerate() {
+        recs.entry((m.class, &m.recording))
+            .or_default()
+            .push((m.index_in_recording, i));
     }
-    let keys: Vec<(u32, String)> = loads
-        .iter()
-        .map(|&l| (l, format!("test load {l} hp")))
-        .collect();
-    let notes = vec![
-        "the same seeded bearing is recorded at every load, so training and test share bearings"
-            .to_string(),
-    ];
-    grouped(
+    let (mut train, mut test) = (Vec::new(), Vec::new());
+    for (_, mut w) in recs {
+        w.sort_unstable();
+        let cut = w.len() - n_test(w.len(), test_fraction);
+        train.extend(w[..cut].iter().map(|&(_, i)| i));
+        test.extend(w[cut..].iter().map(|&(_, i)| i));
+    }
+    train.sort_unstable();
+    test.sort_unstable();
+    let notes = vec![format!(
+        "every recording is on both sides: its first {:.0} % of windows train and its last {:.0} % \
+         test (not interleaved, but the same recording and bearing)",
+        100.0 * (1.0 - test_fraction),
+        100.0 * test_fraction
+    )];
+    finish(
         data,
-        Protocol::LeaveOneLoadOut,
-        |m| m.load_hp,
-        &keys,
-        "load",
-        policy,
+        Protocol::TimeBlocked,
+        vec![Fold {
+            name: "time-blocked".into(),
+            train,
+            test,
+        }],
         notes,
+        Vec::new(),
     )
 }
 
-/// Protocol 4: one fold per fault size present among faulty windows; train on the other sizes,
+/// Protocol 4: one fold per value of the operating condition present (load or speed); train on
+/// the other values, test on this one. A seeded bearing recorded at several conditions is on both
+/// sides (CWRU uses one seeded bearing per fault at all loads), so this still shares the bearing.
+///
+/// # Errors
+/// A window without a speed under [`OperatingCondition::Speed`], invalid policy fraction, fewer
+/// than two values, no usable fold.
+pub fn leave_one_condition_out(
+    data: &Dataset,
+    condition: OperatingCondition,
+    policy: DegenerateClassPolicy,
+) -> Result<SplitPlan> {
+    let value = |m: &WindowMeta| match condition {
+        OperatingCondition::Load => Some(m.load_hp),
+        OperatingCondition::Speed => m.speed_rpm,
+    };
+    if let Some(i) = data.meta().iter().position(|m| value(m).is_none()) {
+        return Err(ClassifyError::InvalidParameter {
+            name: "speed_rpm",
+            value: i as f64,
+            reason: "leave-one-speed-out needs the speed of every window (this row has none)",
+        });
+    }
+    let values: BTreeSet<u32> = data.meta().iter().filter_map(value).collect();
+    let (label, unit, protocol) = match condition {
+        OperatingCondition::Load => ("load", "hp", Protocol::LeaveOneLoadOut),
+        OperatingCondition::Speed => ("speed", "rpm", Protocol::LeaveOneSpeedOut),
+    };
+    if values.len() < 2 {
+        return Err(ClassifyError::InvalidParameter {
+            name: label,
+            value: values.len() as f64,
+            reason: "leaving one condition out needs at least two values of it",
+        });
+    }
+    let keys: Vec<(Option<u32>, String)> = values
+        .iter()
+        .map(|&v| (Some(v), format!("test {label} {v} {unit}")))
+        .collect();
+    let notes = vec![format!(
+        "a seeded bearing recorded at several {label}s appears on both sides, so training and \
+         test share bearings"
+    )];
+    grouped(data, protocol, value, &keys, label, policy, notes)
+}
+
+/// Protocol 4 on loads: [`leave_one_condition_out`] with [`OperatingCondition::Load`].
+///
+/// # Errors
+/// As [`leave_one_condition_out`].
+pub fn leave_one_load_out(data: &Dataset, policy: DegenerateClassPolicy) -> Result<SplitPlan> {
+    leave_one_condition_out(data, OperatingCondition::Load, policy)
+}
+
+/// Protocol 5: one fold per fault size present among faulty windows; train on the other sizes,
 /// test on this one. Normal windows (fault size `None`) form a degenerate class, handled by
 /// `policy` (default: split in time, first 75 % train, last 25 % test, with a note).
 ///

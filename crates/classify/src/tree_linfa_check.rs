@@ -121,6 +121,7 @@ fn dataset(rows: &[Vec<f64>], labels: &[usize], n_classes: usize) -> Dataset {
             recording: format!("r{k}"),
             load_hp: 0,
             fault_size_mils: None,
+            speed_rpm: None,
             index_in_recording: 0,
         })
         .collect();

@@ -29,6 +29,7 @@ fn energy_intervals(per: usize) -> Dataset {
                 recording: format!("{c}-{r}"),
                 load_hp: r as u32,
                 fault_size_mils: (c > 0).then_some(7 * (r as u32 + 1)),
+                speed_rpm: None,
             };
             let rows = (0..per)
                 .map(|j| {
@@ -62,6 +63,7 @@ fn clusters(n_per: usize, seed: u64, spread: f64) -> Dataset {
             recording: format!("rec{c}"),
             load_hp: 0,
             fault_size_mils: None,
+            speed_rpm: None,
         };
         b.add_recording(&info, rows);
     }
@@ -202,6 +204,7 @@ fn bad_input_gets_typed_errors() {
         recording: "r".into(),
         load_hp: 0,
         fault_size_mils: None,
+        speed_rpm: None,
         index_in_recording: 0,
     };
     let f = vec!["e".to_string()];
@@ -363,6 +366,7 @@ fn single_normal_recording_is_split_in_time_with_a_note() {
             recording: "97".into(),
             load_hp: 0,
             fault_size_mils: None,
+            speed_rpm: None,
         },
         (0..40).map(|k| vec![0.1 + 0.001 * k as f64]).collect(),
     );
@@ -377,6 +381,7 @@ fn single_normal_recording_is_split_in_time_with_a_note() {
                         recording: n.to_string(),
                         load_hp: load,
                         fault_size_mils: Some(size),
+                        speed_rpm: None,
                     },
                     (0..10).map(|k| vec![c as f64 + 0.01 * k as f64]).collect(),
                 );
@@ -454,6 +459,7 @@ fn catalog() -> impl Strategy<Value = Dataset> {
                     recording: format!("r{id}"),
                     load_hp: rng.random_range(0..4),
                     fault_size_mils: (c > 0).then(|| [7, 14, 21][rng.random_range(0..3)]),
+                    speed_rpm: None,
                 };
                 let n_win = rng.random_range(2..8);
                 let rows = (0..n_win)
@@ -564,4 +570,103 @@ proptest! {
             }
         }
     }
+}
+
+/// Two classes of one recording each, `per` windows, recording `r{c}` at `1800 − 30c` rpm.
+fn two_recordings(per: usize, speeds: [Option<u32>; 2]) -> Dataset {
+    let mut b = Dataset::builder(names(2), vec!["e".into()]);
+    for (c, speed) in speeds.iter().enumerate() {
+        let info = RecordingInfo {
+            class: c,
+            recording: format!("r{c}"),
+            load_hp: 0,
+            fault_size_mils: (c > 0).then_some(7),
+            speed_rpm: *speed,
+        };
+        b.add_recording(
+            &info,
+            (0..per).map(|j| vec![(c * per + j) as f64]).collect(),
+        );
+    }
+    b.build().unwrap()
+}
+
+/// The random split is specified bit for bit: SplitMix64 from `RANDOM_SPLIT_STREAM + seed`,
+/// Fisher–Yates `j = next mod (i + 1)` per class in class order, the first ⌈0.75 n⌉ of each
+/// shuffled class train. Reference: an independent Python implementation of that recipe
+/// (test windows of 2 × 8 windows: seed 0 → {2, 4, 8, 10}, seed 3 → {3, 4, 9, 15}).
+#[test]
+fn the_random_split_reproduces_its_specification() {
+    let data = two_recordings(8, [None, None]);
+    let cfg = RandomSplitConfig {
+        test_fraction: 0.25,
+        seeds: vec![0, 3],
+    };
+    let plan = random_window_split(&data, &cfg).unwrap();
+    assert_eq!(plan.folds[0].test, vec![2, 4, 8, 10]);
+    assert_eq!(plan.folds[1].test, vec![3, 4, 9, 15]);
+    assert_eq!(plan.folds[0].train.len(), 12);
+}
+
+#[test]
+fn time_blocked_tests_the_late_windows_of_every_recording() {
+    let data = two_recordings(10, [None, None]);
+    let plan = time_blocked(&data, 0.25).unwrap();
+    assert_eq!(plan.protocol, Protocol::TimeBlocked);
+    assert_eq!(plan.folds.len(), 1);
+    // ⌈0.75 · 10⌉ = 8 train per recording, the last 2 test.
+    assert_eq!(plan.folds[0].test, vec![8, 9, 18, 19]);
+    for &i in &plan.folds[0].train {
+        assert!(data.meta()[i].index_in_recording < 8);
+    }
+    assert!(time_blocked(&data, 1.0).is_err());
+}
+
+#[test]
+fn leave_one_speed_out_groups_by_speed_and_needs_every_speed() {
+    let mut b = Dataset::builder(names(2), vec!["e".into()]);
+    for c in 0..2 {
+        for (r, rpm) in [300u32, 500].into_iter().enumerate() {
+            let info = RecordingInfo {
+                class: c,
+                recording: format!("{c}-{r}"),
+                load_hp: 0,
+                fault_size_mils: None,
+                speed_rpm: Some(rpm),
+            };
+            b.add_recording(&info, vec![vec![c as f64 + 0.1 * r as f64]; 4]);
+        }
+    }
+    let data = b.build().unwrap();
+    let plan = leave_one_condition_out(
+        &data,
+        OperatingCondition::Speed,
+        DegenerateClassPolicy::TrainOnly,
+    )
+    .unwrap();
+    assert_eq!(plan.protocol, Protocol::LeaveOneSpeedOut);
+    assert_eq!(plan.folds.len(), 2);
+    for (fold, rpm) in plan.folds.iter().zip([300, 500]) {
+        assert!(
+            fold.test
+                .iter()
+                .all(|&i| data.meta()[i].speed_rpm == Some(rpm))
+        );
+        assert!(
+            fold.train
+                .iter()
+                .all(|&i| data.meta()[i].speed_rpm != Some(rpm))
+        );
+    }
+    // Load is 0 everywhere: leaving one load out cannot be applied.
+    assert!(leave_one_load_out(&data, DegenerateClassPolicy::TrainOnly).is_err());
+    // A window without a speed is a typed error, not a silent group.
+    let partial = two_recordings(4, [Some(300), None]);
+    let err = leave_one_condition_out(
+        &partial,
+        OperatingCondition::Speed,
+        DegenerateClassPolicy::TrainOnly,
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("speed"), "{err}");
 }

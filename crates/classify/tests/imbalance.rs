@@ -35,6 +35,7 @@ fn energies(seed: u64) -> Dataset {
             recording: format!("rec-{c}"),
             load_hp: 0,
             fault_size_mils: (c > 0).then_some(7),
+            speed_rpm: None,
         };
         let rows = (0..n)
             .map(|_| vec![med * (0.1 * gauss(&mut rng)).exp()])
@@ -167,6 +168,7 @@ fn log10_rejects_non_positive_features_with_typed_errors() {
             recording: format!("{c}"),
             load_hp: 0,
             fault_size_mils: None,
+            speed_rpm: None,
         };
         b.add_recording(&info, vec![vec![c as f64], vec![1.0 + c as f64]]);
     }

@@ -250,6 +250,7 @@ fn dataset() -> (Dataset, Vec<usize>, Vec<usize>) {
             recording: format!("r{k}"),
             load_hp: 0,
             fault_size_mils: None,
+            speed_rpm: None,
             index_in_recording: 0,
         });
     }

@@ -14,6 +14,8 @@
 //! - `nalgebra`: eigenvalues of the AR companion matrix (the structural modes of [`path`]) and
 //!   the small normal equations of the gain / path level / floor fit.
 //! - `thiserror`: the crate's one error enum.
+//! - `rand` + `rand_xoshiro`: SplitMix64, the seeded generator of the loop's and the rig's noise
+//!   (the same generator `classify` splits windows with).
 //! - `bearing-model`: the 5-DOF physics model behind [`physics::PhysicsModel`].
 //!
 //! The declared model comes in through the [`DeclaredModel`] trait, so this crate needs no

@@ -7,31 +7,14 @@ use crate::effect::{Line, Mode, Modulation};
 use crate::{CloseLoopError, DeclaredFault, DeclaredModel, OperatingPoint};
 use std::f64::consts::PI;
 
-/// SplitMix64 (Steele, Lea & Flood 2014): the workspace's one hand-written seeded generator
-/// (the loop's noise, the rig's synthesis, the chapters' random window split), 64-bit state,
-/// identical output on every platform.
-#[derive(Debug, Clone)]
-pub struct SplitMix64 {
-    state: u64,
-}
+use rand::{RngCore, SeedableRng};
+/// SplitMix64 (Steele, Lea & Flood 2014), the workspace's seeded generator of noise and splits
+/// (the loop's noise, the rig's synthesis; `classify`'s window splits use the same), from
+/// `rand_xoshiro` (rust-random): 64-bit state, a stream specified bit for bit, identical output
+/// on every platform. `SplitMix64::seed_from_u64(s)` starts the state at `s`.
+pub use rand_xoshiro::SplitMix64;
 
-impl SplitMix64 {
-    /// A generator whose state starts at `state`.
-    pub fn from_state(state: u64) -> Self {
-        Self { state }
-    }
-
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-}
-
-/// Deterministic normal generator ([`SplitMix64`] + Box–Muller); no external RNG needed.
+/// Deterministic normal generator ([`SplitMix64`] + Box–Muller).
 #[derive(Debug, Clone)]
 pub struct Gaussian {
     bits: SplitMix64,
@@ -42,7 +25,7 @@ impl Gaussian {
     /// Seeded generator.
     pub fn new(seed: u64) -> Self {
         Self {
-            bits: SplitMix64::from_state(seed ^ 0x9E37_79B9_7F4A_7C15),
+            bits: SplitMix64::seed_from_u64(seed ^ 0x9E37_79B9_7F4A_7C15),
             spare: None,
         }
     }

@@ -50,4 +50,13 @@ pub enum PipelineError {
     /// A silent healthy fit segment (zero RMS).
     #[error("the healthy fit segment is silent (zero RMS)")]
     SilentFitSegment,
+    /// Leave one fault size out was asked for without the size to hold out.
+    #[error("leave one fault size out needs the fault size to hold out")]
+    HeldSizeMissing,
+    /// The fault size to hold out is not a fault size of the cell.
+    #[error("fault size {mils} mils is not a fault size of this cell")]
+    HeldSizeAbsent {
+        /// The size asked for, in mils.
+        mils: u32,
+    },
 }

@@ -3,8 +3,9 @@
 //! with N_a chosen by held-out error, fuzzy ARX-Laguerre, and the machine model `close-loop`
 //! calibrates, whose structural path the physics observers run on), its gains set from the bound
 //! measured on that segment ([`Prepared::tune`]), its residual over a recording ([`residual`]),
-//! window energies ([`window_energies`]), the chapter classifiers ([`fit_predict`],
-//! [`tree_rules`]) and the simulated recordings of the no-data fallback and the multi-fault
+//! window energies ([`window_energies`]), each cell of a table as a `classify` dataset with its
+//! windows' metadata, split by `classify`'s protocols and scored ([`cell_dataset`],
+//! [`cell_plan`], [`evaluate_cell`]), the chapter-5 rules ([`tree_rules`]) and the simulated recordings of the no-data fallback and the multi-fault
 //! substitute ([`simulate`]).
 //!
 //! Every function returns [`PipelineError`] (one line naming the stage), never panics on data.
@@ -15,7 +16,10 @@
 mod error;
 pub mod evaluate;
 pub use error::PipelineError;
-pub use evaluate::{CellOutcome, Protocol, Win};
+pub use evaluate::{
+    CellOutcome, CellRecording, Dataset, Protocol, TEST_FRACTION, cell_dataset, cell_plan,
+    evaluate_cell,
+};
 
 /// `Result` with [`PipelineError`].
 pub type Result<T> = std::result::Result<T, PipelineError>;
@@ -88,7 +92,7 @@ pub enum TreeDraw {
 }
 
 use bearing_model::{FaultClass, Scenario};
-use classify::{ClassifierSpec, Dataset, GiniTreeParams, WindowMeta};
+use classify::{ClassifierSpec, GiniTreeParams};
 use laguerre_id::{ArxLaguerreConfig, PoleChoice};
 use observers::{
     FaultDirection, LawFamily, LinearDesign, ModelConfig, ObserverKind, ObserverSettings,
@@ -449,83 +453,13 @@ fn spec(kind: ClassifierKind) -> ClassifierSpec {
     }
 }
 
-/// A one-feature (window energy) dataset named `feature`, classes named `names`.
-fn energy_dataset(x: &[f64], y: &[usize], names: Vec<String>, feature: &str) -> Result<Dataset> {
-    let rows: Vec<Vec<f64>> = x.iter().map(|&v| vec![v]).collect();
-    let meta = y
-        .iter()
-        .enumerate()
-        .map(|(i, &c)| WindowMeta {
-            class: c,
-            recording: String::new(),
-            load_hp: 0,
-            fault_size_mils: None,
-            index_in_recording: i,
-        })
-        .collect();
-    Ok(Dataset::new(names, vec![feature.into()], &rows, meta)?)
-}
-
-fn dataset(x: &[f64], y: &[usize], nclass: usize) -> Result<Dataset> {
-    energy_dataset(x, y, (0..nclass).map(|c| c.to_string()).collect(), "energy")
-}
-
-/// Predictions already computed in this process, keyed by the exact fold (classifier, class
-/// count, training features and labels, test features, bit for bit). The same fold recurs
-/// across chapters (the raw-signal baseline and APIO run in chapters 2, 3 and 4 on the same
-/// windows); the classifiers are deterministic, so a hit returns what a refit would.
-static MEMO: std::sync::LazyLock<
-    std::sync::Mutex<std::collections::HashMap<Vec<u64>, Vec<usize>>>,
-> = std::sync::LazyLock::new(Default::default);
-
-/// Fit the classifier on (x, y) and predict `test` (one feature: the window energy). Identical
-/// folds are fitted once per process (a process-wide memo keyed by the exact fold).
-pub fn fit_predict(
-    kind: ClassifierKind,
-    x: &[f64],
-    y: &[usize],
-    test: &[f64],
-    nclass: usize,
-) -> Result<Vec<usize>> {
-    let mut key = Vec::with_capacity(3 + 2 * x.len() + test.len());
-    key.push(match kind {
-        ClassifierKind::Svm => 1,
-        ClassifierKind::Tree => 2,
-    });
-    key.push(nclass as u64);
-    key.push(x.len() as u64);
-    key.extend(x.iter().map(|v| v.to_bits()));
-    key.extend(y.iter().map(|&c| c as u64));
-    key.extend(test.iter().map(|v| v.to_bits()));
-    if let Some(p) = MEMO.lock().ok().and_then(|m| m.get(&key).cloned()) {
-        return Ok(p);
-    }
-    let pred = fit_predict_uncached(kind, x, y, test, nclass)?;
-    if let Ok(mut m) = MEMO.lock() {
-        m.insert(key, pred.clone());
-    }
-    Ok(pred)
-}
-
-fn fit_predict_uncached(
-    kind: ClassifierKind,
-    x: &[f64],
-    y: &[usize],
-    test: &[f64],
-    nclass: usize,
-) -> Result<Vec<usize>> {
-    let data = dataset(x, y, nclass)?;
-    let train: Vec<usize> = (0..x.len()).collect();
-    let model = spec(kind).fit(&data, &train)?;
-    test.iter().map(|&t| Ok(model.predict_row(&[t])?)).collect()
-}
-
-/// Fit the chapter-5 Gini tree on all windows and print its rules in the form of eqs 5.35–5.36.
-pub fn tree_rules(x: &[f64], y: &[usize], labels: &[String]) -> Result<(String, TreeDraw)> {
-    let data = energy_dataset(x, y, labels.to_vec(), "E")?;
-    let train: Vec<usize> = (0..x.len()).collect();
-    let tree = classify::GiniTree::fit(&tree_params(), &data, &train)?;
-    let names = vec!["E".to_string()];
+/// Fit the chapter-5 Gini tree on every window of a cell ([`cell_dataset`]) and print its rules
+/// in the form of eqs 5.35–5.36, classes named by the dataset's class names.
+pub fn tree_rules(data: &Dataset) -> Result<(String, TreeDraw)> {
+    let train: Vec<usize> = (0..data.n_samples()).collect();
+    let tree = classify::GiniTree::fit(&tree_params(), data, &train)?;
+    let names = data.feature_names().to_vec();
+    let labels = data.class_names();
     let mut text = String::from(
         "Rules learned by the Gini tree on the window energy E (thresholds in the residual's units squared):\n\n```text\n",
     );

@@ -193,10 +193,11 @@ mod tests {
 
     /// `cargo xtask all --quick --check` as a test: the committed quick fixtures must be
     /// reproduced byte for byte. Skips without the data unless `CI=true`.
-    /// The boundary: the chapters schedule and report, the `pipeline` crate owns the method.
-    /// xtask does not even depend on the crates that build observers, features or classifiers,
-    /// so it cannot build an observer or fit a classifier itself, and its sources hold no split
-    /// of windows into training and test (`pipeline::evaluate` does that).
+    /// The boundary: the chapters schedule and report, the `pipeline` crate owns the method and
+    /// `classify` the protocols. xtask does not even depend on the crates that build observers,
+    /// features or classifiers, so it cannot build an observer or fit a classifier itself; neither
+    /// its sources nor the `pipeline` crate's hold a split of windows into training and test
+    /// (`classify`'s protocols do that, through `pipeline::cell_plan`).
     #[test]
     fn xtask_builds_no_observer_and_fits_no_classifier() {
         for (name, src) in [
@@ -204,16 +205,27 @@ mod tests {
             ("report.rs", include_str!("report.rs")),
             ("inputs.rs", include_str!("inputs.rs")),
             ("figures.rs", include_str!("figures.rs")),
+            (
+                "pipeline/src/evaluate.rs",
+                include_str!("../../../crates/pipeline/src/evaluate.rs"),
+            ),
+            (
+                "pipeline/src/lib.rs",
+                include_str!("../../../crates/pipeline/src/lib.rs"),
+            ),
         ] {
             for needle in [
                 "SplitMix",
+                "shuffle",
                 "fn random_split",
                 "fn time_split",
                 ".partition(",
+                "WindowMeta {",
             ] {
                 assert!(
                     !src.contains(needle),
-                    "{name} splits windows itself (`{needle}`): that belongs in `pipeline::evaluate`"
+                    "{name} splits windows or builds window metadata itself (`{needle}`): that \
+                     belongs in `classify` (its protocols and `DatasetBuilder`)"
                 );
             }
         }

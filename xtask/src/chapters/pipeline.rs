@@ -9,13 +9,11 @@
 use super::inputs::{self, Cache, RecKey};
 use super::report::{
     Cell, ChapterReport, DataNote, OurTable, ResidualRatios, SourceColumns, class_label, pct,
+    protocol_key,
 };
 use super::tables::{self, Condition, DissTable};
 use crate::common::Context;
-use ::pipeline::evaluate::{
-    evaluate, leave_one_condition_out, leave_one_size_out, random_split, time_split,
-};
-use ::pipeline::{self as pl, ClassifierKind, Method, Protocol, Win};
+use ::pipeline::{self as pl, CellRecording, ClassifierKind, Method, Protocol};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
@@ -361,11 +359,9 @@ pub fn run_chapter(
                 && matches!(d.condition, Condition::FixedLoad { load_hp } if load_hp == *cfg.loads.last().unwrap_or(&3))
         }) {
             let ci = d.cracks.len() - 1;
-            let wins = cell_windows(cfg, cache, d, &feats, methods[0].name(), ci)?;
-            let x: Vec<f64> = wins.iter().map(|w| w.energy).collect();
-            let y: Vec<usize> = wins.iter().map(|w| w.class).collect();
-            let labels: Vec<String> = d.classes.iter().map(|c| class_label(c)).collect();
-            let (rules, tree) = pl::tree_rules(&x, &y, &labels)?;
+            let data = cell_dataset(cfg, cache, d, &feats, methods[0].name(), Some(ci))?;
+            let labels = data.class_names().to_vec();
+            let (rules, tree) = pl::tree_rules(&data)?;
             let load = match d.condition {
                 Condition::FixedLoad { load_hp } => load_hp,
                 _ => 0,
@@ -506,21 +502,33 @@ fn table_keys(cfg: &Config, d: &DissTable) -> Vec<RecKey> {
     v
 }
 
-/// Build the windows of one cell (all conditions the table pools, one crack size), or, with
-/// `crack = None`, of all crack sizes.
-fn windows_for(
+/// A crack size as printed ("0.007" in, "3" mm) in mils (thousandths of an inch).
+fn crack_mils(d: &DissTable, ci: usize) -> anyhow::Result<u32> {
+    let v: f64 = d.cracks[ci]
+        .parse()
+        .with_context(|| format!("crack size {:?} of table {}", d.cracks[ci], d.id))?;
+    let inches = if d.crack_unit == "mm" { v / 25.4 } else { v };
+    Ok((inches * 1000.0).round() as u32)
+}
+
+/// The recordings of one cell (all conditions the table pools, the crack sizes `cracks`), each
+/// with its window energies and what it is; `pipeline::cell_dataset` makes the dataset.
+fn cell_recordings(
     cfg: &Config,
     cache: &Cache,
     d: &DissTable,
     feats: &FeatMap,
     source: &str,
     cracks: &[usize],
-) -> anyhow::Result<Vec<Win>> {
+) -> anyhow::Result<Vec<CellRecording>> {
     let conds = conditions(cfg, d);
+    let load = |c: u32| {
+        if is_cwru(d) { (c, None) } else { (0, Some(c)) }
+    };
     // Pooled tables keep every n-th window of each recording (n = number of pooled conditions),
     // so a class has as many windows as in a single cell (the SVM's cost grows with n²).
     let stride = conds.len().max(1);
-    let mut wins = Vec::new();
+    let mut recs = Vec::new();
     for (class_idx, class) in d.classes.iter().enumerate() {
         if class == "normal" {
             // One normal recording (or one per speed for the substitute) serves every crack
@@ -529,26 +537,25 @@ fn windows_for(
             let k0 = key_for(d, class, conds[0], 0);
             let shared = conds.iter().all(|&c| key_for(d, class, c, 0) == k0);
             if shared {
-                let e = feats.get(&(source.to_string(), k0)).ok_or_else(|| {
-                    anyhow::anyhow!(
-                        "no features for {}",
-                        cache.get(&k0).map(|r| r.id.clone()).unwrap_or_default()
-                    )
-                })?;
-                let nseg = conds.len();
-                let per = e.len() / nseg;
-                for (si, _) in conds.iter().enumerate() {
-                    let seg = &e[si * per..(si + 1) * per];
-                    for (p, &en) in seg.iter().enumerate() {
-                        wins.push(Win {
-                            class: class_idx,
-                            pos: p,
-                            count: seg.len(),
-                            cond: si,
-                            crack: None,
-                            energy: en,
-                        });
-                    }
+                let id = &cache.get(&k0)?.id;
+                let e = feats
+                    .get(&(source.to_string(), k0))
+                    .ok_or_else(|| anyhow::anyhow!("no features for {id}"))?;
+                let per = e.len() / conds.len();
+                for (si, &c) in conds.iter().enumerate() {
+                    let (load_hp, speed_rpm) = load(c);
+                    recs.push(CellRecording {
+                        recording: if conds.len() > 1 {
+                            format!("{id} (segment {} of {})", si + 1, conds.len())
+                        } else {
+                            id.clone()
+                        },
+                        class: class_idx,
+                        load_hp,
+                        speed_rpm,
+                        fault_size_mils: None,
+                        energies: e[si * per..(si + 1) * per].to_vec(),
+                    });
                 }
                 continue;
             }
@@ -560,52 +567,71 @@ fn windows_for(
             cracks.iter().map(|&ci| Some(ci)).collect()
         };
         for crack in crack_list {
-            for (si, &c) in conds.iter().enumerate() {
+            for &c in &conds {
                 let k = key_for(d, class, c, crack.unwrap_or(0));
                 let e = feats
                     .get(&(source.to_string(), k))
                     .ok_or_else(|| anyhow::anyhow!("missing features"))?;
-                for (p, &en) in e.iter().enumerate().filter(|(p, _)| p % stride == 0) {
-                    wins.push(Win {
-                        class: class_idx,
-                        pos: p,
-                        count: e.len(),
-                        cond: si,
-                        crack,
-                        energy: en,
-                    });
-                }
+                let (load_hp, speed_rpm) = load(c);
+                recs.push(CellRecording {
+                    recording: cache.get(&k)?.id.clone(),
+                    class: class_idx,
+                    load_hp,
+                    speed_rpm,
+                    fault_size_mils: crack.map(|ci| crack_mils(d, ci)).transpose()?,
+                    energies: e.iter().step_by(stride).copied().collect(),
+                });
             }
         }
     }
-    Ok(wins)
+    Ok(recs)
 }
 
-fn cell_windows(
+/// The dataset of one cell (one crack size `ci`, or every size with `ci = None`), classes named
+/// by their table labels.
+fn cell_dataset(
     cfg: &Config,
     cache: &Cache,
     d: &DissTable,
     feats: &FeatMap,
     source: &str,
-    ci: usize,
-) -> anyhow::Result<Vec<Win>> {
-    windows_for(cfg, cache, d, feats, source, &[ci])
+    ci: Option<usize>,
+) -> anyhow::Result<pl::Dataset> {
+    let cracks: Vec<usize> = match ci {
+        Some(c) => vec![c],
+        None => (0..d.cracks.len()).collect(),
+    };
+    let recs = cell_recordings(cfg, cache, d, feats, source, &cracks)?;
+    Ok(pl::cell_dataset(
+        d.classes.iter().map(|c| class_label(c)).collect(),
+        &recs,
+    )?)
+}
+
+/// Leave one condition out for a table: the load for CWRU, the speed for the substitute.
+fn condition_protocol(d: &DissTable) -> Protocol {
+    if is_cwru(d) {
+        Protocol::LeaveOneLoadOut
+    } else {
+        Protocol::LeaveOneSpeedOut
+    }
 }
 
 /// The protocols reported for a table (the dissertation's first).
 fn protocols_for(d: &DissTable) -> Vec<Protocol> {
+    let cond = condition_protocol(d);
     match d.condition {
         Condition::FixedLoad { .. } | Condition::FixedSpeed { .. } => vec![
             Protocol::RandomWindows,
             Protocol::TimeBlocked,
-            Protocol::LeaveOneSizeOut,
-            Protocol::LeaveOneConditionOut,
+            Protocol::LeaveOneFaultSizeOut,
+            cond,
         ],
         Condition::LoadVariant | Condition::SpeedVariant => vec![
             Protocol::RandomWindows,
             Protocol::TimeBlocked,
-            Protocol::LeaveOneConditionOut,
-            Protocol::LeaveOneSizeOut,
+            cond,
+            Protocol::LeaveOneFaultSizeOut,
         ],
     }
 }
@@ -622,7 +648,7 @@ fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
             cfg.seeds
         ),
         Protocol::TimeBlocked => "Each recording's first 75 % of windows train, its last 25 % test (one fold). Still one recording per class on both sides, but no test window is interleaved with training windows.".to_string(),
-        Protocol::LeaveOneSizeOut => {
+        Protocol::LeaveOneFaultSizeOut => {
             let n = if is_cwru(d) { "97 (the single normal recording)" } else { "the simulated normal recording" };
             format!(
                 "Column = the crack size held out: faults of the other {} train, faults of this size test{}. The normal class has no size: {n} is split in time (first 75 % of its windows train, last 25 % test) — the only way it can appear on both sides.",
@@ -630,7 +656,7 @@ fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
                 if pooled { format!(", every {cond} pooled") } else { String::new() }
             )
         }
-        Protocol::LeaveOneConditionOut => {
+        Protocol::LeaveOneLoadOut | Protocol::LeaveOneSpeedOut | Protocol::GroupedByRecording => {
             if pooled {
                 let normal = if is_cwru(d) {
                     "The normal class is one recording (97, 0 hp, 48 kHz decimated to 12 kHz) reused at every load: it is cut into one contiguous segment per load, and the held-out load's segment tests."
@@ -665,36 +691,21 @@ fn run_cell(
         d.condition,
         Condition::LoadVariant | Condition::SpeedVariant
     );
-    let nclass = d.classes.len();
-    let mut folds: Vec<(Vec<Win>, Vec<Win>)> = Vec::new();
-    match protocol {
-        Protocol::RandomWindows => {
-            let wins = cell_windows(cfg, cache, d, feats, source, ci)?;
-            for seed in 0..cfg.seeds {
-                folds.push(random_split(&wins, nclass, seed));
-            }
+    let (data, held) = match protocol {
+        Protocol::LeaveOneFaultSizeOut => (
+            cell_dataset(cfg, cache, d, feats, source, None)?,
+            Some(crack_mils(d, ci)?),
+        ),
+        Protocol::LeaveOneLoadOut | Protocol::LeaveOneSpeedOut if !pooled => {
+            let cond = if is_cwru(d) { "load" } else { "speed" };
+            return Ok(Cell::NotApplicable(format!(
+                "one recording per class at a fixed {cond}: grouping by recording would leave its class out of training"
+            )));
         }
-        Protocol::TimeBlocked => {
-            let wins = cell_windows(cfg, cache, d, feats, source, ci)?;
-            folds.push(time_split(&wins));
-        }
-        Protocol::LeaveOneSizeOut => {
-            let all: Vec<usize> = (0..d.cracks.len()).collect();
-            let wins = windows_for(cfg, cache, d, feats, source, &all)?;
-            folds.push(leave_one_size_out(&wins, ci));
-        }
-        Protocol::LeaveOneConditionOut => {
-            if !pooled {
-                let cond = if is_cwru(d) { "load" } else { "speed" };
-                return Ok(Cell::NotApplicable(format!(
-                    "one recording per class at a fixed {cond}: grouping by recording would leave its class out of training"
-                )));
-            }
-            let wins = cell_windows(cfg, cache, d, feats, source, ci)?;
-            folds.extend(leave_one_condition_out(&wins, conditions(cfg, d).len()));
-        }
-    }
-    Ok(Cell::Measured(evaluate(&folds, nclass, clf)?))
+        _ => (cell_dataset(cfg, cache, d, feats, source, Some(ci))?, None),
+    };
+    let plan = pl::cell_plan(&data, protocol, cfg.seeds, held)?;
+    Ok(Cell::Measured(pl::evaluate_cell(&data, &plan, clf)?))
 }
 
 fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<String> {
@@ -772,10 +783,10 @@ fn data_note(
             recs.push((c.clone(), crack, ids2));
         }
     }
-    let w = cell_windows(cfg, cache, d, feats, methods[0].name(), 0)?;
+    let w = cell_dataset(cfg, cache, d, feats, methods[0].name(), Some(0))?;
     let mut per = vec![0usize; d.classes.len()];
-    for x in &w {
-        per[x.class] += 1;
+    for m in w.meta() {
+        per[m.class] += 1;
     }
     let text = if is_cwru(d) {
         let sim = cache.cwru_simulated();
@@ -863,15 +874,17 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                     pct(diss_vals.iter().sum::<f64>() / diss_vals.len() as f64)
                 ));
             }
-            for p in [
-                Protocol::RandomWindows,
-                Protocol::TimeBlocked,
-                Protocol::LeaveOneSizeOut,
-                Protocol::LeaveOneConditionOut,
+            for key in [
+                "random_windows",
+                "time_blocked",
+                "leave_one_size_out",
+                "leave_one_condition_out",
             ] {
                 let vals: Vec<f64> = tabs
                     .iter()
-                    .filter(|t| t.protocol == p && ds.iter().any(|d| d.id == t.table))
+                    .filter(|t| {
+                        protocol_key(t.protocol) == key && ds.iter().any(|d| d.id == t.table)
+                    })
                     .flat_map(|t| t.sources.iter().filter(|c| c.source == m))
                     .flat_map(|c| c.cells.iter())
                     .filter_map(|c| match c {
@@ -882,7 +895,7 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                 if !vals.is_empty() {
                     parts.push(format!(
                         "{} {}",
-                        p.key(),
+                        key,
                         pct(vals.iter().sum::<f64>() / vals.len() as f64)
                     ));
                 }

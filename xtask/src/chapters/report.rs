@@ -8,6 +8,31 @@ use ::pipeline::{CellOutcome, Protocol};
 use serde::Serialize;
 use std::fmt::Write as _;
 
+/// The stable key a chapter report files a protocol under (JSON, CSV): the two
+/// leave-one-condition-out protocols (load for CWRU tables, speed for the substitute's) share one.
+pub fn protocol_key(p: Protocol) -> &'static str {
+    match p {
+        Protocol::RandomWindows => "random_windows",
+        Protocol::TimeBlocked => "time_blocked",
+        Protocol::LeaveOneFaultSizeOut => "leave_one_size_out",
+        Protocol::LeaveOneLoadOut | Protocol::LeaveOneSpeedOut => "leave_one_condition_out",
+        Protocol::GroupedByRecording => "grouped_by_recording",
+    }
+}
+
+/// The heading of a protocol in a chapter report.
+pub fn protocol_title(p: Protocol) -> &'static str {
+    match p {
+        Protocol::RandomWindows => "dissertation protocol (random 75/25 split of windows)",
+        Protocol::TimeBlocked => "time-blocked split (first 75 % of each recording trains)",
+        Protocol::LeaveOneFaultSizeOut => "leave one fault size out",
+        Protocol::LeaveOneLoadOut | Protocol::LeaveOneSpeedOut => {
+            "grouped by recording (leave one load/speed out)"
+        }
+        Protocol::GroupedByRecording => "grouped by recording",
+    }
+}
+
 /// A cell: measured, or not applicable with the reason.
 #[derive(Debug, Clone, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -35,11 +60,16 @@ pub struct OurTable {
     /// Dissertation table id ("2.3").
     pub table: String,
     /// The protocol.
+    #[serde(serialize_with = "serialize_protocol")]
     pub protocol: Protocol,
     /// What the protocol did here, and its caveats.
     pub protocol_note: String,
     /// One entry per method (dissertation order) and one for the raw signal.
     pub sources: Vec<SourceColumns>,
+}
+
+fn serialize_protocol<S: serde::Serializer>(p: &Protocol, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(protocol_key(*p))
 }
 
 /// The data behind one dissertation table.
@@ -187,7 +217,7 @@ pub fn flatten(t: &OurTable, d: &DissTable) -> Vec<FlatRow> {
                 };
                 out.push(FlatRow {
                     table: t.table.clone(),
-                    protocol: t.protocol.key().into(),
+                    protocol: protocol_key(t.protocol).into(),
                     source: s.source.clone(),
                     crack: crack.clone(),
                     crack_unit: d.crack_unit.clone(),
@@ -251,7 +281,7 @@ pub fn markdown(rep: &ChapterReport, diss: &[&DissTable]) -> String {
             let _ = writeln!(m);
         }
         for t in rep.tables.iter().filter(|t| t.table == d.id) {
-            let _ = writeln!(m, "### {}\n", t.protocol.title());
+            let _ = writeln!(m, "### {}\n", protocol_title(t.protocol));
             let _ = writeln!(m, "{}\n", t.protocol_note);
             let with_diss = t.protocol == Protocol::RandomWindows;
             // Header.
@@ -426,7 +456,7 @@ pub fn json(rep: &ChapterReport, diss: &[&DissTable]) -> anyhow::Result<String> 
         "data": rep.data,
         "cells": rows,
         "protocol_notes": rep.tables.iter().map(|t| serde_json::json!({
-            "table": t.table, "protocol": t.protocol.key(), "note": t.protocol_note,
+            "table": t.table, "protocol": protocol_key(t.protocol), "note": t.protocol_note,
             "confusion": t.sources.iter().map(|s| serde_json::json!({
                 "source": s.source,
                 "per_crack": s.cells.iter().map(|c| match c {
