@@ -421,20 +421,30 @@ pub fn residual(
     Ok(obs.run(signal)?.residual)
 }
 
-/// Window energies Σr² (eq. 2.46 / 5.33) of `count` non-overlapping windows of `len` samples.
+/// Window energies Σr² (eq. 2.46 / 5.33) of the first `count` non-overlapping windows of `len`
+/// samples (at most as many as fit), cut and computed by `residual-features`' [`WindowPlan`]
+/// and energy-only [`FeatureExtractor`].
+///
+/// [`WindowPlan`]: residual_features::WindowPlan
+/// [`FeatureExtractor`]: residual_features::FeatureExtractor
 pub fn window_energies(r: &[f64], len: usize, count: usize) -> Result<Vec<f64>> {
-    let mut out = Vec::with_capacity(count);
-    for w in r.chunks_exact(len).take(count) {
-        out.push(residual_features::energy(w)?);
-    }
-    if out.is_empty() {
+    use residual_features::{FeatureConfig, FeatureExtractor, TailPolicy, WindowPlan, Windowing};
+    let n = if len == 0 {
+        0
+    } else {
+        (r.len() / len).min(count)
+    };
+    if n == 0 {
         return Err(PipelineError::TooShort {
             what: "residual for one complete window",
-            needed: len,
+            needed: len.max(1),
             found: r.len(),
         });
     }
-    Ok(out)
+    let plan = WindowPlan::new(Windowing::FixedLength { length: len }, TailPolicy::Reject)?;
+    let mut extractor = FeatureExtractor::new(FeatureConfig::energy_only())?;
+    let table = extractor.extract_windows(&r[..n * len], &plan)?;
+    Ok(table.rows.into_iter().map(|row| row[0]).collect())
 }
 
 /// The chapter-5 tree's limits ([`TREE_MAX_DEPTH`], [`TREE_MIN_LEAF`]).

@@ -41,9 +41,22 @@ fn prepared_method_predicts_the_healthy_signal_and_errors_are_typed() {
         p.tune(Method::Afsmo),
         Err(PipelineError::NotPrepared { .. })
     ));
-    // too short for one window
+    // too short for one window; a zero window length; a NaN in the residual
     assert!(matches!(
         window_energies(&r[..100], 300, 1),
         Err(PipelineError::TooShort { .. })
     ));
+    assert!(matches!(
+        window_energies(&r, 0, 1),
+        Err(PipelineError::TooShort { .. })
+    ));
+    let mut bad = r[..600].to_vec();
+    bad[450] = f64::NAN;
+    assert!(matches!(
+        window_energies(&bad, 300, 2),
+        Err(PipelineError::Features(_))
+    ));
+    // Σr² per window, the trailing partial window ignored
+    let e = window_energies(&[1.0, 2.0, 3.0, 4.0, 5.0], 2, 10).unwrap();
+    assert_eq!(e, vec![5.0, 25.0]);
 }
