@@ -234,7 +234,7 @@ fn reason(r: &Row, o: &Result<Outcome, String>) -> String {
         Ok(o) => &o.diagnosis,
         Err(e) => return format!("error: {e}"),
     };
-    let ev = |h: &str| d.evidence.iter().find(|e| e.hypothesis.as_str() == h);
+    let ev = |h: &str| d.evidence.iter().find(|e| e.hypothesis.name() == h);
     let lines = |h: &str| {
         ev(h).map_or(String::new(), |e| {
             e.harmonics
@@ -254,7 +254,7 @@ fn reason(r: &Row, o: &Result<Outcome, String>) -> String {
         })
     };
     let mut s = String::new();
-    if r.label != "normal" && !d.detected.iter().any(|h| h.as_str() == r.label) {
+    if r.label != "normal" && !d.detected.iter().any(|h| h.name() == r.label) {
         let _ = write!(
             s,
             "{} lines short of the rule (line threshold in band {:.0}–{:.0} Hz: {:.1} dB): {}",
@@ -266,11 +266,11 @@ fn reason(r: &Row, o: &Result<Outcome, String>) -> String {
         );
     }
     for h in &d.detected {
-        if h.as_str() != r.label {
+        if h.name() != r.label {
             if !s.is_empty() {
                 s += "; ";
             }
-            let _ = write!(s, "{} detected: {}", h.as_str(), lines(h.as_str()));
+            let _ = write!(s, "{} detected: {}", h.name(), lines(h.name()));
         }
     }
     s

@@ -150,6 +150,59 @@ impl FaultSet {
     }
 }
 
+/// Where one spall sits: the three locations a [`FaultClass`] combines. The workspace's one
+/// fault-location type (the rig's calibrated paths and severities, the diagnosis' hypotheses).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum FaultLocation {
+    /// Inner race (impacts at BPFI).
+    Inner,
+    /// Outer race (impacts at BPFO).
+    Outer,
+    /// Rolling element (impacts at the ball-defect rate, CWRU's BSF).
+    Ball,
+}
+
+impl FaultLocation {
+    /// All three, in verdict order.
+    pub const ALL: [FaultLocation; 3] = [Self::Inner, Self::Outer, Self::Ball];
+
+    /// `inner`, `outer`, `ball` (as [`FaultClass::name`] spells the single-location classes).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Inner => "inner",
+            Self::Outer => "outer",
+            Self::Ball => "ball",
+        }
+    }
+
+    /// The single-location class.
+    pub fn class(self) -> FaultClass {
+        match self {
+            Self::Inner => FaultClass::Inner,
+            Self::Outer => FaultClass::Outer,
+            Self::Ball => FaultClass::Ball,
+        }
+    }
+
+    /// Whether `class` has a spall here.
+    pub fn in_class(self, class: FaultClass) -> bool {
+        match self {
+            Self::Inner => class.has_inner(),
+            Self::Outer => class.has_outer(),
+            Self::Ball => class.has_ball(),
+        }
+    }
+}
+
+impl std::fmt::Display for FaultLocation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The eight classes of the SHSE multi-fault data (Table 4.1) and of `cargo xtask simulate`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum FaultClass {
@@ -206,6 +259,33 @@ impl FaultClass {
             self,
             Self::Ball | Self::InnerBall | Self::OuterBall | Self::InnerOuterBall
         )
+    }
+
+    /// The locations with a spall, in [`FaultLocation::ALL`] order (empty when healthy).
+    pub fn locations(self) -> Vec<FaultLocation> {
+        FaultLocation::ALL
+            .into_iter()
+            .filter(|l| l.in_class(self))
+            .collect()
+    }
+
+    /// The class with spalls at exactly `locations` (duplicates ignored; empty = healthy).
+    pub fn from_locations(locations: &[FaultLocation]) -> Self {
+        let has = |l| locations.contains(&l);
+        match (
+            has(FaultLocation::Inner),
+            has(FaultLocation::Outer),
+            has(FaultLocation::Ball),
+        ) {
+            (false, false, false) => Self::None,
+            (true, false, false) => Self::Inner,
+            (false, true, false) => Self::Outer,
+            (false, false, true) => Self::Ball,
+            (true, true, false) => Self::InnerOuter,
+            (true, false, true) => Self::InnerBall,
+            (false, true, true) => Self::OuterBall,
+            (true, true, true) => Self::InnerOuterBall,
+        }
     }
 
     /// Name as the CLI spells it (`"inner+outer"`).

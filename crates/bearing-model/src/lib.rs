@@ -41,7 +41,7 @@ pub mod simulate;
 pub mod state_space;
 
 pub use error::{ModelError, Result};
-pub use fault::{FaultClass, FaultSet, Spall};
+pub use fault::{FaultClass, FaultLocation, FaultSet, Spall};
 pub use geometry::{Bearing, BearingGeometry, FaultOrders};
 pub use params::{
     Contact, G, Gravity, Housing, ModelSpec, ParamSet, ShaftHarmonic, ShaftSpeed, Slip, Structure,

@@ -123,30 +123,9 @@ pub fn analysis_top_hz(orders: &FaultOrders, fr: f64) -> f64 {
 /// Band widths `fs/2 / d` of the filter bank.
 pub const BAND_DIVISORS: [f64; 9] = [2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0];
 
-/// A fault hypothesis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Hypothesis {
-    /// Inner race (BPFI).
-    Inner,
-    /// Outer race (BPFO).
-    Outer,
-    /// Rolling element (ball-defect rate, CWRU's BSF).
-    Ball,
-}
-
-impl Hypothesis {
-    /// All, in verdict order.
-    pub const ALL: [Hypothesis; 3] = [Hypothesis::Inner, Hypothesis::Outer, Hypothesis::Ball];
-    /// `inner`, `outer`, `ball`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Hypothesis::Inner => "inner",
-            Hypothesis::Outer => "outer",
-            Hypothesis::Ball => "ball",
-        }
-    }
-}
+/// A fault hypothesis: a fault location, `bearing-model`'s [`bearing_model::FaultLocation`]
+/// (the workspace's one fault-location type; serialised `inner`, `outer`, `ball`).
+pub use bearing_model::FaultLocation as Hypothesis;
 
 /// What the residual's model was fitted on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -622,7 +601,7 @@ pub fn diagnose(
     } else {
         detected
             .iter()
-            .map(|h| h.as_str())
+            .map(|h| h.name())
             .collect::<Vec<_>>()
             .join("+")
     };

@@ -480,7 +480,7 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             let head = if i == 0 {
                 format!(
                     "{} | {:.1} | {} | {:.0}–{:.0}",
-                    e.hypothesis.as_str(),
+                    e.hypothesis.name(),
                     e.score_db,
                     if e.detected { "**yes**" } else { "no" },
                     e.band_hz[0],
@@ -491,7 +491,7 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             };
             let counts = match (l.present, l.explained_by, l.consistent) {
                 (true, None, true) => "yes".to_string(),
-                (true, Some(h), _) => format!("no, explained by {}", h.as_str()),
+                (true, Some(h), _) => format!("no, explained by {}", h.name()),
                 (true, None, false) => "no, off the common fundamental".to_string(),
                 _ => "no".to_string(),
             };

@@ -429,11 +429,7 @@ pub fn residual(
 /// [`FeatureExtractor`]: residual_features::FeatureExtractor
 pub fn window_energies(r: &[f64], len: usize, count: usize) -> Result<Vec<f64>> {
     use residual_features::{FeatureConfig, FeatureExtractor, TailPolicy, WindowPlan, Windowing};
-    let n = if len == 0 {
-        0
-    } else {
-        (r.len() / len).min(count)
-    };
+    let n = r.len().checked_div(len).unwrap_or(0).min(count);
     if n == 0 {
         return Err(PipelineError::TooShort {
             what: "residual for one complete window",

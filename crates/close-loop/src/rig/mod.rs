@@ -69,49 +69,9 @@ pub fn cwru_rig() -> Result<RigModel, CloseLoopError> {
     RigModel::from_json(CWRU_RIG_JSON)
 }
 
-/// Where a fault sits.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Location {
-    /// Inner race.
-    Inner,
-    /// Outer race.
-    Outer,
-    /// Rolling element.
-    Ball,
-}
-
-impl Location {
-    /// All three.
-    pub const ALL: [Location; 3] = [Location::Inner, Location::Outer, Location::Ball];
-
-    /// Name as reports spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            Location::Inner => "inner",
-            Location::Outer => "outer",
-            Location::Ball => "ball",
-        }
-    }
-
-    /// The single-location class.
-    pub fn class(self) -> FaultClass {
-        match self {
-            Location::Inner => FaultClass::Inner,
-            Location::Outer => FaultClass::Outer,
-            Location::Ball => FaultClass::Ball,
-        }
-    }
-
-    /// Whether `class` has a spall here.
-    pub fn in_class(self, class: FaultClass) -> bool {
-        match self {
-            Location::Inner => class.has_inner(),
-            Location::Outer => class.has_outer(),
-            Location::Ball => class.has_ball(),
-        }
-    }
-}
+/// Where a fault sits: `bearing-model`'s [`bearing_model::FaultLocation`] (the workspace's one
+/// fault-location type), under the name the rig's API has always used.
+pub use bearing_model::FaultLocation as Location;
 
 /// One calibrated severity: the gain that puts the 5-DOF excitation of a spall of `size_mm` at
 /// `location` at the level measured on `record`.
