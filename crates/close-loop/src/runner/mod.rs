@@ -188,10 +188,13 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         cands.sort_by(|a, b| a.fit_lsd.total_cmp(&b.fit_lsd));
         rejected.clear();
         let mut accepted = None;
-        for mut cand in cands {
+        'judge: for cand in cands {
             // a shaft harmonic is scored as a sensor line in the search; the one about to be
-            // judged goes into the physics (3 simulations) and is judged as such, falling back
-            // to the sensor line if the model has no shaft or the simulations fail
+            // judged goes into the physics first (3 simulations) and is judged as such; when the
+            // model has no shaft, the simulations fail, or the physics placement does not lower
+            // the held-out error (the force also changes the contact, hence the fault's
+            // impacts), the sensor line is judged next: the held-out data decides the placement
+            let mut versions = Vec::with_capacity(2);
             if let Effect::ShaftHarmonic {
                 order,
                 line,
@@ -201,25 +204,29 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                 && order.fract() == 0.0
                 && let Some(ev) = shaft_force_candidate(ctx, &st, order as u32, line, shaft_hz)
             {
-                cand = ev;
+                versions.push(ev);
             }
-            let h = ctx.held_scores(&cand.state);
-            if h.lsd <= held.lsd * (1.0 - c.margin) && held.lsd - h.lsd >= c.min_improvement_db {
-                accepted = Some((cand, h));
-                break;
+            versions.push(cand);
+            for cand in versions {
+                let h = ctx.held_scores(&cand.state);
+                if h.lsd <= held.lsd * (1.0 - c.margin) && held.lsd - h.lsd >= c.min_improvement_db
+                {
+                    accepted = Some((cand, h));
+                    break 'judge;
+                }
+                if let Effect::SpeedOffset { ratio, .. } = cand.effect {
+                    ctx.rejected_ratios
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .push(ratio);
+                }
+                rejected.push(RejectedCandidate {
+                    kind: cand.effect.kind(),
+                    frequency_hz: cand.effect.frequency_hz(),
+                    fit_error: cand.fit_lsd,
+                    held_out_error: Some(h.lsd),
+                });
             }
-            if let Effect::SpeedOffset { ratio, .. } = cand.effect {
-                ctx.rejected_ratios
-                    .lock()
-                    .unwrap_or_else(std::sync::PoisonError::into_inner)
-                    .push(ratio);
-            }
-            rejected.push(RejectedCandidate {
-                kind: cand.effect.kind(),
-                frequency_hz: cand.effect.frequency_hz(),
-                fit_error: cand.fit_lsd,
-                held_out_error: Some(h.lsd),
-            });
         }
         let Some((cand, h)) = accepted else {
             stop_reason = if lines_only && rejected.is_empty() {
