@@ -27,7 +27,8 @@ struct Cli {
 enum Task {
     /// Print the CWRU catalog against what is on disk: present, verified, missing.
     Data(data::Args),
-    /// Simulate a recording with the 5-DOF bearing model and write it as CSV.
+    /// Simulate a recording (the calibrated CWRU rig at 6205 / 12 kHz, in g; else the bare 5-DOF
+    /// model, in m/s²) and write it as CSV with a JSON sidecar.
     Simulate(hybrid_fdd_cli::simulate::Args),
     /// Compare ARX, ARX-Laguerre and fuzzy ARX-Laguerre one-step prediction on held-out CWRU data.
     Identify(identify::Args),

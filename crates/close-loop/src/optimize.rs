@@ -1,34 +1,4 @@
-//! Small derivative-free optimisers for the few parameters each effect has.
+//! Small derivative-free optimisers for the few parameters each effect has: the golden-section
+//! search of `laguerre-id` (the workspace's one copy).
 
-const INV_PHI: f64 = 0.618_033_988_749_894_9;
-
-/// Golden-section search for the maximum of a unimodal `f` on `[lo, hi]`; returns `(x, f(x))`.
-pub fn golden_max(mut f: impl FnMut(f64) -> f64, lo: f64, hi: f64, iters: usize) -> (f64, f64) {
-    let (mut a, mut b) = (lo.min(hi), lo.max(hi));
-    let mut c = b - INV_PHI * (b - a);
-    let mut d = a + INV_PHI * (b - a);
-    let mut fc = f(c);
-    let mut fd = f(d);
-    for _ in 0..iters {
-        if fc > fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - INV_PHI * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + INV_PHI * (b - a);
-            fd = f(d);
-        }
-    }
-    if fc > fd { (c, fc) } else { (d, fd) }
-}
-
-/// Golden-section search for the minimum of `f` on `[lo, hi]`; returns `(x, f(x))`.
-pub fn golden_min(mut f: impl FnMut(f64) -> f64, lo: f64, hi: f64, iters: usize) -> (f64, f64) {
-    let (x, v) = golden_max(|x| -f(x), lo, hi, iters);
-    (x, -v)
-}
+pub use laguerre_id::optimize::{golden_max, golden_min};

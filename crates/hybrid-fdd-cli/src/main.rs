@@ -29,8 +29,8 @@ enum Command {
     /// Close the loop on a recording: residual -> missing effect -> augmented model, held-out
     /// error before and after, as JSON + Markdown + PNG.
     CloseLoop(hybrid_fdd_cli::close_loop::Args),
-    /// Simulate a recording with the 5-DOF bearing model (CSV `time_s,accel` in m/s² + JSON
-    /// sidecar).
+    /// Simulate a recording: the calibrated CWRU rig at 6205 / 12 kHz (accel in g), else the
+    /// bare 5-DOF model (m/s²); CSV `time_s,accel` + JSON sidecar stating `accel_unit`.
     Simulate(hybrid_fdd_cli::simulate::Args),
 }
 

@@ -537,30 +537,10 @@ pub(crate) fn minimize_1d(
             best = (x, v);
         }
     }
-    let (mut a, mut b) = ((best.0 - step).max(lo), (best.0 + step).min(hi));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..refine {
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
-        }
-    }
-    for cand in [(c, fc), (d, fd)] {
-        if cand.1 < best.1 {
-            best = cand;
-        }
+    let (a, b) = ((best.0 - step).max(lo), (best.0 + step).min(hi));
+    let refined = crate::optimize::golden_min(&f, a, b, refine);
+    if refined.1 < best.1 {
+        best = refined;
     }
     best
 }

@@ -53,6 +53,7 @@ pub mod basis;
 pub mod error;
 mod lstsq;
 pub mod metrics;
+pub mod optimize;
 
 pub use arx::{ArxModel, ArxOrders};
 pub use arx_laguerre::{
