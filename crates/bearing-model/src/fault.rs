@@ -318,25 +318,16 @@ impl std::str::FromStr for FaultClass {
         if matches!(low.as_str(), "none" | "normal" | "healthy") {
             return Ok(Self::None);
         }
-        let (mut i, mut o, mut b) = (false, false, false);
+        let mut locations = Vec::new();
         for part in low.split(['+', '-', ',']) {
-            match part.trim() {
-                "inner" | "ir" => i = true,
-                "outer" | "or" => o = true,
-                "ball" | "b" => b = true,
+            locations.push(match part.trim() {
+                "inner" | "ir" => FaultLocation::Inner,
+                "outer" | "or" => FaultLocation::Outer,
+                "ball" | "b" => FaultLocation::Ball,
                 _ => return Err(ModelError::UnknownFaultClass(s.to_string())),
-            }
+            });
         }
-        Ok(match (i, o, b) {
-            (true, false, false) => Self::Inner,
-            (false, true, false) => Self::Outer,
-            (false, false, true) => Self::Ball,
-            (true, true, false) => Self::InnerOuter,
-            (true, false, true) => Self::InnerBall,
-            (false, true, true) => Self::OuterBall,
-            (true, true, true) => Self::InnerOuterBall,
-            (false, false, false) => return Err(ModelError::UnknownFaultClass(s.to_string())),
-        })
+        Ok(Self::from_locations(&locations))
     }
 }
 

@@ -51,3 +51,30 @@ proptest! {
         }
     }
 }
+
+/// A class is the set of its locations: `locations` and `from_locations` are inverse, the name
+/// parses back to the class, and single locations name their single-location class.
+#[test]
+fn a_fault_class_is_the_set_of_its_locations() {
+    for class in FaultClass::ALL {
+        let locs = class.locations();
+        assert_eq!(FaultClass::from_locations(&locs), class);
+        if class != FaultClass::None {
+            assert_eq!(class.name().parse::<FaultClass>().unwrap(), class);
+        }
+        let mut reversed = locs.clone();
+        reversed.reverse();
+        reversed.extend(locs.iter().copied());
+        assert_eq!(
+            FaultClass::from_locations(&reversed),
+            class,
+            "order and repeats ignored"
+        );
+    }
+    for l in FaultLocation::ALL {
+        assert_eq!(l.class().locations(), vec![l]);
+        assert_eq!(l.name(), l.class().name());
+    }
+    assert!("inner+cage".parse::<FaultClass>().is_err());
+    assert!("".parse::<FaultClass>().is_err());
+}
