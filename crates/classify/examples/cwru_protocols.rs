@@ -1,4 +1,4 @@
-//! The four protocols on raw CWRU drive-end windows (no observer): energy only (the dissertation's
+//! The five protocols on raw CWRU drive-end windows (no observer): energy only (the dissertation's
 //! feature) and the time-domain set, with the one-vs-one linear SVM and the Gini tree.
 //!
 //! Classes: normal (97, 48 kHz decimated to 12 kHz), ball / inner / outer@6 at 0.007, 0.014 and
@@ -84,6 +84,7 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         );
         let plans = [
             random_window_split(&data, &RandomSplitConfig::default())?,
+            time_blocked(&data, 0.25)?,
             grouped_by_recording(&data, &GroupedConfig::default())?,
             leave_one_load_out(&data, DegenerateClassPolicy::default())?,
             leave_one_fault_size_out(&data, DegenerateClassPolicy::default())?,
