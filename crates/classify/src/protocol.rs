@@ -49,22 +49,6 @@ pub enum Protocol {
     LeaveOneSpeedOut,
 }
 
-impl Protocol {
-    /// Short stable key for file names and JSON (`random_windows`, `time_blocked`,
-    /// `grouped_by_recording`, `leave_one_load_out`, `leave_one_speed_out`,
-    /// `leave_one_fault_size_out`).
-    pub fn key(self) -> &'static str {
-        match self {
-            Protocol::RandomWindows => "random_windows",
-            Protocol::TimeBlocked => "time_blocked",
-            Protocol::GroupedByRecording => "grouped_by_recording",
-            Protocol::LeaveOneLoadOut => "leave_one_load_out",
-            Protocol::LeaveOneSpeedOut => "leave_one_speed_out",
-            Protocol::LeaveOneFaultSizeOut => "leave_one_fault_size_out",
-        }
-    }
-}
-
 /// The operating condition [`leave_one_condition_out`] groups by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum OperatingCondition {
@@ -80,7 +64,7 @@ pub const RANDOM_SPLIT_STREAM: u64 = 0x5EED_0000;
 
 /// Fisher–Yates shuffle with `j = next_u64 mod (i + 1)` (the bias of the modulo is below
 /// 2⁻⁴⁰ for any dataset that fits in memory).
-fn shuffle(v: &mut [usize], rng: &mut SplitMix64) {
+fn shuffle<T>(v: &mut [T], rng: &mut SplitMix64) {
     for i in (1..v.len()).rev() {
         let j = (rng.next_u64() % (i as u64 + 1)) as usize;
         v.swap(i, j);
@@ -407,10 +391,8 @@ pub fn grouped_by_recording(data: &Dataset, config: &GroupedConfig) -> Result<Sp
     let mut fold_of: BTreeMap<(usize, String), usize> = BTreeMap::new();
     let mut notes = Vec::new();
     for (c, set) in recs.iter().enumerate() {
-        let list: Vec<&str> = set.iter().copied().collect();
-        let mut order: Vec<usize> = (0..list.len()).collect();
-        shuffle(&mut order, &mut rng);
-        let list: Vec<&str> = order.iter().map(|&k| list[k]).collect();
+        let mut list: Vec<&str> = set.iter().copied().collect();
+        shuffle(&mut list, &mut rng);
         for (k, r) in list.iter().enumerate() {
             fold_of.insert((c, (*r).to_string()), k % config.folds);
         }

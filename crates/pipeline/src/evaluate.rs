@@ -146,7 +146,6 @@ fn fit_predict(
     train: &[usize],
     test: &[usize],
 ) -> Result<Vec<usize>> {
-    let row_bits = |i: usize| data.row(i).iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     let mut key = Vec::with_capacity(4 + 2 * train.len() + test.len());
     key.push(match kind {
         ClassifierKind::Svm => 1,
@@ -156,11 +155,11 @@ fn fit_predict(
     key.push(train.len() as u64);
     key.push(data.n_features() as u64);
     for &i in train {
-        key.extend(row_bits(i));
+        key.extend(data.row(i).iter().map(|v| v.to_bits()));
         key.push(data.label(i) as u64);
     }
     for &i in test {
-        key.extend(row_bits(i));
+        key.extend(data.row(i).iter().map(|v| v.to_bits()));
     }
     if let Some(p) = MEMO.lock().ok().and_then(|m| m.get(&key).cloned()) {
         return Ok(p);

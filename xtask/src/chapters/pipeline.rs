@@ -875,11 +875,13 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                 ));
             }
             for key in [
-                "random_windows",
-                "time_blocked",
-                "leave_one_size_out",
-                "leave_one_condition_out",
-            ] {
+                Protocol::RandomWindows,
+                Protocol::TimeBlocked,
+                Protocol::LeaveOneFaultSizeOut,
+                Protocol::LeaveOneLoadOut,
+            ]
+            .map(protocol_key)
+            {
                 let vals: Vec<f64> = tabs
                     .iter()
                     .filter(|t| {
