@@ -3,11 +3,10 @@
 //! `results/calibration/`. The calibrated rig is also written to
 //! `crates/close-loop/rig/cwru-12k.json`, the default of `simulate` at CWRU conditions.
 
-use std::f64::consts::PI;
-
 use anyhow::Context as _;
-use bearing_data::{CatalogEntry, FaultLocation, LoadOptions, OuterPosition, SensorEnd};
-use close_loop::rig::{self, Comparison, Location, RigModel, Synthesis, TrainingRecord};
+use bearing_data::{CatalogEntry, LoadOptions, OuterPosition, SensorEnd};
+use close_loop::rig::{self, Comparison, RigModel, TrainingRecord};
+use pipeline::rig_records::{compare_record, simulate_record, training_record};
 
 use crate::common::Context;
 
@@ -23,34 +22,6 @@ const FS: f64 = 12_000.0;
 /// Training rule: the 0 hp, 12 kHz drive-end records with the outer race at 6 o'clock.
 const RULE: &str = "12 kHz drive-end fault records at 0 hp (1797 rpm); outer race at 6 o'clock for \
      the paths and severities, at 3 o'clock for the sensor's horizontal sensitivity";
-
-fn location(e: &CatalogEntry) -> Option<Location> {
-    match e.fault {
-        FaultLocation::InnerRace => Some(Location::Inner),
-        FaultLocation::OuterRace => Some(Location::Outer),
-        FaultLocation::Ball => Some(Location::Ball),
-        FaultLocation::Normal => None,
-    }
-}
-
-fn outer_angle(e: &CatalogEntry) -> f64 {
-    match e.outer_position {
-        Some(OuterPosition::Orthogonal3) => 0.0,
-        Some(OuterPosition::Opposite12) => PI / 2.0,
-        _ => -PI / 2.0,
-    }
-}
-
-/// Fault frequency of a location at `rpm` for the 6205 (× the rig's speed ratio).
-fn fault_hz(m: &RigModel, loc: Location, rpm: f64) -> f64 {
-    let [bpfo, bpfi, _ftf, bsf] = m.healthy.bearing_orders;
-    let fr = rpm / 60.0 * m.healthy.speed_ratio;
-    fr * match loc {
-        Location::Inner => bpfi,
-        Location::Outer => bpfo,
-        Location::Ball => bsf,
-    }
-}
 
 struct Row {
     number: u32,
@@ -97,16 +68,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         .iter()
         .zip(&names)
         .filter(|((e, _, _), _)| is_training(e))
-        .filter_map(|((e, y, rpm), name)| {
-            Some(TrainingRecord {
-                name,
-                location: location(e)?,
-                size_mm: e.fault_diameter_in()? * 25.4,
-                outer_angle_rad: outer_angle(e),
-                rpm: *rpm,
-                y,
-            })
-        })
+        .filter_map(|((e, y, rpm), name)| training_record(e, name, y, *rpm))
         .collect();
     let cfg = close_loop::LoopConfig::default().check()?;
     let mut model = rig::calibrate_rig(
@@ -132,12 +94,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     let mut rows: Vec<anyhow::Result<Row>> = loaded
         .par_iter()
         .map(|(e, y, rpm)| {
-            let loc = location(e).context("fault record without a location")?;
-            let size_mm = e.fault_diameter_in().context("no fault size")? * 25.4;
-            let mut s = Synthesis::new(loc.class(), size_mm, *rpm, y.len(), u64::from(e.number));
-            s.outer_angle_rad = outer_angle(e);
-            let sim = model.synthesize(&s)?;
-            let f = Some(fault_hz(&model, loc, *rpm));
+            let cmp = compare_record(&model, e, y, FS, *rpm)?;
             bar.inc(1);
             Ok(Row {
                 number: e.number,
@@ -150,10 +107,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
                     "held out (48 kHz record, decimated)"
                 },
                 rpm: *rpm,
-                cmp: Comparison {
-                    measured: rig::signal_stats(y, FS, f)?,
-                    simulated: rig::signal_stats(&sim, FS, f)?,
-                },
+                cmp,
             })
         })
         .collect();
@@ -192,19 +146,13 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
             continue;
         }
         seen.push(key);
-        let loc = location(e).context("fault record without a location")?;
-        let size_mm = e.fault_diameter_in().context("no fault size")? * 25.4;
-        let mut s = Synthesis::new(loc.class(), size_mm, *rpm, y.len(), u64::from(e.number));
-        s.outer_angle_rad = outer_angle(e);
+        let (sim, _) = simulate_record(&model, e, *rpm, y.len())?;
         panels.push((
             format!("{} {} (held out, {:.0} rpm)", e.number, e.class_name(), rpm),
             f.clone(),
             vec![
                 ("measured".to_string(), welch.try_psd(y)?),
-                (
-                    "simulated".to_string(),
-                    welch.try_psd(&model.synthesize(&s)?)?,
-                ),
+                ("simulated".to_string(), welch.try_psd(&sim)?),
             ],
         ));
     }
@@ -223,16 +171,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         .iter()
         .zip(&names)
         .filter(|((e, _, _), _)| is_training(e) && !held_size(e))
-        .filter_map(|((e, y, rpm), name)| {
-            Some(TrainingRecord {
-                name,
-                location: location(e)?,
-                size_mm: e.fault_diameter_in()? * 25.4,
-                outer_angle_rad: outer_angle(e),
-                rpm: *rpm,
-                y,
-            })
-        })
+        .filter_map(|((e, y, rpm), name)| training_record(e, name, y, *rpm))
         .collect();
     let model2 = rig::calibrate_rig(
         &healthy,
@@ -247,25 +186,12 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         .par_iter()
         .filter(|(e, _, _)| e.fs_hz == 12_000 && held_size(e))
         .map(|(e, y, rpm)| {
-            let loc = location(e).context("fault record without a location")?;
-            let mut s = Synthesis::new(
-                loc.class(),
-                0.014 * 25.4,
-                *rpm,
-                y.len(),
-                u64::from(e.number),
-            );
-            s.outer_angle_rad = outer_angle(e);
-            let f = Some(fault_hz(&model2, loc, *rpm));
             Ok(Row {
                 number: e.number,
                 class: e.class_name(),
                 role: "held out",
                 rpm: *rpm,
-                cmp: Comparison {
-                    measured: rig::signal_stats(y, FS, f)?,
-                    simulated: rig::signal_stats(&model2.synthesize(&s)?, FS, f)?,
-                },
+                cmp: compare_record(&model2, e, y, FS, *rpm)?,
             })
         })
         .collect::<anyhow::Result<_>>()?;

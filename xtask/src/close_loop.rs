@@ -33,20 +33,6 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     hybrid_fdd_cli::close_loop::run(args.one)
 }
 
-/// Smith & Randall (2015) grade of a record from `cwru/smith_randall_grades.csv`, if present.
-fn grades(dir: &Path) -> std::collections::BTreeMap<u32, String> {
-    let mut m = std::collections::BTreeMap::new();
-    if let Ok(text) = std::fs::read_to_string(dir.join("cwru/smith_randall_grades.csv")) {
-        for line in text.lines().skip(1) {
-            let f: Vec<&str> = line.split(',').collect();
-            if let (Some(n), Some(g)) = (f.first().and_then(|n| n.parse().ok()), f.last()) {
-                m.insert(n, g.trim().to_string());
-            }
-        }
-    }
-    m
-}
-
 /// One row of the batch table: record, class, grade, rpm, fs, outcome.
 type Row = (u32, String, String, f64, f64, Outcome);
 
@@ -60,7 +46,6 @@ fn all_real(
     use rayon::prelude::*;
     let out_dir = ctx.root.join("results/close-loop");
     std::fs::create_dir_all(&out_dir)?;
-    let grades = grades(dir);
     let base = |input: PathBuf, report: PathBuf| hybrid_fdd_cli::close_loop::Args {
         input: Some(input),
         channel: args.channel.clone(),
@@ -131,7 +116,8 @@ fn all_real(
             Ok((
                 e.number,
                 e.class_name(),
-                grades.get(&e.number).cloned().unwrap_or_else(|| "–".into()),
+                bearing_data::smith_randall_grade(e.number)
+                    .map_or_else(|| "–".into(), String::from),
                 rpm,
                 fs,
                 o,

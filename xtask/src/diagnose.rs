@@ -3,13 +3,12 @@
 //! diagnosed against the healthy baseline 97.mat and self-referenced, beside its label and
 //! Smith & Randall's grade → `results/diagnosis/`.
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::Context as _;
 use bearing_data::{LoadOptions, load_record};
-use diagnosis::{BearingSpec, Diagnosis};
+use diagnosis::BearingSpec;
 use hybrid_fdd_cli::diagnose::{BaselineSource, CWRU_UNIT, Loaded, Outcome, Plan, diagnose_loaded};
 use rayon::prelude::*;
 
@@ -25,9 +24,6 @@ pub struct Args {
     #[arg(long)]
     all_real: bool,
 }
-
-/// Smith & Randall's grades, embedded with their provenance (see the file's header).
-const GRADES: &str = include_str!("smith_randall_grades.csv");
 
 /// Hand-written reading of the wrong verdicts and the design history (kept honest: the rules
 /// were changed after the first CWRU run, without moving a threshold constant).
@@ -82,17 +78,6 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     all_real(dir, &ctx.root.join("results/diagnosis"))
 }
 
-fn grades() -> BTreeMap<u32, char> {
-    GRADES
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.starts_with("record"))
-        .filter_map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            Some((f.first()?.parse().ok()?, f.last()?.chars().next()?))
-        })
-        .collect()
-}
-
 /// A record selector for the accuracy table.
 type Pick = Box<dyn Fn(&Row) -> bool>;
 
@@ -121,7 +106,6 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
     let entries: Vec<_> = bearing_data::catalog()
         .filter(|e| e.in_shared_copy)
         .collect();
-    let grades = grades();
     let b97 = load_record(dir, 97, &LoadOptions::default()).context("loading 97.mat")?;
     let baseline =
         BaselineSource::from_samples(Path::new("97.mat"), b97.de().to_vec(), b97.fs_hz());
@@ -185,7 +169,7 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
                 label: e.fault.as_str(),
                 load_hp: e.load_hp,
                 rpm: rec.rpm().value,
-                grade: grades.get(&e.number).copied(),
+                grade: bearing_data::smith_randall_grade(e.number),
                 base,
                 own,
                 machine,
@@ -230,50 +214,10 @@ fn pct((a, n): (usize, usize)) -> String {
 
 /// Why a verdict differs from the label, from the evidence.
 fn reason(r: &Row, o: &Result<Outcome, String>) -> String {
-    let d: &Diagnosis = match o {
-        Ok(o) => &o.diagnosis,
-        Err(e) => return format!("error: {e}"),
-    };
-    let ev = |h: &str| d.evidence.iter().find(|e| e.hypothesis.name() == h);
-    let lines = |h: &str| {
-        ev(h).map_or(String::new(), |e| {
-            e.harmonics
-                .iter()
-                .chain(&e.sidebands)
-                .map(|l| {
-                    format!(
-                        "{} {:.1}{}{}",
-                        l.label,
-                        l.prominence_db,
-                        if l.explained_by.is_some() { "ₓ" } else { "" },
-                        if l.consistent { "" } else { "≠" }
-                    )
-                })
-                .collect::<Vec<_>>()
-                .join(", ")
-        })
-    };
-    let mut s = String::new();
-    if r.label != "normal" && !d.detected.iter().any(|h| h.name() == r.label) {
-        let _ = write!(
-            s,
-            "{} lines short of the rule (line threshold in band {:.0}–{:.0} Hz: {:.1} dB): {}",
-            r.label,
-            d.band.low_hz,
-            d.band.high_hz,
-            d.band.line_threshold_db,
-            lines(r.label)
-        );
+    match o {
+        Ok(o) => o.diagnosis.explain_against(r.label),
+        Err(e) => format!("error: {e}"),
     }
-    for h in &d.detected {
-        if h.name() != r.label {
-            if !s.is_empty() {
-                s += "; ";
-            }
-            let _ = write!(s, "{} detected: {}", h.name(), lines(h.name()));
-        }
-    }
-    s
 }
 
 fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
@@ -370,7 +314,7 @@ fn write_outputs(rows: &[Row], out: &Path) -> anyhow::Result<()> {
          geometry CWRU does not give). Samples are in file units (the data README states none; \
          commonly read as g); the decision uses power ratios only.\n\
          - Grades: Smith & Randall (MSSP 64–65, 2015), Y = clearly diagnosable by envelope \
-         analysis, P = partly, N = not; embedded in `xtask/src/smith_randall_grades.csv` from \
+         analysis, P = partly, N = not; embedded in `crates/bearing-data/src/smith_randall_grades.csv` from \
          `shared/data/cwru/smith_randall_grades.csv` (the table in `shared/docs/references.md`).\n\
          - A verdict is right when it equals the label exactly (`inner+outer` for an inner \
          record is wrong).\n\n## Accuracy\n\n| records | baseline reference | self reference | machine-model reference |\n|---|---|---|---|\n",

@@ -13,10 +13,7 @@ use std::path::Path;
 
 use anyhow::Context as _;
 use bearing_data::{LoadOptions, SensorEnd, load_record};
-use fuzzy_ts::{FalConfig, FuzzyArxLaguerre};
-use laguerre_id::{
-    ArxLaguerreConfig, ArxLaguerreModel, ArxModel, ArxOrders, FitMetrics, PoleChoice,
-};
+use laguerre_id::FitMetrics;
 
 use crate::common::Context;
 
@@ -166,65 +163,15 @@ fn score_record(dir: &Path, number: u32, args: &Args) -> anyhow::Result<Vec<Row>
             InputKind::FanEnd => args.n_b,
             InputKind::ShaftPhase => args.n_b.min(2),
         };
-        let fit_y = &y[..args.fit_len];
-        let fit_u = u.map(|u| &u[..args.fit_len]);
-        let score = |pred: Vec<f64>| FitMetrics::compute(&y[test.clone()], &pred[test.clone()]);
-
-        let arx = ArxModel::identify(fit_y, fit_u, ArxOrders::new(args.n_a, nb)?)?;
-        rows.push(Row {
+        let scores = fuzzy_ts::compare_predictors(&y, u, args.n_a, nb, args.fit_len, test.clone())?;
+        rows.extend(scores.into_iter().map(|p| Row {
             record: number,
             class: class.clone(),
             input,
-            model: "ARX",
-            params: format!("n_a={} n_b={}", args.n_a, nb),
-            m: score(arx.predict(&y, u)?)?,
-        });
-        // Reference: a long ARX model with 8× the lags (is the Laguerre gain only memory length?).
-        let (hi_a, hi_b) = (
-            8 * args.n_a,
-            if input == InputKind::FanEnd {
-                8 * nb
-            } else {
-                nb
-            },
-        );
-        let arx_hi = ArxModel::identify(fit_y, fit_u, ArxOrders::new(hi_a, hi_b)?)?;
-        rows.push(Row {
-            record: number,
-            class: class.clone(),
-            input,
-            model: "ARX (8× lags)",
-            params: format!("n_a={hi_a} n_b={hi_b}"),
-            m: score(arx_hi.predict(&y, u)?)?,
-        });
-        let cfg = ArxLaguerreConfig::new(args.n_a, nb, PoleChoice::DEFAULT_SEARCH)?;
-        let fal = FuzzyArxLaguerre::identify(fit_y, fit_u, &FalConfig::with_base(cfg))?;
-        let al: &ArxLaguerreModel = fal.base();
-        let poles = match al.pole_b() {
-            Some(b) => format!("ζ_a={:.4} ζ_b={:.4}", al.pole_a().value(), b.value()),
-            None => format!("ζ_a={:.4}", al.pole_a().value()),
-        };
-        rows.push(Row {
-            record: number,
-            class: class.clone(),
-            input,
-            model: "ARX-Laguerre",
-            params: format!("N_a={} N_b={} {poles}", args.n_a, nb),
-            m: score(al.predict(&y, u)?)?,
-        });
-        let kf: Vec<String> = fal
-            .fuzzy_coefficients()
-            .iter()
-            .map(|v| format!("{v:.4e}"))
-            .collect();
-        rows.push(Row {
-            record: number,
-            class: class.clone(),
-            input,
-            model: "fuzzy ARX-Laguerre",
-            params: format!("N_f=2 ζ_f=0 λ_f=[{}]", kf.join(", ")),
-            m: score(fal.predict(&y, u)?)?,
-        });
+            model: p.model,
+            params: p.params,
+            m: p.metrics,
+        }));
     }
     Ok(rows)
 }

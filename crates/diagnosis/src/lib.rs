@@ -343,6 +343,57 @@ pub struct Diagnosis {
     pub envelope: EnvelopeSpectrum,
 }
 
+impl Diagnosis {
+    /// Why the verdict differs from a known `label` (`normal`, `inner`, `outer`, `ball`), from
+    /// the evidence: the labelled fault's lines when it was not detected (prominence in dB,
+    /// `ₓ` explained by a stronger fault, `≠` off the common fundamental) against the band's
+    /// line threshold, and the lines of every other fault detected. Empty when they agree.
+    pub fn explain_against(&self, label: &str) -> String {
+        use std::fmt::Write as _;
+        let lines = |h: &str| {
+            self.evidence
+                .iter()
+                .find(|e| e.hypothesis.name() == h)
+                .map_or(String::new(), |e| {
+                    e.harmonics
+                        .iter()
+                        .chain(&e.sidebands)
+                        .map(|l| {
+                            format!(
+                                "{} {:.1}{}{}",
+                                l.label,
+                                l.prominence_db,
+                                if l.explained_by.is_some() { "ₓ" } else { "" },
+                                if l.consistent { "" } else { "≠" }
+                            )
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                })
+        };
+        let mut s = String::new();
+        if label != "normal" && !self.detected.iter().any(|h| h.name() == label) {
+            let _ = write!(
+                s,
+                "{label} lines short of the rule (line threshold in band {:.0}–{:.0} Hz: {:.1} dB): {}",
+                self.band.low_hz,
+                self.band.high_hz,
+                self.band.line_threshold_db,
+                lines(label)
+            );
+        }
+        for h in &self.detected {
+            if h.name() != label {
+                if !s.is_empty() {
+                    s += "; ";
+                }
+                let _ = write!(s, "{} detected: {}", h.name(), lines(h.name()));
+            }
+        }
+        s
+    }
+}
+
 fn check_fs(fs_hz: f64) -> Result<()> {
     if !(fs_hz.is_finite() && (MIN_FS_HZ..=MAX_FS_HZ).contains(&fs_hz)) {
         return Err(DiagnosisError::SampleRateOutOfRange {

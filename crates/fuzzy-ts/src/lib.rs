@@ -30,6 +30,7 @@
 // Index loops mirror the equations' subscripts in the numeric kernels.
 #![allow(clippy::needless_range_loop)]
 
+pub mod compare;
 pub mod error;
 pub mod fal;
 pub mod inference;
@@ -37,6 +38,7 @@ pub mod membership;
 pub mod rules;
 pub mod ts;
 
+pub use compare::{PredictorScore, compare_predictors};
 pub use error::{FuzzyError, Result};
 pub use fal::{FalConfig, FalState, FuzzyArxLaguerre, FuzzyScaling};
 pub use inference::{FuzzyInference, FuzzyRanges, TNorm};

@@ -13,8 +13,9 @@ const W: u32 = 900;
 /// Figure height, pixels.
 const H: u32 = 480;
 
-/// Register DejaVu Sans with plotters if it exists; `false` means draw without text.
-fn font_available() -> bool {
+/// Register DejaVu Sans with plotters (once) if it exists; `false` means draw without text.
+/// Every figure of the workspace (these and `cargo xtask`'s) draws text through this.
+pub fn font_available() -> bool {
     static ONCE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *ONCE.get_or_init(|| {
         let path = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
@@ -26,6 +27,34 @@ fn font_available() -> bool {
             Err(_) => false,
         }
     })
+}
+
+/// A drawing area of a bitmap figure.
+pub type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// Render a `w` × `h` figure drawn by `draw` into PNG bytes (through a temporary file:
+/// plotters' encoder writes to paths). Pixels depend only on what is drawn, so the bytes are
+/// deterministic.
+///
+/// # Errors
+/// Drawing, encoding or temporary-file errors.
+pub fn render_png(
+    w: u32,
+    h: u32,
+    draw: impl FnOnce(&Area<'_>) -> anyhow::Result<()>,
+) -> anyhow::Result<Vec<u8>> {
+    static COUNTER: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let path = std::env::temp_dir().join(format!("hybrid-fdd-fig-{}-{n}.png", std::process::id()));
+    {
+        let root = BitMapBackend::new(&path, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        draw(&root)?;
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    let bytes = std::fs::read(&path)?;
+    let _ = std::fs::remove_file(&path);
+    Ok(bytes)
 }
 
 /// Draw the envelope-spectrum figure of `d` into `path` (PNG).

@@ -59,4 +59,48 @@ pub enum PipelineError {
         /// The size asked for, in mils.
         mils: u32,
     },
+    /// A CWRU recording could not be read or decimated.
+    #[error("CWRU recording {number}.mat: {source}")]
+    Recording {
+        /// The record number.
+        number: u32,
+        /// What went wrong.
+        source: bearing_data::DataError,
+    },
+    /// The catalog does not name exactly one record for a table cell.
+    #[error("the catalog names {found} records for {query} (one expected)")]
+    Catalog {
+        /// The cell asked for.
+        query: String,
+        /// Records found.
+        found: usize,
+    },
+    /// A table prints a crack size that is not a number.
+    #[error("table {table}: crack size {size:?} is not a number")]
+    BadCrackSize {
+        /// The table.
+        table: String,
+        /// The size as printed.
+        size: String,
+    },
+    /// A table's conditions are outside the run's scope (no load or speed to pool).
+    #[error("table {table}: no condition of the table is in the run's scope")]
+    EmptyScope {
+        /// The table.
+        table: String,
+    },
+    /// A recording (or its features) a cell needs is not available.
+    #[error("{what} is not available")]
+    Missing {
+        /// What is missing.
+        what: String,
+    },
+    /// The calibrated rig failed on a record (synthesis or statistics).
+    #[error("rig model on record {record}: {source}")]
+    Rig {
+        /// The record number.
+        record: u32,
+        /// What went wrong.
+        source: close_loop::CloseLoopError,
+    },
 }

@@ -13,8 +13,12 @@
 //! `fuzzy-ts`, `observers`, `residual-features`, `classify`, `close-loop`), and `thiserror` for
 //! the error enum. Decisions: `docs/equations/xtask-chapters.md`, "Observers and models".
 
+pub mod cells;
+pub mod dissertation;
 mod error;
 pub mod evaluate;
+pub mod recordings;
+pub mod rig_records;
 pub use error::PipelineError;
 pub use evaluate::{
     CellOutcome, CellRecording, Dataset, Protocol, TEST_FRACTION, cell_dataset, cell_plan,

@@ -1,57 +1,20 @@
 //! PNG figures with plotters: residual traces per class (Figs 2.5, 3.3, 4.9, 4.10, 5.4–5.6),
 //! window energies per class (Fig. 5.7), confusion matrices, the decision tree (Fig. 5.8).
 //!
-//! Text uses DejaVu Sans read at run time from `/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf`
-//! (registered once with `plotters::style::register_font`); without that file, figures are drawn
-//! without text rather than failing. Pixels depend only on the data, so PNG bytes are
-//! deterministic (the bitmap is encoded by plotters' `image` backend via a temporary file).
+//! Text and PNG encoding as every figure of the workspace: `hybrid_fdd_cli::figure`
+//! (DejaVu Sans when present, figures without text otherwise; deterministic bytes).
 
 use super::inputs::{Cache, RecKey};
 use super::report::{Cell, OurTable, class_label};
-use super::tables::{Condition, DissTable};
 use ::pipeline::Protocol;
+use ::pipeline::dissertation::{Condition, DissTable};
 use ::pipeline::{Method, TreeDraw};
-use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
-use std::sync::OnceLock;
 
-const FONT_PATH: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 const FONT: &str = "sans-serif";
 
-/// Register the font once; `true` when text can be drawn.
-fn has_font() -> bool {
-    static OK: OnceLock<bool> = OnceLock::new();
-    *OK.get_or_init(|| match std::fs::read(FONT_PATH) {
-        Ok(bytes) => {
-            let leaked: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-            plotters::style::register_font(FONT, FontStyle::Normal, leaked).is_ok()
-        }
-        Err(_) => false,
-    })
-}
-
-type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
-
-/// Render into a PNG (through a temporary file: plotters' encoder writes to paths).
-fn render(
-    w: u32,
-    h: u32,
-    draw: impl FnOnce(&Area<'_>) -> anyhow::Result<()>,
-) -> anyhow::Result<Vec<u8>> {
-    static COUNTER: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let path = std::env::temp_dir().join(format!("hybrid-fdd-fig-{}-{n}.png", std::process::id()));
-    {
-        let root = BitMapBackend::new(&path, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        draw(&root)?;
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    let bytes = std::fs::read(&path)?;
-    let _ = std::fs::remove_file(&path);
-    Ok(bytes)
-}
+use hybrid_fdd_cli::figure::{Area, font_available as has_font, render_png as render};
 
 fn e<E: std::fmt::Display>(err: E) -> anyhow::Error {
     anyhow::anyhow!("plotting: {err}")
@@ -546,7 +509,7 @@ pub fn chapter_figures(
                 Cell::NotApplicable(_) => None,
             })
             .collect();
-        let labels: Vec<String> = d.classes.iter().map(|c| class_label(c)).collect();
+        let labels: Vec<String> = d.class_labels();
         out.push((
             format!("figures/confusion_table_{}.png", d.id.replace('.', "_")),
             confusions(

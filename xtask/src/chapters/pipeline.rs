@@ -11,9 +11,9 @@ use super::report::{
     Cell, ChapterReport, DataNote, OurTable, ResidualRatios, SourceColumns, class_label, pct,
     protocol_key,
 };
-use super::tables::{self, Condition, DissTable};
 use crate::common::Context;
-use ::pipeline::{self as pl, CellRecording, ClassifierKind, Method, Protocol};
+use ::pipeline::dissertation::{self as tables, Condition, DissTable};
+use ::pipeline::{self as pl, ClassifierKind, Method, Protocol};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
@@ -41,6 +41,14 @@ pub struct Config {
 }
 
 impl Config {
+    /// The loads and speeds this configuration runs.
+    pub fn scope(&self) -> pl::cells::Scope {
+        pl::cells::Scope {
+            loads: self.loads.clone(),
+            rpms: self.rpms.clone(),
+        }
+    }
+
     /// The full or the quick configuration.
     pub fn new(quick: bool, figures: bool, progress: bool) -> Self {
         if quick {
@@ -124,7 +132,7 @@ pub fn run_chapter(
     let diss_all = tables::chapter_tables(ch);
     let diss: Vec<&DissTable> = diss_all
         .into_iter()
-        .filter(|d| table_selected(cfg, d))
+        .filter(|d| d.selected(&cfg.scope()))
         .collect();
     let cwru_sim = !inputs::cwru_available(ctx);
     if cwru_sim && ctx.ci {
@@ -135,7 +143,7 @@ pub fn run_chapter(
     // 1. Recordings every table needs.
     let mut keys: Vec<RecKey> = Vec::new();
     for d in &diss {
-        for k in table_keys(cfg, d) {
+        for k in d.recording_keys(&cfg.scope()) {
             if !keys.contains(&k) {
                 keys.push(k);
             }
@@ -249,29 +257,19 @@ pub fn run_chapter(
             let prep = prepared
                 .get(&hk)
                 .ok_or_else(|| anyhow::anyhow!("no model for {}", rec.id))?;
-            let full = match src {
+            let method = match src {
                 Some(m) => {
                     let t = tunings
                         .get(&(*m, hk))
                         .ok_or_else(|| anyhow::anyhow!("no tuning for {}", rec.id))?;
-                    pl::residual(*m, prep, t, &rec.signal)
-                        .with_context(|| format!("{} on recording {}", m.name(), rec.id))?
+                    Some((*m, prep, t))
                 }
-                None => rec.signal.clone(),
+                None => None,
             };
-            let residual = full.get(rec.window_start..).unwrap_or(&[]);
-            let scored = rec.window_len * rec.n_windows;
-            let ratio = pl::rms_ratio(
-                &residual[..scored.min(residual.len())],
-                &rec.signal[rec.window_start.min(rec.signal.len())..][..scored.min(residual.len())],
-            );
-            let e = pl::window_energies(residual, rec.window_len, rec.n_windows).with_context(
-                || format!("energy windows of {} on {}", source_name(*src), rec.id),
-            )?;
+            let f = pl::recordings::source_features(method, rec)
+                .with_context(|| format!("{} on recording {}", source_name(*src), rec.id))?;
             pb.inc(1);
-            // Keep a short trace for the figures.
-            let trace_len = residual.len().min(rec.fs as usize / 10);
-            Ok((e, residual[..trace_len].to_vec(), ratio))
+            Ok((f.energies, f.trace, f.rms_ratio))
         })
         .collect();
     pb.finish_and_clear();
@@ -302,7 +300,7 @@ pub fn run_chapter(
     // collect in order.
     let mut cell_jobs = Vec::new();
     for (di, d) in diss.iter().enumerate() {
-        for protocol in protocols_for(d) {
+        for protocol in d.protocols() {
             for (si, _) in sources.iter().enumerate() {
                 for ci in 0..d.cracks.len() {
                     cell_jobs.push((di, protocol, si, ci));
@@ -316,15 +314,21 @@ pub fn run_chapter(
         .map(|&(di, protocol, si, ci)| {
             let d = diss[di];
             let name = source_name(sources[si]);
-            let r = run_cell(cfg, cache, d, &feats, &name, ci, protocol, clf)
-                .with_context(|| format!("table {} {} crack {}", d.id, name, d.cracks[ci]));
+            let src = Src {
+                cache,
+                feats: &feats,
+                source: &name,
+            };
+            let r =
+                pl::cells::evaluate_table_cell(d, &cfg.scope(), &src, ci, protocol, cfg.seeds, clf)
+                    .with_context(|| format!("table {} {} crack {}", d.id, name, d.cracks[ci]));
             pb.inc(1);
             r
         })
         .collect();
     let mut it = cell_jobs.iter().zip(cells);
     for d in &diss {
-        for protocol in protocols_for(d) {
+        for protocol in d.protocols() {
             let mut cols = Vec::new();
             for src in &sources {
                 let mut cs = Vec::new();
@@ -454,137 +458,30 @@ fn progress(cfg: &Config, n: u64, msg: String) -> ProgressBar {
     pb
 }
 
-/// In the quick configuration only the first load / first speed tables run.
-fn table_selected(cfg: &Config, d: &DissTable) -> bool {
-    match d.condition {
-        Condition::FixedLoad { load_hp } => cfg.loads.contains(&load_hp),
-        Condition::FixedSpeed { rpm } => cfg.rpms.contains(&rpm),
-        Condition::LoadVariant => cfg.loads.len() > 1,
-        Condition::SpeedVariant => cfg.rpms.len() > 1,
+/// A source's window energies and recording ids, as the library's cells read them.
+struct Src<'a> {
+    cache: &'a Cache,
+    feats: &'a FeatMap,
+    source: &'a str,
+}
+
+impl pl::cells::CellSource for Src<'_> {
+    fn id(&self, k: &RecKey) -> pl::Result<String> {
+        self.cache
+            .get(k)
+            .map(|r| r.id.clone())
+            .map_err(|e| pl::PipelineError::Missing {
+                what: e.to_string(),
+            })
     }
-}
-
-/// Conditions (load hp or rpm) a table pools.
-fn conditions(cfg: &Config, d: &DissTable) -> Vec<u32> {
-    match d.condition {
-        Condition::FixedLoad { load_hp } => vec![u32::from(load_hp)],
-        Condition::FixedSpeed { rpm } => vec![rpm],
-        Condition::LoadVariant => cfg.loads.iter().map(|&l| u32::from(l)).collect(),
-        Condition::SpeedVariant => cfg.rpms.clone(),
+    fn energies(&self, k: &RecKey) -> pl::Result<&[f64]> {
+        self.feats
+            .get(&(self.source.to_string(), *k))
+            .map(Vec::as_slice)
+            .ok_or_else(|| pl::PipelineError::Missing {
+                what: format!("window energies of {} on {k:?}", self.source),
+            })
     }
-}
-
-fn is_cwru(d: &DissTable) -> bool {
-    d.dataset == "cwru"
-}
-
-/// The recording behind (table, class, condition, crack).
-fn key_for(d: &DissTable, class: &str, cond: u32, crack: usize) -> RecKey {
-    if is_cwru(d) {
-        inputs::cwru_key(class, cond as u8, crack)
-    } else {
-        inputs::multi_key(class, cond, crack)
-    }
-}
-
-fn table_keys(cfg: &Config, d: &DissTable) -> Vec<RecKey> {
-    let mut v = Vec::new();
-    for cond in conditions(cfg, d) {
-        for ci in 0..d.cracks.len() {
-            for c in &d.classes {
-                let k = key_for(d, c, cond, ci);
-                if !v.contains(&k) {
-                    v.push(k);
-                }
-            }
-        }
-    }
-    v
-}
-
-/// A crack size as printed ("0.007" in, "3" mm) in mils (thousandths of an inch).
-fn crack_mils(d: &DissTable, ci: usize) -> anyhow::Result<u32> {
-    let v: f64 = d.cracks[ci]
-        .parse()
-        .with_context(|| format!("crack size {:?} of table {}", d.cracks[ci], d.id))?;
-    let inches = if d.crack_unit == "mm" { v / 25.4 } else { v };
-    Ok((inches * 1000.0).round() as u32)
-}
-
-/// The recordings of one cell (all conditions the table pools, the crack sizes `cracks`), each
-/// with its window energies and what it is; `pipeline::cell_dataset` makes the dataset.
-fn cell_recordings(
-    cfg: &Config,
-    cache: &Cache,
-    d: &DissTable,
-    feats: &FeatMap,
-    source: &str,
-    cracks: &[usize],
-) -> anyhow::Result<Vec<CellRecording>> {
-    let conds = conditions(cfg, d);
-    let load = |c: u32| {
-        if is_cwru(d) { (c, None) } else { (0, Some(c)) }
-    };
-    // Pooled tables keep every n-th window of each recording (n = number of pooled conditions),
-    // so a class has as many windows as in a single cell (the SVM's cost grows with n²).
-    let stride = conds.len().max(1);
-    let mut recs = Vec::new();
-    for (class_idx, class) in d.classes.iter().enumerate() {
-        if class == "normal" {
-            // One normal recording (or one per speed for the substitute) serves every crack
-            // size; when several conditions are pooled and they share one recording (CWRU 97),
-            // it is cut into one contiguous pseudo-segment per condition, never duplicated.
-            let k0 = key_for(d, class, conds[0], 0);
-            let shared = conds.iter().all(|&c| key_for(d, class, c, 0) == k0);
-            if shared {
-                let id = &cache.get(&k0)?.id;
-                let e = feats
-                    .get(&(source.to_string(), k0))
-                    .ok_or_else(|| anyhow::anyhow!("no features for {id}"))?;
-                let per = e.len() / conds.len();
-                for (si, &c) in conds.iter().enumerate() {
-                    let (load_hp, speed_rpm) = load(c);
-                    recs.push(CellRecording {
-                        recording: if conds.len() > 1 {
-                            format!("{id} (segment {} of {})", si + 1, conds.len())
-                        } else {
-                            id.clone()
-                        },
-                        class: class_idx,
-                        load_hp,
-                        speed_rpm,
-                        fault_size_mils: None,
-                        energies: e[si * per..(si + 1) * per].to_vec(),
-                    });
-                }
-                continue;
-            }
-        }
-        // Every other recording: one per (crack, condition), every `stride`-th window.
-        let crack_list: Vec<Option<usize>> = if class == "normal" {
-            vec![None]
-        } else {
-            cracks.iter().map(|&ci| Some(ci)).collect()
-        };
-        for crack in crack_list {
-            for &c in &conds {
-                let k = key_for(d, class, c, crack.unwrap_or(0));
-                let e = feats
-                    .get(&(source.to_string(), k))
-                    .ok_or_else(|| anyhow::anyhow!("missing features"))?;
-                let (load_hp, speed_rpm) = load(c);
-                recs.push(CellRecording {
-                    recording: cache.get(&k)?.id.clone(),
-                    class: class_idx,
-                    load_hp,
-                    speed_rpm,
-                    fault_size_mils: crack.map(|ci| crack_mils(d, ci)).transpose()?,
-                    energies: e.iter().step_by(stride).copied().collect(),
-                });
-            }
-        }
-    }
-    Ok(recs)
 }
 
 /// The dataset of one cell (one crack size `ci`, or every size with `ci = None`), classes named
@@ -597,47 +494,16 @@ fn cell_dataset(
     source: &str,
     ci: Option<usize>,
 ) -> anyhow::Result<pl::Dataset> {
-    let cracks: Vec<usize> = match ci {
-        Some(c) => vec![c],
-        None => (0..d.cracks.len()).collect(),
+    let src = Src {
+        cache,
+        feats,
+        source,
     };
-    let recs = cell_recordings(cfg, cache, d, feats, source, &cracks)?;
-    Ok(pl::cell_dataset(
-        d.classes.iter().map(|c| class_label(c)).collect(),
-        &recs,
-    )?)
-}
-
-/// Leave one condition out for a table: the load for CWRU, the speed for the substitute.
-fn condition_protocol(d: &DissTable) -> Protocol {
-    if is_cwru(d) {
-        Protocol::LeaveOneLoadOut
-    } else {
-        Protocol::LeaveOneSpeedOut
-    }
-}
-
-/// The protocols reported for a table (the dissertation's first).
-fn protocols_for(d: &DissTable) -> Vec<Protocol> {
-    let cond = condition_protocol(d);
-    match d.condition {
-        Condition::FixedLoad { .. } | Condition::FixedSpeed { .. } => vec![
-            Protocol::RandomWindows,
-            Protocol::TimeBlocked,
-            Protocol::LeaveOneFaultSizeOut,
-            cond,
-        ],
-        Condition::LoadVariant | Condition::SpeedVariant => vec![
-            Protocol::RandomWindows,
-            Protocol::TimeBlocked,
-            cond,
-            Protocol::LeaveOneFaultSizeOut,
-        ],
-    }
+    Ok(pl::cells::table_cell_dataset(d, &cfg.scope(), &src, ci)?)
 }
 
 fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
-    let cond = if is_cwru(d) { "load" } else { "speed" };
+    let cond = if d.is_cwru() { "load" } else { "speed" };
     let pooled = matches!(
         d.condition,
         Condition::LoadVariant | Condition::SpeedVariant
@@ -649,7 +515,7 @@ fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
         ),
         Protocol::TimeBlocked => "Each recording's first 75 % of windows train, its last 25 % test (one fold). Still one recording per class on both sides, but no test window is interleaved with training windows.".to_string(),
         Protocol::LeaveOneFaultSizeOut => {
-            let n = if is_cwru(d) { "97 (the single normal recording)" } else { "the simulated normal recording" };
+            let n = if d.is_cwru() { "97 (the single normal recording)" } else { "the simulated normal recording" };
             format!(
                 "Column = the crack size held out: faults of the other {} train, faults of this size test{}. The normal class has no size: {n} is split in time (first 75 % of its windows train, last 25 % test) — the only way it can appear on both sides.",
                 if d.cracks.len() == 2 { "size" } else { "two sizes" },
@@ -658,7 +524,7 @@ fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
         }
         Protocol::LeaveOneLoadOut | Protocol::LeaveOneSpeedOut | Protocol::GroupedByRecording => {
             if pooled {
-                let normal = if is_cwru(d) {
+                let normal = if d.is_cwru() {
                     "The normal class is one recording (97, 0 hp, 48 kHz decimated to 12 kHz) reused at every load: it is cut into one contiguous segment per load, and the held-out load's segment tests."
                 } else {
                     "The normal class has its own simulated recording at each speed."
@@ -673,39 +539,6 @@ fn protocol_note(cfg: &Config, d: &DissTable, p: Protocol) -> String {
             }
         }
     }
-}
-
-/// Evaluate one cell under one protocol.
-#[allow(clippy::too_many_arguments)]
-fn run_cell(
-    cfg: &Config,
-    cache: &Cache,
-    d: &DissTable,
-    feats: &FeatMap,
-    source: &str,
-    ci: usize,
-    protocol: Protocol,
-    clf: ClassifierKind,
-) -> anyhow::Result<Cell> {
-    let pooled = matches!(
-        d.condition,
-        Condition::LoadVariant | Condition::SpeedVariant
-    );
-    let (data, held) = match protocol {
-        Protocol::LeaveOneFaultSizeOut => (
-            cell_dataset(cfg, cache, d, feats, source, None)?,
-            Some(crack_mils(d, ci)?),
-        ),
-        Protocol::LeaveOneLoadOut | Protocol::LeaveOneSpeedOut if !pooled => {
-            let cond = if is_cwru(d) { "load" } else { "speed" };
-            return Ok(Cell::NotApplicable(format!(
-                "one recording per class at a fixed {cond}: grouping by recording would leave its class out of training"
-            )));
-        }
-        _ => (cell_dataset(cfg, cache, d, feats, source, Some(ci))?, None),
-    };
-    let plan = pl::cell_plan(&data, protocol, cfg.seeds, held)?;
-    Ok(Cell::Measured(pl::evaluate_cell(&data, &plan, clf)?))
 }
 
 fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<String> {
@@ -757,7 +590,7 @@ fn data_note(
     methods: &[Method],
 ) -> anyhow::Result<DataNote> {
     let mut recs = Vec::new();
-    let conds = conditions(cfg, d);
+    let conds = d.conditions(&cfg.scope());
     for c in &d.classes {
         let cracks: Vec<usize> = if c == "normal" {
             vec![0]
@@ -767,7 +600,7 @@ fn data_note(
         for ci in cracks {
             let ids: Vec<String> = conds
                 .iter()
-                .map(|&cd| cache.get(&key_for(d, c, cd, ci)).map(|r| r.id.clone()))
+                .map(|&cd| cache.get(&d.recording_key(c, cd, ci)).map(|r| r.id.clone()))
                 .collect::<anyhow::Result<_>>()?;
             let mut ids2 = Vec::new();
             for i in ids {
@@ -788,7 +621,7 @@ fn data_note(
     for m in w.meta() {
         per[m.class] += 1;
     }
-    let text = if is_cwru(d) {
+    let text = if d.is_cwru() {
         let sim = cache.cwru_simulated();
         format!(
             "{}CWRU 12 kHz drive-end, {}. Windows per class (first crack size): {}. Normal = 97.mat (0 hp, 48 kHz → 12 kHz by 4){}.",
@@ -908,31 +741,6 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
     s
 }
 
-/// Class index and label of a recording, with its dataset.
-fn rec_class(k: &RecKey) -> (&'static str, usize, &'static str) {
-    match *k {
-        RecKey::Cwru { class, .. } => (
-            "CWRU",
-            usize::from(class),
-            ["Normal", "Ball", "OR", "IR"][usize::from(class).min(3)],
-        ),
-        RecKey::Multi { class, .. } => (
-            "multi-fault substitute (simulated)",
-            usize::from(class),
-            [
-                "Normal",
-                "IR",
-                "OR",
-                "Ball",
-                "IR-Ball",
-                "OR-Ball",
-                "IR-OR",
-                "IR-OR-Ball",
-            ][usize::from(class).min(7)],
-        ),
-    }
-}
-
 /// The gains each observer got from the fit segment, and what its residual does per class:
 /// RMS(residual) / RMS(signal) over the scored windows, mean over the recordings of the class.
 fn tuning_section(
@@ -992,17 +800,17 @@ fn tuning_section(
     }
     let mut datasets: Vec<&str> = Vec::new();
     for (_, k) in ratios.keys() {
-        let (ds, _, _) = rec_class(k);
+        let ds = k.dataset();
         if !datasets.contains(&ds) {
             datasets.push(ds);
         }
     }
     for ds in datasets {
-        let mut labels: Vec<(usize, &str)> = ratios
+        let mut labels: Vec<(usize, String)> = ratios
             .keys()
-            .map(|(_, k)| rec_class(k))
-            .filter(|(d, _, _)| *d == ds)
-            .map(|(_, i, l)| (i, l))
+            .map(|(_, k)| k)
+            .filter(|k| k.dataset() == ds)
+            .map(|k| (k.class_index(), k.class_label()))
             .collect();
         labels.sort();
         labels.dedup();
@@ -1015,7 +823,7 @@ fn tuning_section(
             "| Observer | {} |",
             labels
                 .iter()
-                .map(|(_, l)| *l)
+                .map(|(_, l)| l.as_str())
                 .collect::<Vec<_>>()
                 .join(" | ")
         );
@@ -1026,7 +834,7 @@ fn tuning_section(
                 let v: Vec<f64> = ratios
                     .iter()
                     .filter(|((s, k), _)| {
-                        s == m.name() && rec_class(k).0 == ds && rec_class(k).1 == *ci
+                        s == m.name() && k.dataset() == ds && k.class_index() == *ci
                     })
                     .map(|(_, r)| *r)
                     .collect();

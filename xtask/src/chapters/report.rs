@@ -3,8 +3,9 @@
 //!
 //! Nothing here computes an accuracy; it only lays out what the pipeline measured.
 
-use super::tables::DissTable;
-use ::pipeline::{CellOutcome, Protocol};
+use ::pipeline::Protocol;
+use ::pipeline::dissertation::DissTable;
+pub use ::pipeline::dissertation::class_label;
 use serde::Serialize;
 use std::fmt::Write as _;
 
@@ -33,15 +34,7 @@ pub fn protocol_title(p: Protocol) -> &'static str {
     }
 }
 
-/// A cell: measured, or not applicable with the reason.
-#[derive(Debug, Clone, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Cell {
-    /// Measured.
-    Measured(CellOutcome),
-    /// The protocol cannot be applied here.
-    NotApplicable(String),
-}
+pub use ::pipeline::cells::Cell;
 
 /// One row group of our table: the features of one method (or the raw signal).
 #[derive(Debug, Clone, Serialize)]
@@ -133,21 +126,6 @@ fn signed(v: f64) -> String {
         "0.0".to_string()
     } else {
         format!("{r:.1}")
-    }
-}
-
-/// Human label of a class key.
-pub fn class_label(key: &str) -> String {
-    match key {
-        "normal" => "Normal".into(),
-        "ball" => "Ball".into(),
-        "outer" => "OR".into(),
-        "inner" => "IR".into(),
-        "inner_ball" => "IR-Ball".into(),
-        "outer_ball" => "OR-Ball".into(),
-        "inner_outer" => "IR-OR".into(),
-        "inner_outer_ball" => "IR-OR-Ball".into(),
-        other => other.into(),
     }
 }
 

@@ -75,6 +75,10 @@ pub enum Condition {
 }
 
 impl DissTable {
+    /// The table's class labels in row order ([`class_label`] of each class key).
+    pub fn class_labels(&self) -> Vec<String> {
+        self.classes.iter().map(|c| class_label(c)).collect()
+    }
     /// The printed value for (class row, method, crack index), if the method is in the table.
     pub fn value(&self, row: usize, method: &str, crack: usize) -> Option<f64> {
         let m = self.methods.iter().position(|x| x == method)?;
@@ -87,6 +91,21 @@ impl DissTable {
     pub fn avg(&self, method: &str, crack: usize) -> Option<f64> {
         let m = self.methods.iter().position(|x| x == method)?;
         self.average.get(m * self.cracks.len() + crack).copied()
+    }
+}
+
+/// Human label of a class key.
+pub fn class_label(key: &str) -> String {
+    match key {
+        "normal" => "Normal".into(),
+        "ball" => "Ball".into(),
+        "outer" => "OR".into(),
+        "inner" => "IR".into(),
+        "inner_ball" => "IR-Ball".into(),
+        "outer_ball" => "OR-Ball".into(),
+        "inner_outer" => "IR-OR".into(),
+        "inner_outer_ball" => "IR-OR-Ball".into(),
+        other => other.into(),
     }
 }
 
