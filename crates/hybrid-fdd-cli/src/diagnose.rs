@@ -14,7 +14,8 @@ pub struct Args {
     /// or a directory: every `.mat`/`.csv` in it is diagnosed, in parallel.
     #[arg(long)]
     pub input: Option<PathBuf>,
-    /// Channel of a `.mat` file: DE, FE or BA.
+    /// Channel: of a `.mat` file DE, FE or BA; of a CSV/TSV a column name or number (1 = first;
+    /// by default `accel`, the only column, or the second of `time,signal`).
     #[arg(long, default_value = "DE")]
     pub channel: String,
     /// Sampling rate, Hz (required for CSV; a CWRU file's own rate otherwise).
@@ -59,8 +60,9 @@ pub struct Loaded {
 pub const CWRU_UNIT: &str =
     "file units (CWRU accelerometer data; the data README states no unit, commonly read as g)";
 
-/// Load one channel of a `.mat` (CWRU record or CWRU-style variables), a one-column CSV file or
-/// `cargo xtask simulate`'s CSV (its `accel` column, m/s², fs from `time_s` when not given).
+/// Load one channel of a `.mat` (CWRU record or CWRU-style variables) or one column of a
+/// delimited text file (`,`, `;` or tab; `cargo xtask simulate`'s CSV: its `accel` column, fs
+/// from `time_s` when not given).
 /// The one recording loader of the command-line tools (`hybrid-fdd`, `cargo xtask`).
 ///
 /// # Errors
@@ -71,14 +73,14 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
-    let end = match channel.to_ascii_uppercase().as_str() {
-        "DE" => bearing_data::SensorEnd::DriveEnd,
-        "FE" => bearing_data::SensorEnd::FanEnd,
-        "BA" => bearing_data::SensorEnd::Base,
-        other => bail!("unknown channel `{other}` (DE, FE or BA)"),
-    };
     match ext.as_str() {
         "mat" => {
+            let end = match channel.to_ascii_uppercase().as_str() {
+                "DE" => bearing_data::SensorEnd::DriveEnd,
+                "FE" => bearing_data::SensorEnd::FanEnd,
+                "BA" => bearing_data::SensorEnd::Base,
+                other => bail!("unknown channel `{other}` of a .mat file (DE, FE or BA)"),
+            };
             let bytes =
                 std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
             let number = path
@@ -116,75 +118,140 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
                 fault_size_in: None,
             })
         }
-        "csv" | "txt" => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            let mut lines = text.lines();
-            let header: Vec<String> = lines
-                .next()
-                .unwrap_or("")
-                .split(',')
-                .map(|h| h.trim().to_ascii_lowercase())
-                .collect();
-            let has_accel = header.iter().any(|h| h == "accel");
-            let fs = match fs {
-                Some(f) => f,
-                None if header.first().map(String::as_str) == Some("time_s") => {
-                    // over the whole span (the stamps are printed to 1 ns), then snapped to a
-                    // whole Hz when within that resolution of one
-                    let t: Vec<f64> = lines
-                        .clone()
-                        .filter(|l| !l.trim().is_empty())
-                        .filter_map(|l| l.split(',').next()?.trim().parse().ok())
-                        .collect();
-                    match (t.first(), t.last()) {
-                        (Some(a), Some(b)) if t.len() >= 2 && b > a => {
-                            let f = (t.len() - 1) as f64 / (b - a);
-                            let whole = f.round();
-                            if (f - whole).abs() <= 1e-6 * f {
-                                whole
-                            } else {
-                                f
-                            }
-                        }
-                        _ => bail!("cannot infer fs from the `time_s` column; give --fs"),
-                    }
-                }
-                None => bail!("--fs is required for a CSV recording without a `time_s` column"),
-            };
-            let column = if has_accel {
-                bearing_data::Column::Name("accel".into())
-            } else {
-                bearing_data::Column::Single
-            };
-            let sig =
-                bearing_data::read_csv_file(path, &bearing_data::CsvOptions::new(fs, column))?;
-            // `simulate` states the unit of `accel` in its JSON sidecar (g for the calibrated
-            // rig, m/s² for the 5-DOF parameter sets; m/s² when there is no sidecar)
-            let in_g = has_accel
-                && std::fs::read_to_string(path.with_extension("json"))
-                    .ok()
-                    .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-                    .is_some_and(|v| v["accel_unit"] == "g");
-            Ok(Loaded {
-                samples: sig.into_samples(),
-                fs_hz: fs,
-                rpm: None,
-                unit: match (has_accel, in_g) {
-                    (true, true) => "g (`simulate` output, calibrated CWRU rig)",
-                    (true, false) => "m/s² (`simulate` output)",
-                    _ => "CSV units (not stated in the file)",
-                },
-                units: match (has_accel, in_g) {
-                    (true, true) => "g",
-                    (true, false) => "m/s^2",
-                    _ => "unknown",
-                },
-                fault_size_in: None,
-            })
-        }
-        other => bail!("unsupported input extension `{other}` (.mat or .csv)"),
+        "csv" | "txt" | "tsv" => load_csv(path, channel, fs),
+        other => bail!("unsupported input extension `{other}` (.mat, .csv, .tsv or .txt)"),
     }
+}
+
+/// Time-column names read as seconds.
+const TIME_NAMES: [&str; 5] = ["time_s", "time", "t", "seconds", "s"];
+
+/// A delimited text recording: the delimiter sniffed from the first data line (tab, `;` or
+/// `,`); the column by `channel` (a header name, case-insensitive, or a 1-based number), else
+/// `accel` (`simulate`'s CSV), else the only column, else the second of two when the first is
+/// time; the rate from `fs` or from a time column in seconds.
+fn load_csv(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loaded> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text
+        .lines()
+        .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let first = lines.next().unwrap_or("");
+    let delimiter = if first.contains('\t') {
+        b'\t'
+    } else if first.contains(';') {
+        b';'
+    } else {
+        b','
+    };
+    let split = |l: &str| -> Vec<String> {
+        l.split(char::from(delimiter))
+            .map(|f| f.trim().to_string())
+            .collect()
+    };
+    let fields = split(first);
+    let has_header = fields.iter().any(|f| f.parse::<f64>().is_err());
+    let names: Vec<String> = if has_header {
+        fields.iter().map(|f| f.to_ascii_lowercase()).collect()
+    } else {
+        (1..=fields.len()).map(|i| format!("column {i}")).collect()
+    };
+    let listed = || names.join(", ");
+    let time_col = (names.len() >= 2 && TIME_NAMES.contains(&names[0].as_str())).then_some(0);
+    let want = channel.trim();
+    let col = if !want.is_empty() && !want.eq_ignore_ascii_case("DE") {
+        if let Some(i) = names.iter().position(|n| n.eq_ignore_ascii_case(want)) {
+            i
+        } else if let Ok(k) = want.parse::<usize>()
+            && (1..=names.len()).contains(&k)
+        {
+            k - 1
+        } else {
+            bail!(
+                "{}: no column `{want}` (columns: {}; give a name or a number, 1 = first)",
+                path.display(),
+                listed()
+            )
+        }
+    } else if let Some(i) = names.iter().position(|n| n == "accel") {
+        i
+    } else if names.len() == 1 {
+        0
+    } else if names.len() == 2 && time_col.is_some() {
+        1
+    } else {
+        bail!(
+            "{}: {} columns ({}); choose the signal with --channel NAME or NUMBER",
+            path.display(),
+            names.len(),
+            listed()
+        )
+    };
+    let fs = match fs {
+        Some(f) => f,
+        None => match time_col.filter(|&t| t != col) {
+            Some(t) => {
+                // over the whole span (the stamps are printed to 1 ns by `simulate`), then
+                // snapped to a whole Hz when within that resolution of one
+                let stamps: Vec<f64> = std::iter::once(first)
+                    .filter(|_| !has_header)
+                    .chain(lines)
+                    .filter_map(|l| split(l).get(t)?.parse().ok())
+                    .collect();
+                match (stamps.first(), stamps.last()) {
+                    (Some(a), Some(b)) if stamps.len() >= 2 && b > a => {
+                        let f = (stamps.len() - 1) as f64 / (b - a);
+                        let whole = f.round();
+                        if (f - whole).abs() <= 1e-6 * f {
+                            whole
+                        } else {
+                            f
+                        }
+                    }
+                    _ => bail!(
+                        "cannot infer fs from the `{}` column (seconds expected); give --fs",
+                        names[t]
+                    ),
+                }
+            }
+            None => bail!(
+                "--fs is required for a text recording without a time column ({})",
+                TIME_NAMES.join(", ")
+            ),
+        },
+    };
+    let mut opts = bearing_data::CsvOptions::new(fs, bearing_data::Column::Index(col));
+    opts.delimiter = delimiter;
+    opts.header = if has_header {
+        bearing_data::HeaderRow::Present
+    } else {
+        bearing_data::HeaderRow::Absent
+    };
+    let sig = bearing_data::read_csv_file(path, &opts)?;
+    // `simulate` states the unit of `accel` in its JSON sidecar (g for the calibrated rig, m/s²
+    // for the 5-DOF parameter sets; m/s² when there is no sidecar)
+    let is_accel = names[col] == "accel";
+    let in_g = is_accel
+        && std::fs::read_to_string(path.with_extension("json"))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .is_some_and(|v| v["accel_unit"] == "g");
+    Ok(Loaded {
+        samples: sig.into_samples(),
+        fs_hz: fs,
+        rpm: None,
+        unit: match (is_accel, in_g) {
+            (true, true) => "g (`simulate` output, calibrated CWRU rig)",
+            (true, false) => "m/s² (`simulate` output)",
+            _ => "CSV units (not stated in the file)",
+        },
+        units: match (is_accel, in_g) {
+            (true, true) => "g",
+            (true, false) => "m/s^2",
+            _ => "unknown",
+        },
+        fault_size_in: None,
+    })
 }
 
 /// A prepared baseline and a note saying how it was made (rate, decimation).
@@ -521,14 +588,16 @@ fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
         .with_context(|| format!("reading {}", input.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
-            p.extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| e.eq_ignore_ascii_case("mat") || e.eq_ignore_ascii_case("csv"))
+            p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+                ["mat", "csv", "tsv"]
+                    .iter()
+                    .any(|x| e.eq_ignore_ascii_case(x))
+            })
         })
         .collect();
     v.sort();
     if v.is_empty() {
-        bail!("{} holds no .mat or .csv file", input.display());
+        bail!("{} holds no .mat, .csv or .tsv file", input.display());
     }
     Ok(v)
 }
