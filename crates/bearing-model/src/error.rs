@@ -85,8 +85,18 @@ pub enum ModelError {
     #[error("unknown parameter set `{0}` (table2.1|cwru)")]
     UnknownParamSet(String),
     /// A bearing name could not be parsed.
-    #[error("unknown bearing `{0}` (6205|6203)")]
+    #[error(
+        "unknown bearing `{0}` (expected 6205, 6203, a geometry like `n=9,d=0.3126in,D=1.537in,angle=0deg` or multiples like `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`)"
+    )]
     UnknownBearing(String),
+    /// A geometry or multiples spec that does not parse or is not physical.
+    #[error("invalid bearing spec `{spec}`: {reason}")]
+    InvalidBearingSpec {
+        /// The spec as given.
+        spec: String,
+        /// What is wrong with it.
+        reason: String,
+    },
 }
 
 /// Result alias of this crate.

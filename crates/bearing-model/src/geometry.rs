@@ -38,6 +38,14 @@ pub enum Bearing {
 }
 
 impl Bearing {
+    /// The short designation machine models and close-loop reports name it by ("6205", "6203").
+    pub fn designation(self) -> &'static str {
+        match self {
+            Bearing::Skf6205 => "6205",
+            Bearing::Skf6203 => "6203",
+        }
+    }
+
     /// The geometry of this bearing.
     pub fn geometry(self) -> BearingGeometry {
         match self {

@@ -38,6 +38,7 @@ pub mod geometry;
 pub mod params;
 pub mod scenario;
 pub mod simulate;
+pub mod spec;
 pub mod state_space;
 
 pub use error::{ModelError, Result};
@@ -49,6 +50,7 @@ pub use params::{
 };
 pub use scenario::Scenario;
 pub use simulate::{Integrator, Noise, Recording, SimConfig, simulate};
+pub use spec::BearingSpec;
 pub use state_space::{
     BallFrame, BearingModel, DofVector, Input, LinearParts, MAX_BALLS, N_DOF, STATE_DIM, State,
 };

@@ -8,7 +8,7 @@ use close_loop::path::StructuralPath;
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::{add_noise, add_tone};
 use close_loop::{
-    BearingRates, DeclaredFault, DeclaredModel, LoopConfig, OperatingPoint, close_loop,
+    BearingSpec, DeclaredFault, DeclaredModel, LoopConfig, OperatingPoint, close_loop,
 };
 use criterion::{Criterion, criterion_group, criterion_main};
 
@@ -46,13 +46,23 @@ fn bench(c: &mut Criterion) {
     let model = PhysicsModel::default();
     let mut g = c.benchmark_group("close_loop");
     g.sample_size(10);
-    let op = OperatingPoint::new(1772.0, BearingRates::skf6205(), DeclaredFault::Inner).unwrap();
+    let op = OperatingPoint::new(
+        1772.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Inner,
+    )
+    .unwrap();
     let y = fault_record(&op);
     let cfg = LoopConfig::default().check().unwrap();
     g.bench_function("loop, 10 s at 12 kHz, physics inner + tone", |b| {
         b.iter(|| close_loop(&model, &y, FS, &op, &cfg).unwrap())
     });
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::None).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::None,
+    )
+    .unwrap();
     let y = healthy_record();
     let cfg = LoopConfig {
         max_effects: 16,

@@ -1,12 +1,16 @@
 //! The README example: a recording with an undeclared 1234.5 Hz pick-up; the loop names it.
 use close_loop::scenario::{PhenomenologicalModel, add_noise, add_tone};
 use close_loop::{
-    BearingRates, DeclaredFault, DeclaredModel, LoopConfig, OperatingPoint, close_loop,
+    BearingSpec, DeclaredFault, DeclaredModel, LoopConfig, OperatingPoint, close_loop,
 };
 
 fn main() -> Result<(), close_loop::CloseLoopError> {
     let fs = 12_000.0;
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::Outer)?;
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )?;
     let model = PhenomenologicalModel::default();
     let mut y = model.with_seed(7).simulate(&op, 24_000, fs)?;
     add_tone(&mut y, fs, 1234.5, 0.05, 0.0);

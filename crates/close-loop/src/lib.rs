@@ -41,7 +41,7 @@ pub mod spectrum;
 
 pub use config::{CheckedConfig, LoopConfig};
 pub use declared::{
-    BearingRates, DeclaredFault, DeclaredModel, OperatingPoint, impact_orders, parse_fault,
+    BearingSpec, DeclaredFault, DeclaredModel, OperatingPoint, impact_orders, parse_fault,
 };
 pub use effect::{Effect, EffectKind, Placement};
 pub use error::CloseLoopError;

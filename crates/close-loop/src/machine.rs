@@ -18,8 +18,7 @@ use serde::{Deserialize, Serialize};
 /// caller may fit on.
 ///
 /// # Errors
-/// As [`crate::close_loop`], and [`CloseLoopError::UnknownBearing`] for a bearing without a
-/// designation in [`crate::BearingRates::of`].
+/// As [`crate::close_loop`].
 pub fn calibrate(
     y: &[f64],
     fs: f64,
@@ -27,7 +26,7 @@ pub fn calibrate(
     bearing: bearing_model::Bearing,
     cfg: &crate::CheckedConfig,
 ) -> Result<MachineModel, CloseLoopError> {
-    let rates = crate::BearingRates::of(bearing)?;
+    let rates = crate::BearingSpec::designated(bearing);
     let op = crate::OperatingPoint::new(rpm, rates, bearing_model::FaultClass::None)?;
     let model = crate::physics::PhysicsModel {
         bearing,
@@ -210,7 +209,7 @@ impl MachineModel {
                 _ => {}
             }
         }
-        let b = ctx.op.bearing;
+        let b = &ctx.op.bearing;
         let path = st.path.as_ref().map(|p| p.path.clone());
         let (path_residual_rms, path_residual_kurtosis) = path
             .as_ref()
@@ -230,7 +229,12 @@ impl MachineModel {
             fs_hz: ctx.fs,
             units: "unknown".to_string(),
             bearing: b.name.to_string(),
-            bearing_orders: [b.bpfo, b.bpfi, b.ftf, b.bsf],
+            bearing_orders: [
+                b.orders.bpfo,
+                b.orders.bpfi,
+                b.orders.ftf,
+                b.orders.ball_defect,
+            ],
             model: ctx.model.name().to_string(),
             declared_rpm: ctx.op.rpm,
             declared_fault: ctx.op.fault.name().to_string(),

@@ -134,7 +134,7 @@ impl DeclaredModel for PhenomenologicalModel {
             let rate = order * fr;
             let fm = match op.fault {
                 DeclaredFault::Inner => fr,
-                DeclaredFault::Ball => op.bearing.ftf * fr,
+                DeclaredFault::Ball => op.bearing.orders.ftf * fr,
                 _ => 0.0,
             };
             let depth = if fm > 0.0 { self.modulation_depth } else { 0.0 };
@@ -167,7 +167,7 @@ impl DeclaredModel for PhenomenologicalModel {
             })
             .collect();
         let w = 2.0 * PI / fs;
-        let bpfo = op.bearing.bpfo * fr;
+        let bpfo = op.bearing.orders.bpfo * fr;
         for (i, o) in out.iter_mut().enumerate() {
             let t = i as f64;
             *o += self.shaft_amplitude * (w * fr * t + 0.3).cos();

@@ -7,7 +7,7 @@ use close_loop::observe::{ArxLaguerreDeclared, ResidualObserver};
 use close_loop::scenario::{add_noise, add_tone};
 
 use close_loop::{
-    BearingRates, DeclaredFault, DeclaredModel, EffectKind, LoopConfig, OperatingPoint, Placement,
+    BearingSpec, DeclaredFault, DeclaredModel, EffectKind, LoopConfig, OperatingPoint, Placement,
     close_loop, fit_len,
 };
 
@@ -17,7 +17,12 @@ const FS: f64 = 12_000.0;
 fn arx_laguerre_declared_model_finds_an_undeclared_tone() {
     // a stochastic vibration the ARX-Laguerre model can describe: a 2.1 kHz mode (poles
     // 0.95·e^{±j·2π·2100/12000}) driven by white noise; then the undeclared pick-up
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::None).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::None,
+    )
+    .unwrap();
     let mut e = vec![0.0; 24_000];
     add_noise(&mut e, 1.0, 5);
     let (r, w) = (0.95f64, 2.0 * std::f64::consts::PI * 2100.0 / FS);
@@ -59,7 +64,12 @@ fn arx_laguerre_declared_model_finds_an_undeclared_tone() {
 
 #[test]
 fn arx_laguerre_simulation_is_seeded_and_finite() {
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::None).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::None,
+    )
+    .unwrap();
     let mut y = vec![0.0; 6000];
     add_noise(&mut y, 1.0, 9);
     let m = ArxLaguerreDeclared::identify(&y).unwrap();

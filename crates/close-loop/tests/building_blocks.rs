@@ -7,8 +7,7 @@ use close_loop::metric::{log_spectral_distance, rms};
 use close_loop::scenario::{Gaussian, PhenomenologicalModel};
 use close_loop::spectrum::{Welch, envelope, hann_windowed, refine_peak};
 use close_loop::{
-    BearingRates, CloseLoopError, DeclaredFault, LoopConfig, OperatingPoint, close_loop,
-    min_samples,
+    BearingSpec, CloseLoopError, DeclaredFault, LoopConfig, OperatingPoint, close_loop, min_samples,
 };
 use proptest::prelude::*;
 use std::f64::consts::PI;
@@ -137,15 +136,21 @@ fn mode_peak_power_gain_is_one_plus_c_squared() {
 #[test]
 fn skf6205_rates_match_the_cwru_table() {
     // CWRU table: BPFI 5.4152, BPFO 3.5848, FTF 0.39828, BSF 4.7135.
-    let b = BearingRates::skf6205();
-    assert_relative_eq!(b.bpfi, 5.4152, max_relative = 2e-4);
-    assert_relative_eq!(b.bpfo, 3.5848, max_relative = 2e-4);
-    assert_relative_eq!(b.ftf, 0.39828, max_relative = 2e-4);
-    assert_relative_eq!(b.bsf, 4.7135, max_relative = 2e-4);
+    let b = BearingSpec::designated(bearing_model::Bearing::Skf6205);
+    assert_eq!(b.name, "6205");
+    assert_relative_eq!(b.orders.bpfi, 5.4152, max_relative = 2e-4);
+    assert_relative_eq!(b.orders.bpfo, 3.5848, max_relative = 2e-4);
+    assert_relative_eq!(b.orders.ftf, 0.39828, max_relative = 2e-4);
+    assert_relative_eq!(b.orders.ball_defect, 4.7135, max_relative = 2e-4);
 }
 
 fn small_recording(n: usize) -> Vec<f64> {
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::Outer).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )
+    .unwrap();
     close_loop::DeclaredModel::simulate(&PhenomenologicalModel::default(), &op, n, 12_000.0)
         .unwrap()
 }
@@ -154,17 +159,26 @@ fn small_recording(n: usize) -> Vec<f64> {
 fn bad_input_gets_typed_errors() {
     let cfg = LoopConfig::default().check().unwrap();
     let model = PhenomenologicalModel::default();
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::Outer).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )
+    .unwrap();
     let short = small_recording(min_samples(&cfg) - 1);
     assert!(matches!(
         close_loop(&model, &short, 12_000.0, &op, &cfg),
         Err(CloseLoopError::TooShort { .. })
     ));
     assert_eq!(
-        OperatingPoint::new(0.0, BearingRates::skf6205(), DeclaredFault::None),
+        OperatingPoint::new(
+            0.0,
+            BearingSpec::designated(bearing_model::Bearing::Skf6205),
+            DeclaredFault::None
+        ),
         Err(CloseLoopError::InvalidRpm { rpm: 0.0 })
     );
-    let mut bad_op = op;
+    let mut bad_op = op.clone();
     bad_op.rpm = 0.0;
     let y = small_recording(12_000);
     assert_eq!(
@@ -172,8 +186,8 @@ fn bad_input_gets_typed_errors() {
         CloseLoopError::InvalidRpm { rpm: 0.0 }
     );
     assert!(matches!(
-        BearingRates::from_name("6309"),
-        Err(CloseLoopError::UnknownBearing { .. })
+        BearingSpec::parse("6309"),
+        Err(bearing_model::ModelError::UnknownBearing(_))
     ));
     assert!(matches!(
         close_loop::parse_fault("cage"),
@@ -209,7 +223,12 @@ fn bad_input_gets_typed_errors() {
 #[test]
 fn ledger_round_trips_through_json() {
     let cfg = LoopConfig::default().check().unwrap();
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::Outer).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )
+    .unwrap();
     let y = small_recording(12_000);
     let out = close_loop(
         &PhenomenologicalModel::default().with_seed(3),
@@ -231,7 +250,12 @@ fn ledger_round_trips_through_json() {
 #[test]
 fn loop_is_deterministic() {
     let cfg = LoopConfig::default().check().unwrap();
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::Outer).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )
+    .unwrap();
     let y = small_recording(12_000);
     let m = PhenomenologicalModel::default().with_seed(3);
     let a = close_loop(&m, &y, 12_000.0, &op, &cfg).unwrap();

@@ -7,12 +7,17 @@ use close_loop::machine::MachineModel;
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::{add_noise, add_tone};
 use close_loop::{
-    BearingRates, CloseLoopError, DeclaredFault, DeclaredModel, EffectKind, LoopConfig,
+    BearingSpec, CloseLoopError, DeclaredFault, DeclaredModel, EffectKind, LoopConfig,
     OperatingPoint, close_loop, close_loop_from,
 };
 
 fn own(fault: DeclaredFault, rpm: f64, fs: f64, seconds: f64, noise: bool) {
-    let op = OperatingPoint::new(rpm, BearingRates::skf6205(), fault).unwrap();
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        fault,
+    )
+    .unwrap();
     let truth = PhysicsModel {
         seed: 41,
         ..PhysicsModel::default()
@@ -60,7 +65,12 @@ fn own_model_noisy_slow_and_48k() {
 fn plain_tone_and_shaft_line_are_named() {
     let fs = 12_000.0;
     let rpm = 1772.0;
-    let op = OperatingPoint::new(rpm, BearingRates::skf6205(), DeclaredFault::Inner).unwrap();
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Inner,
+    )
+    .unwrap();
     let truth = PhysicsModel {
         seed: 41,
         ..PhysicsModel::default()
@@ -94,7 +104,12 @@ fn plain_tone_and_shaft_line_are_named() {
 #[test]
 fn calibrated_machine_model_round_trips_and_is_validated() {
     let fs = 12_000.0;
-    let op = OperatingPoint::new(1797.0, BearingRates::skf6205(), DeclaredFault::None).unwrap();
+    let op = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::None,
+    )
+    .unwrap();
     let n = 48_000;
     let mut e = vec![0.0; n];
     add_noise(&mut e, 1.0, 9);
@@ -166,7 +181,12 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
             ..
         })
     ));
-    let op3 = OperatingPoint::new(1797.0, BearingRates::skf6203(), DeclaredFault::None).unwrap();
+    let op3 = OperatingPoint::new(
+        1797.0,
+        BearingSpec::designated(bearing_model::Bearing::Skf6203),
+        DeclaredFault::None,
+    )
+    .unwrap();
     assert!(matches!(
         close_loop_from(&model, Some(&back), &y2, fs, &op3, &cfg),
         Err(CloseLoopError::MachineModelMismatch {

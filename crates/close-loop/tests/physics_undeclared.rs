@@ -5,7 +5,7 @@ use bearing_model::{Housing, ShaftHarmonic};
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::{add_mode, add_noise, add_tone, modulate};
 use close_loop::{
-    BearingRates, DeclaredFault, DeclaredModel, EffectKind, LoopConfig, OperatingPoint, Outcome,
+    BearingSpec, DeclaredFault, DeclaredModel, EffectKind, LoopConfig, OperatingPoint, Outcome,
     close_loop,
 };
 
@@ -14,7 +14,12 @@ const RPM: f64 = 1797.0;
 const N: usize = 24_000;
 
 fn op_fault(rpm: f64, fault: DeclaredFault) -> OperatingPoint {
-    OperatingPoint::new(rpm, BearingRates::skf6205(), fault).unwrap()
+    OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        fault,
+    )
+    .unwrap()
 }
 
 fn recording(truth: &PhysicsModel, rpm: f64, effect: impl Fn(Vec<f64>) -> Vec<f64>) -> Vec<f64> {

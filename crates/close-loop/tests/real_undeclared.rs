@@ -9,7 +9,7 @@ use bearing_data::{DataLocation, LoadOptions, load_record};
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::add_tone;
 use close_loop::{
-    BearingRates, DeclaredFault, EffectKind, LoopConfig, OperatingPoint, Outcome, close_loop,
+    BearingSpec, DeclaredFault, EffectKind, LoopConfig, OperatingPoint, Outcome, close_loop,
 };
 
 fn data_dir() -> Option<PathBuf> {
@@ -29,7 +29,12 @@ fn data_dir() -> Option<PathBuf> {
 }
 
 fn run(y: &[f64], rpm: f64, fault: DeclaredFault) -> Outcome {
-    let op = OperatingPoint::new(rpm, BearingRates::skf6205(), fault).unwrap();
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        fault,
+    )
+    .unwrap();
     let cfg = LoopConfig {
         line_frequency_hz: Some(60.0),
         ..LoopConfig::default()

@@ -3,7 +3,7 @@
 
 use close_loop::scenario::{PhenomenologicalModel, add_mode, add_noise, add_tone, modulate};
 use close_loop::{
-    BearingRates, DeclaredFault, EffectKind, LoopConfig, OperatingPoint, Outcome, close_loop,
+    BearingSpec, DeclaredFault, EffectKind, LoopConfig, OperatingPoint, Outcome, close_loop,
 };
 
 const FS: f64 = 12_000.0;
@@ -11,7 +11,12 @@ const RPM: f64 = 1797.0;
 const SECONDS: f64 = 2.0;
 
 fn op(fault: DeclaredFault) -> OperatingPoint {
-    OperatingPoint::new(RPM, BearingRates::skf6205(), fault).unwrap()
+    OperatingPoint::new(
+        RPM,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        fault,
+    )
+    .unwrap()
 }
 
 fn model() -> PhenomenologicalModel {
@@ -26,7 +31,12 @@ fn recording(
 ) -> Vec<f64> {
     let n = (SECONDS * FS) as usize;
     let truth = model().with_seed(77);
-    let o = OperatingPoint::new(rpm_true, BearingRates::skf6205(), fault).unwrap();
+    let o = OperatingPoint::new(
+        rpm_true,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        fault,
+    )
+    .unwrap();
     let x = close_loop::DeclaredModel::simulate(&truth, &o, n, FS).unwrap();
     let mut y = effect(x);
     add_noise(&mut y, 0.01, 4242);

@@ -7,19 +7,6 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum DiagnosisError {
-    /// The bearing designation is not known.
-    #[error(
-        "unknown bearing `{0}` (expected 6205, 6203, a geometry like `n=9,d=0.3126in,D=1.537in,angle=0deg` or multiples like `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`)"
-    )]
-    UnknownBearing(String),
-    /// A geometry or multiples spec that does not parse or is not physical.
-    #[error("invalid bearing spec `{spec}`: {reason}")]
-    InvalidBearingSpec {
-        /// The spec as given.
-        spec: String,
-        /// What is wrong with it.
-        reason: String,
-    },
     /// Shaft speed outside the accepted range.
     #[error("shaft speed {rpm} rpm out of range ({min}..={max} rpm)")]
     RpmOutOfRange {

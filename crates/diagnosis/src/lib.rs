@@ -52,15 +52,14 @@
 
 pub mod error;
 pub mod evidence;
-pub mod spec;
 pub mod whiten;
 
 use residual_features::{Band, SpectralEngine, WelchConfig};
 use serde::{Deserialize, Serialize};
 
+pub use bearing_model::BearingSpec;
 pub use error::{DiagnosisError, Result};
 pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line};
-pub use spec::BearingSpec;
 pub use whiten::{ArWhitener, OrderScore};
 
 use bearing_model::FaultOrders;

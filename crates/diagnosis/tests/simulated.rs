@@ -188,7 +188,7 @@ fn bad_inputs_are_typed_errors() {
     };
     assert!(matches!(
         BearingSpec::parse("6299"),
-        Err(DiagnosisError::UnknownBearing(_))
+        Err(bearing_model::ModelError::UnknownBearing(_))
     ));
     for rpm in [0.0, -5.0, f64::NAN, f64::INFINITY, 1.0e6] {
         assert!(matches!(

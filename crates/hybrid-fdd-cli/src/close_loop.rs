@@ -12,7 +12,7 @@ use close_loop::observe::ArxLaguerreDeclared;
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::PhenomenologicalModel;
 use close_loop::{
-    BearingRates, DeclaredModel, LoopConfig, OperatingPoint, Outcome, close_loop_from, parse_fault,
+    BearingSpec, DeclaredModel, LoopConfig, OperatingPoint, Outcome, close_loop_from, parse_fault,
 };
 
 /// Flags of this task.
@@ -31,7 +31,8 @@ pub struct Args {
     /// Declared shaft speed, rpm (a CWRU file's stored speed when omitted).
     #[arg(long)]
     pub rpm: Option<f64>,
-    /// Bearing designation.
+    /// Bearing: `6205`, `6203`, a geometry (`n=8,d=0.235in,D=1.245in,angle=0deg`) or the four
+    /// multiples (`bpfo=…,bpfi=…,ftf=…,bsf=…`); the physics model simulates 6205 and 6203 only.
     #[arg(long, default_value = "6205")]
     pub bearing: String,
     /// Declared fault: none|outer|inner|ball.
@@ -260,11 +261,15 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
         .rpm
         .or(loaded.rpm)
         .context("--rpm is required (the file stores no speed)")?;
-    let bearing = BearingRates::from_name(&args.bearing)?;
+    let builtin = args.bearing.parse::<bearing_model::Bearing>().ok();
+    let bearing = match builtin {
+        Some(b) => BearingSpec::designated(b),
+        None => BearingSpec::parse(&args.bearing)?,
+    };
     let fault = parse_fault(&args.fault)?;
     let op = OperatingPoint::new(rpm, bearing, fault)?;
     if let Some(m) = prior {
-        m.check_compatible(fs, bearing.name)?;
+        m.check_compatible(fs, &op.bearing.name)?;
         m.check_units(&units)?;
     }
     let cfg = LoopConfig {
@@ -275,10 +280,12 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
     .check()?;
     let model: Box<dyn DeclaredModel> = match args.model.as_str() {
         "physics" => {
-            let b = match bearing.name {
-                "6203" => bearing_model::Bearing::Skf6203,
-                _ => bearing_model::Bearing::Skf6205,
-            };
+            let b = builtin.with_context(|| {
+                format!(
+                    "the physics model simulates the built-in bearings only (6205, 6203), not `{}`; use --model arx-laguerre or phenomenological",
+                    args.bearing
+                )
+            })?;
             let size = args
                 .fault_size_in
                 .or(loaded.fault_size_in)

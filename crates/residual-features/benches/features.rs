@@ -3,8 +3,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use residual_features::{
-    Band, EnvelopeSettings, FaultMultiples, FeatureConfig, FeatureExtractor, TailPolicy,
-    WindowPlan, Windowing,
+    Band, EnvelopeSettings, FeatureConfig, FeatureExtractor, TailPolicy, WindowPlan, Windowing,
 };
 
 fn signal(n: usize) -> Vec<f64> {
@@ -36,7 +35,7 @@ fn bench(c: &mut Criterion) {
     });
     let env = EnvelopeSettings {
         shaft_hz: 1797.0 / 60.0,
-        multiples: FaultMultiples::SKF_6205,
+        multiples: bearing_model::BearingGeometry::skf_6205().orders(),
         demodulation_band: Some(Band::new(2000.0, 4000.0).unwrap()),
         tolerance: 0.02,
     };

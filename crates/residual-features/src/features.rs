@@ -2,7 +2,7 @@
 //!
 //! The dissertation uses one feature, the window energy (eq. 2.46 / 3.26 / 4.31 / 5.33). This
 //! module adds the usual time-domain statistics and, given the shaft speed and the bearing's
-//! characteristic multiples of it ([`FaultMultiples`]), envelope-spectrum line amplitudes at
+//! characteristic multiples of it ([`FaultOrders`]), envelope-spectrum line amplitudes at
 //! BPFO, BPFI, the ball-defect rate and the cage rate and their harmonics, plus band energies.
 //! It knows nothing about where the series came from: the same extractor runs on a residual
 //! `r = y − ŷ` or on the raw signal `y`, so the two can be compared.
@@ -14,37 +14,18 @@ use crate::spectral::{Band, SpectralEngine, Taper};
 use crate::stats;
 use crate::window::WindowPlan;
 
-/// Characteristic fault frequencies as multiples of the shaft frequency `fr`.
-///
-/// Plain numbers on purpose: this crate must not depend on `bearing-model`. For the CWRU drive-end
-/// SKF 6205 use [`FaultMultiples::SKF_6205`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct FaultMultiples {
-    /// Ball pass frequency, outer race, in multiples of `fr`.
-    pub bpfo: f64,
-    /// Ball pass frequency, inner race, in multiples of `fr`.
-    pub bpfi: f64,
-    /// Ball-defect rate (twice the ball spin frequency; CWRU's "BSF"), in multiples of `fr`.
-    pub ball: f64,
-    /// Fundamental train (cage) frequency, in multiples of `fr`.
-    pub ftf: f64,
-}
+/// Characteristic fault frequencies as multiples of the shaft frequency `fr`: `bearing-model`'s
+/// one kinematics type (from a geometry, [`bearing_model::BearingGeometry::orders`], or a
+/// manufacturer's table, [`FaultOrders::from_multiples`]); the ball line is its ball-defect rate
+/// (CWRU's "BSF").
+pub use bearing_model::FaultOrders;
 
-impl FaultMultiples {
-    /// CWRU drive-end SKF 6205-2RS JEM, from the CWRU table (BSF already the ball-defect rate).
-    pub const SKF_6205: Self = Self {
-        bpfo: 3.5848,
-        bpfi: 5.4152,
-        ball: 4.7135,
-        ftf: 0.39828,
-    };
-
-    fn validate(&self) -> Result<()> {
-        check_positive("bpfo", self.bpfo)?;
-        check_positive("bpfi", self.bpfi)?;
-        check_positive("ball", self.ball)?;
-        check_positive("ftf", self.ftf)
-    }
+/// Every multiple the envelope features read must be finite and positive.
+fn validate_orders(m: &FaultOrders) -> Result<()> {
+    check_positive("bpfo", m.bpfo)?;
+    check_positive("bpfi", m.bpfi)?;
+    check_positive("ball", m.ball_defect)?;
+    check_positive("ftf", m.ftf)
 }
 
 /// A characteristic line of the envelope spectrum.
@@ -73,12 +54,12 @@ impl FaultLine {
         }
     }
 
-    fn multiple(self, m: &FaultMultiples) -> f64 {
+    fn multiple(self, m: &FaultOrders) -> f64 {
         match self {
             FaultLine::Shaft => 1.0,
             FaultLine::Bpfo => m.bpfo,
             FaultLine::Bpfi => m.bpfi,
-            FaultLine::Ball => m.ball,
+            FaultLine::Ball => m.ball_defect,
             FaultLine::Ftf => m.ftf,
         }
     }
@@ -135,7 +116,7 @@ pub struct EnvelopeSettings {
     /// Shaft frequency `fr` in Hz (stored rpm / 60).
     pub shaft_hz: f64,
     /// Characteristic multiples of `fr`.
-    pub multiples: FaultMultiples,
+    pub multiples: FaultOrders,
     /// Band-pass applied before the Hilbert envelope (e.g. 2–4 kHz for 12 kHz CWRU); `None` uses
     /// the full band.
     pub demodulation_band: Option<Band>,
@@ -264,7 +245,7 @@ impl FeatureExtractor {
                 });
             };
             check_positive("shaft_hz", env.shaft_hz)?;
-            env.multiples.validate()?;
+            validate_orders(&env.multiples)?;
             if !(env.tolerance > 0.0 && env.tolerance < 0.5) {
                 return Err(FeatureError::InvalidParameter {
                     name: "tolerance",

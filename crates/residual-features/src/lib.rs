@@ -36,7 +36,7 @@ mod window;
 
 pub use error::{FeatureError, Result};
 pub use features::{
-    EnvelopeSettings, FaultLine, FaultMultiples, Feature, FeatureConfig, FeatureExtractor,
+    EnvelopeSettings, FaultLine, FaultOrders, Feature, FeatureConfig, FeatureExtractor,
     FeatureTable,
 };
 pub use spectral::{

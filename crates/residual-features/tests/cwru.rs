@@ -75,7 +75,7 @@ fn envelope_lines_identify_inner_and_outer_race_records() {
             let rec = load(&dir, n);
             let env = EnvelopeSettings {
                 shaft_hz: rec.rpm().shaft_hz(),
-                multiples: FaultMultiples::SKF_6205,
+                multiples: bearing_model::BearingGeometry::skf_6205().orders(),
                 demodulation_band: Some(band),
                 tolerance: 0.02,
             };

@@ -267,7 +267,7 @@ fn envelope_features_name_the_right_line() {
     // Impacts at BPFI of a 1797 rpm shaft, each ringing a 3 kHz resonance.
     let fs = 12_000.0;
     let fr = 1797.0 / 60.0;
-    let m = FaultMultiples::SKF_6205;
+    let m = bearing_model::BearingGeometry::skf_6205().orders();
     let fi = m.bpfi * fr;
     let n = 12_000;
     let mut x = gaussian(n, 11)

@@ -237,7 +237,7 @@ pub(super) fn line_comb_candidate(
     // comb at another speed: the speed candidate's business, not an interference comb
     let kinematic: Vec<f64> = crate::impact_orders(ctx.op.fault, &ctx.op.bearing)
         .into_iter()
-        .chain([ctx.op.bearing.ftf, 1.0])
+        .chain([ctx.op.bearing.orders.ftf, 1.0])
         .map(|o| o * fr)
         .collect();
     let is_kinematic = |d: f64| {

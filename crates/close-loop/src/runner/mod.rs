@@ -65,7 +65,7 @@ pub fn close_loop_from(
 ) -> Result<Outcome, CloseLoopError> {
     let c = cfg.get();
     if let Some(m) = prior {
-        m.check_compatible(fs, op.bearing.name)?;
+        m.check_compatible(fs, &op.bearing.name)?;
     }
     if !(fs.is_finite() && fs > 0.0) {
         return Err(CloseLoopError::InvalidSamplingRate { fs });
@@ -128,7 +128,7 @@ pub fn close_loop_from(
         welch_hi,
         bins: k_lo..k_hi + 1,
         bins_hi: kh_lo..kh_hi + 1,
-        op: *op,
+        op: op.clone(),
         model,
         cfg,
     };

@@ -22,12 +22,12 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
     let Ok((em, _)) = envelope_periodogram(&msig, ctx.fs) else {
         return Vec::new();
     };
-    let lo = ((0.5 * ctx.op.bearing.ftf * fr / de).floor() as usize).max(2);
+    let lo = ((0.5 * ctx.op.bearing.orders.ftf * fr / de).floor() as usize).max(2);
     let hi = ((2.5 * fr / de).ceil() as usize).min(ey.len() - 2);
     if hi <= lo + 4 {
         return Vec::new();
     }
-    let half = ((0.25 * ctx.op.bearing.ftf * fr / de).round() as usize).max(8);
+    let half = ((0.25 * ctx.op.bearing.orders.ftf * fr / de).round() as usize).max(8);
     let ly: Vec<f64> = ey.iter().map(|v| 10.0 * v.max(1e-300).log10()).collect();
     let lm: Vec<f64> = em.iter().map(|v| 10.0 * v.max(1e-300).log10()).collect();
     let wlo = lo.saturating_sub(half);
@@ -71,7 +71,7 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
         let (mu, _) = golden_min(|mu| eval(mu).1, 0.02, 1.0, 22);
         let (s2, lsd) = eval(mu);
         let order = fm / fr;
-        let ftf = ctx.op.bearing.ftf;
+        let ftf = ctx.op.bearing.orders.ftf;
         let rate = if (order - 1.0).abs() < 0.02 {
             "shaft"
         } else if (order - 2.0).abs() < 0.04 {

@@ -3,13 +3,14 @@
 //! directly (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, BSF in CWRU's convention: the
 //! ball-defect rate, twice the ball spin).
 //!
-//! The kinematics are `bearing-model`'s ([`BearingGeometry::orders`], [`FaultOrders`]); this
-//! module only parses text into them.
+//! The kinematics are [`BearingGeometry::orders`] and [`FaultOrders`]; this module only parses
+//! text into them. The one bearing type every crate names a bearing with (diagnosis,
+//! close-loop, the command line).
 
-use bearing_model::{Bearing, BearingGeometry, FaultOrders};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{DiagnosisError, Result};
+use crate::error::{ModelError, Result};
+use crate::geometry::{Bearing, BearingGeometry, FaultOrders};
 
 /// A bearing as the diagnosis needs it: a name for reports, the geometry when known, and the
 /// fault orders (multiples of the shaft frequency).
@@ -34,16 +35,40 @@ impl BearingSpec {
         }
     }
 
+    /// A built-in bearing under its short designation ("6205", "6203"): the name machine models
+    /// and the closed loop's reports use.
+    pub fn designated(b: Bearing) -> Self {
+        Self {
+            name: b.designation().to_string(),
+            ..Self::builtin(b)
+        }
+    }
+
+    /// Shaft-rate multiples of the declared impacts of `fault` (BPFI for an inner-race spall,
+    /// BPFO for an outer-race spall, the ball-defect rate for a ball spall; empty when healthy).
+    pub fn impact_orders(&self, fault: crate::FaultClass) -> Vec<f64> {
+        let mut v = Vec::new();
+        if fault.has_inner() {
+            v.push(self.orders.bpfi);
+        }
+        if fault.has_outer() {
+            v.push(self.orders.bpfo);
+        }
+        if fault.has_ball() {
+            v.push(self.orders.ball_defect);
+        }
+        v
+    }
+
     /// A bearing from its geometry (validated).
     ///
     /// # Errors
-    /// [`DiagnosisError::InvalidBearingSpec`] when the geometry is not physical.
+    /// [`ModelError::InvalidBearingSpec`] when the geometry is not physical.
     pub fn from_geometry(g: BearingGeometry) -> Result<Self> {
-        g.validate()
-            .map_err(|e| DiagnosisError::InvalidBearingSpec {
-                spec: g.name.to_string(),
-                reason: e.to_string(),
-            })?;
+        g.validate().map_err(|e| ModelError::InvalidBearingSpec {
+            spec: g.name.to_string(),
+            reason: e.to_string(),
+        })?;
         Ok(Self {
             name: g.name.to_string(),
             geometry: Some(g),
@@ -54,17 +79,17 @@ impl BearingSpec {
     /// Parse a spec (see the module documentation).
     ///
     /// # Errors
-    /// [`DiagnosisError::UnknownBearing`] for an unknown designation,
-    /// [`DiagnosisError::InvalidBearingSpec`] for a malformed or unphysical geometry/multiples.
+    /// [`ModelError::UnknownBearing`] for an unknown designation,
+    /// [`ModelError::InvalidBearingSpec`] for a malformed or unphysical geometry/multiples.
     pub fn parse(spec: &str) -> Result<Self> {
         let s = spec.trim();
         if !s.contains('=') {
             return s
                 .parse::<Bearing>()
                 .map(Self::builtin)
-                .map_err(|_| DiagnosisError::UnknownBearing(s.to_string()));
+                .map_err(|_| ModelError::UnknownBearing(s.to_string()));
         }
-        let bad = |reason: String| DiagnosisError::InvalidBearingSpec {
+        let bad = |reason: String| ModelError::InvalidBearingSpec {
             spec: s.to_string(),
             reason,
         };
@@ -154,7 +179,7 @@ impl BearingSpec {
 }
 
 impl std::str::FromStr for BearingSpec {
-    type Err = DiagnosisError;
+    type Err = ModelError;
     fn from_str(s: &str) -> Result<Self> {
         Self::parse(s)
     }
@@ -219,7 +244,7 @@ mod tests {
         assert!(close(s.orders.bpfi, 4.9469, 2e-4));
         assert!(matches!(
             BearingSpec::parse("6306"),
-            Err(DiagnosisError::UnknownBearing(_))
+            Err(ModelError::UnknownBearing(_))
         ));
     }
 
@@ -258,7 +283,7 @@ mod tests {
         ] {
             let e = BearingSpec::parse(bad).unwrap_err();
             assert!(
-                matches!(e, DiagnosisError::InvalidBearingSpec { .. }),
+                matches!(e, ModelError::InvalidBearingSpec { .. }),
                 "{bad}: {e}"
             );
             assert!(!e.to_string().contains('\n'));
