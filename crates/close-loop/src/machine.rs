@@ -213,15 +213,7 @@ impl MachineModel {
         let path = st.path.as_ref().map(|p| p.path.clone());
         let (path_residual_rms, path_residual_kurtosis) = path
             .as_ref()
-            .and_then(|p| {
-                let e = p.prediction_error(&ctx.y[ctx.n_fit..]);
-                let e = e.get(p.order()..)?;
-                let n = e.len() as f64;
-                let m2 = e.iter().map(|v| v * v).sum::<f64>() / n;
-                let m4 = e.iter().map(|v| v.powi(4)).sum::<f64>() / n;
-                (n > 0.0 && m2 > 0.0 && m2.is_finite() && m4.is_finite())
-                    .then(|| (m2.sqrt(), m4 / (m2 * m2)))
-            })
+            .and_then(|p| path_residual_stats(p, &ctx.y[ctx.n_fit..]))
             .unzip();
         Self {
             format: FORMAT.to_string(),
@@ -395,5 +387,50 @@ impl MachineModel {
             + usize::from(self.path.is_some())
             + self.shaft_forces.len()
             + usize::from(self.housing_mode.is_some())
+    }
+}
+
+/// RMS and kurtosis of `y` through the path's prediction-error filter `A(z)` (after its start-up
+/// of `order` samples); `None` when nothing finite is left.
+fn path_residual_stats(p: &StructuralPath, y: &[f64]) -> Option<(f64, f64)> {
+    let e = p.prediction_error(y);
+    let e = e.get(p.order()..)?;
+    let n = e.len() as f64;
+    let m2 = e.iter().map(|v| v * v).sum::<f64>() / n;
+    let m4 = e.iter().map(|v| v.powi(4)).sum::<f64>() / n;
+    (n > 0.0 && m2 > 0.0 && m2.is_finite() && m4.is_finite()).then(|| (m2.sqrt(), m4 / (m2 * m2)))
+}
+
+impl MachineModel {
+    /// When the loop added no structural path — the declared model already explained the
+    /// calibration recording — identify one from the recording directly
+    /// ([`crate::path::identify_from_signal`] on `fit`, AR order up to `max_order`, residual
+    /// statistics on `held_out`), so the model can still serve as a healthy baseline (a diagnosis
+    /// whitens with its path). Returns whether a path was added; a model that holds one is left
+    /// as it is.
+    ///
+    /// # Errors
+    /// The identification's errors, and [`CloseLoopError::Model`] when the held-out segment
+    /// leaves no finite residual statistics.
+    pub fn ensure_path(
+        &mut self,
+        fit: &[f64],
+        held_out: &[f64],
+        max_order: usize,
+    ) -> Result<bool, CloseLoopError> {
+        if self.path.is_some() {
+            return Ok(false);
+        }
+        let p = crate::path::identify_from_signal(fit, self.fs_hz, max_order)?;
+        let (rms, kurtosis) =
+            path_residual_stats(&p, held_out).ok_or_else(|| CloseLoopError::Model {
+                reason: "the held-out segment leaves no finite path residual".into(),
+            })?;
+        self.structural_modes = p.modes();
+        self.path_level = 1.0;
+        self.path_residual_rms = Some(rms);
+        self.path_residual_kurtosis = Some(kurtosis);
+        self.path = Some(p);
+        Ok(true)
     }
 }

@@ -308,6 +308,13 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
         other => bail!("unknown model `{other}` (physics, arx-laguerre, phenomenological)"),
     };
     let mut out = close_loop_from(model.as_ref(), prior, &y, fs, &op, &cfg)?;
+    if fault == bearing_model::FaultClass::None {
+        // a healthy machine model is a diagnosis baseline: it needs a structural path even when
+        // the declared model already explained the recording and the loop added none
+        let n_fit = close_loop::fit_len(y.len(), &cfg);
+        out.machine
+            .ensure_path(&y[..n_fit], &y[n_fit..], cfg.get().max_path_order)?;
+    }
     out.machine.units = units;
     out.machine.provenance.recording = input
         .file_name()

@@ -94,6 +94,51 @@ fn simulate_then_close_the_loop_then_calibrate() {
     assert_eq!(m.fs_hz, 12_000.0);
     assert_eq!(m.units, "m/s^2");
 
+    // a healthy recording the declared model already explains: the loop adds nothing, yet the
+    // machine model holds a structural path (identified from the recording) and its residual
+    // statistics, so it serves as a diagnosis baseline
+    let healthy = p("healthy.csv");
+    let sim = Simulate::try_parse_from([
+        "simulate",
+        "--fault",
+        "none",
+        "--rpm",
+        "1797",
+        "--fs",
+        "12000",
+        "--duration",
+        "2",
+        "--seed",
+        "6",
+        "--params",
+        "cwru",
+        "--out",
+        &healthy,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+    let rig_h = p("rig_h.json");
+    let cal = Calibrate::try_parse_from([
+        "calibrate",
+        "--input",
+        &healthy,
+        "--rpm",
+        "1797",
+        "--out",
+        &rig_h,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::close_loop::calibrate(cal.a).unwrap();
+    let m = close_loop::machine::MachineModel::from_json(&std::fs::read_to_string(&rig_h).unwrap())
+        .unwrap();
+    assert!(
+        m.path.is_some(),
+        "no structural path in a healthy machine model"
+    );
+    assert!(m.path_residual_rms.is_some_and(|r| r > 0.0));
+    let b = hybrid_fdd_cli::diagnose::BaselineSource::load(rig_h.as_ref(), "DE", None).unwrap();
+    assert!(b.machine_units().is_some());
+
     // missing flags are one-line errors, not panics
     let cl = CloseLoop::try_parse_from(["close-loop", "--input", &csv]).unwrap();
     let e = hybrid_fdd_cli::close_loop::run(cl.a).unwrap_err();
