@@ -22,16 +22,12 @@ struct Calibrate {
     a: hybrid_fdd_cli::close_loop::CalibrateArgs,
 }
 
-#[test]
-fn simulate_then_close_the_loop_then_calibrate() {
-    let dir = std::env::temp_dir().join(format!("hybrid-fdd-commands-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = |name: &str| dir.join(name).to_string_lossy().into_owned();
-    let csv = p("sim.csv");
+/// `simulate` 2 s at 1797 rpm, 12 kHz on the bare 5-DOF model (`--params cwru`) into `out`.
+fn simulate_bare(fault: &str, seed: &str, out: &str) {
     let sim = Simulate::try_parse_from([
         "simulate",
         "--fault",
-        "outer",
+        fault,
         "--rpm",
         "1797",
         "--fs",
@@ -39,15 +35,24 @@ fn simulate_then_close_the_loop_then_calibrate() {
         "--duration",
         "2",
         "--seed",
-        "5",
-        // the bare 5-DOF model (the loop's declared model), not the calibrated rig
+        seed,
         "--params",
         "cwru",
         "--out",
-        &csv,
+        out,
     ])
     .unwrap();
     hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+}
+
+#[test]
+fn simulate_then_close_the_loop_then_calibrate() {
+    let dir = std::env::temp_dir().join(format!("hybrid-fdd-commands-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let csv = p("sim.csv");
+    // the bare 5-DOF model (the loop's declared model), not the calibrated rig
+    simulate_bare("outer", "5", &csv);
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(text.starts_with("time_s,accel"), "{}", &text[..40]);
 
@@ -98,25 +103,7 @@ fn simulate_then_close_the_loop_then_calibrate() {
     // machine model holds a structural path (identified from the recording) and its residual
     // statistics, so it serves as a diagnosis baseline
     let healthy = p("healthy.csv");
-    let sim = Simulate::try_parse_from([
-        "simulate",
-        "--fault",
-        "none",
-        "--rpm",
-        "1797",
-        "--fs",
-        "12000",
-        "--duration",
-        "2",
-        "--seed",
-        "6",
-        "--params",
-        "cwru",
-        "--out",
-        &healthy,
-    ])
-    .unwrap();
-    hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+    simulate_bare("none", "6", &healthy);
     let rig_h = p("rig_h.json");
     let cal = Calibrate::try_parse_from([
         "calibrate",

@@ -352,7 +352,9 @@ pub fn source_features(
     };
     let residual = full.get(rec.window_start..).unwrap_or(&[]);
     let signal = rec.signal.get(rec.window_start..).unwrap_or(&[]);
-    let scored = (rec.window_len * rec.n_windows).min(residual.len());
+    let scored = (rec.window_len * rec.n_windows)
+        .min(residual.len())
+        .min(signal.len());
     let rms_ratio = crate::rms_ratio(&residual[..scored], &signal[..scored]);
     let energies = crate::window_energies(residual, rec.window_len, rec.n_windows)?;
     let trace_len = residual.len().min(rec.fs as usize / 10);
