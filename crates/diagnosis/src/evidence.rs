@@ -22,7 +22,18 @@ pub struct Line {
     pub found_hz: f64,
     /// `10 log10(peak / local median)` of the squared envelope spectrum, dB.
     pub prominence_db: f64,
-    /// `prominence_db ≥` the spectrum's line threshold (≥ `LINE_THRESHOLD_DB`).
+    /// Prominence of the same line (the largest local maximum within ± 1.5 bins of
+    /// `found_hz`) in the healthy baseline's squared envelope spectrum of the same band and
+    /// resolution, dB; `null` without a baseline recording (self-referenced, or a baseline
+    /// from a machine model).
+    #[serde(default)]
+    pub baseline_prominence_db: Option<f64>,
+    /// The line's evidence, dB: `prominence_db`, less `baseline_prominence_db` when the healthy
+    /// machine already holds the line (baseline prominence ≥ `LINE_THRESHOLD_DB`) — a line the
+    /// baseline has is not evidence of a fault unless it has grown.
+    #[serde(default)]
+    pub evidence_db: f64,
+    /// `evidence_db ≥` the spectrum's line threshold (≥ `LINE_THRESHOLD_DB`).
     pub present: bool,
     /// A line of a stronger, detected hypothesis's family sits at `found_hz`; it does not count.
     pub explained_by: Option<Hypothesis>,
@@ -83,8 +94,30 @@ impl EnvelopeSpectrum {
         *m
     }
 
+    /// The largest eligible local maximum in bins `k0..=k1` and its prominence over the local
+    /// median, dB (`None` when the window holds no local maximum).
+    fn peak_in(&self, k0: usize, k1: usize, fr: f64, guard: bool) -> Option<(f64, f64)> {
+        // a line is a local maximum of the spectrum: the largest bin of a window whose edge
+        // cuts the skirt of a strong line outside it is not a line of its own
+        let k1 = k1.min(self.power.len().saturating_sub(1));
+        let best = (k0.max(1)..=k1)
+            .filter(|&k| k < self.power.len() && !(guard && self.guarded(k, fr)) && self.is_peak(k))
+            .max_by(|&a, &b| self.power[a].total_cmp(&self.power[b]).then(b.cmp(&a)))?;
+        let f = self.freq(best);
+        let bg = self.background(f, BACKGROUND_HALF_WIDTH_ORDERS * fr);
+        let p = self.power[best];
+        let db = if bg > 0.0 && p > 0.0 {
+            10.0 * (p / bg).log10()
+        } else {
+            0.0
+        };
+        Some((f, if db.is_finite() { db } else { 0.0 }))
+    }
+
     /// Search `[lo, hi]` (widened to at least ± 0.6 bin around `expected`) for the largest
-    /// eligible bin and measure its prominence.
+    /// eligible bin and measure its prominence; with a `baseline` spectrum (same band and
+    /// resolution), measure the same line there too (see [`Line::evidence_db`]).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn line(
         &self,
         label: String,
@@ -93,6 +126,7 @@ impl EnvelopeSpectrum {
         hi: f64,
         fr: f64,
         guard: bool,
+        baseline: Option<&EnvelopeSpectrum>,
     ) -> Line {
         let df = self.resolution_hz;
         // when the kinematics put the line itself on a shaft harmonic (the 6203's ball-defect
@@ -102,27 +136,23 @@ impl EnvelopeSpectrum {
         let lo = lo.min(expected - 0.6 * df).max(df);
         let hi = hi.max(expected + 0.6 * df);
         let k0 = (lo / df).ceil() as usize;
-        let k1 = ((hi / df).floor() as usize).min(self.power.len().saturating_sub(1));
-        // a line is a local maximum of the spectrum: the largest bin of a window whose edge
-        // cuts the skirt of a strong line outside it is not a line of its own
-        let best = (k0..=k1)
-            .filter(|&k| {
-                k >= 1 && k < self.power.len() && !(guard && self.guarded(k, fr)) && self.is_peak(k)
-            })
-            .max_by(|&a, &b| self.power[a].total_cmp(&self.power[b]).then(b.cmp(&a)));
-        let (found_hz, prominence_db) = match best {
-            Some(k) => {
-                let f = self.freq(k);
-                let bg = self.background(f, BACKGROUND_HALF_WIDTH_ORDERS * fr);
-                let p = self.power[k];
-                let db = if bg > 0.0 && p > 0.0 {
-                    10.0 * (p / bg).log10()
-                } else {
-                    0.0
-                };
-                (f, if db.is_finite() { db } else { 0.0 })
-            }
-            None => (expected, 0.0),
+        let k1 = (hi / df).floor() as usize;
+        let (found_hz, prominence_db) = self.peak_in(k0, k1, fr, guard).unwrap_or((expected, 0.0));
+        let baseline_prominence_db = baseline
+            .filter(|b| (b.resolution_hz - df).abs() <= 1e-9 * df && !b.power.is_empty())
+            .map(|b| {
+                let k = found_hz / df;
+                b.peak_in(
+                    (k - 1.5).ceil().max(1.0) as usize,
+                    (k + 1.5).floor() as usize,
+                    fr,
+                    false,
+                )
+                .map_or(0.0, |(_, db)| db)
+            });
+        let evidence_db = match baseline_prominence_db {
+            Some(b) if b >= LINE_THRESHOLD_DB => prominence_db - b,
+            _ => prominence_db,
         };
         Line {
             label,
@@ -130,7 +160,9 @@ impl EnvelopeSpectrum {
             search_hz: [lo, hi],
             found_hz,
             prominence_db,
-            present: prominence_db >= self.line_threshold_db,
+            baseline_prominence_db,
+            evidence_db,
+            present: evidence_db >= self.line_threshold_db,
             explained_by: None,
             consistent: true,
         }
@@ -194,7 +226,8 @@ pub struct HypothesisEvidence {
     pub harmonics: Vec<Line>,
     /// Sidebands around harmonic 1 that tell the faults apart: ± fr (inner), ± FTF (ball).
     pub sidebands: Vec<Line>,
-    /// `Σ_h max(0, P_h) + ½ Σ_s max(0, P_s)`, dB (P = prominence; h harmonics, s sidebands).
+    /// `Σ_h max(0, P_h) + ½ Σ_s max(0, P_s)`, dB (P = a line's evidence, its prominence less
+    /// the baseline's where the healthy machine holds the line; h harmonics, s sidebands).
     pub score_db: f64,
     /// Harmonics that count (present, not explained by another hypothesis).
     pub harmonics_present: usize,
@@ -216,7 +249,7 @@ impl HypothesisEvidence {
             .iter()
             .enumerate()
             .filter(|(_, l)| l.present && l.explained_by.is_none())
-            .max_by(|a, b| a.1.prominence_db.total_cmp(&b.1.prominence_db))
+            .max_by(|a, b| a.1.evidence_db.total_cmp(&b.1.evidence_db))
             .map(|(i, l)| l.found_hz / (i + 1) as f64);
         for (i, l) in self.harmonics.iter_mut().enumerate() {
             let h = (i + 1) as f64;
@@ -295,6 +328,7 @@ pub(crate) fn window_ratio(h: Hypothesis, o: &FaultOrders) -> (f64, f64) {
 pub(crate) fn evaluate(
     h: Hypothesis,
     env: &EnvelopeSpectrum,
+    baseline: Option<&EnvelopeSpectrum>,
     o: &FaultOrders,
     fr: f64,
 ) -> HypothesisEvidence {
@@ -308,39 +342,54 @@ pub(crate) fn evaluate(
     let harmonics: Vec<Line> = (1..=HARMONICS)
         .map(|k| {
             let e = k as f64 * f0;
-            env.line(format!("{name}×{k}"), e, e * rlo, e * rhi, fr, true)
+            env.line(
+                format!("{name}×{k}"),
+                e,
+                e * rlo,
+                e * rhi,
+                fr,
+                true,
+                baseline,
+            )
         })
         .collect();
     let f1 = harmonics[0].found_hz;
     let df = env.resolution_hz;
     let ftf_hz = o.ftf * fr;
+    // sidebands f₁ ± spacing, searched within ± tol(centre)
+    let pair = |spacing: f64, tags: [&str; 2], tol: &dyn Fn(f64) -> f64| -> Vec<Line> {
+        [(-1.0, tags[0]), (1.0, tags[1])]
+            .iter()
+            .map(|&(s, tag)| {
+                let c = f1 + s * spacing;
+                let t = tol(c);
+                env.line(
+                    format!("{name}×1{tag}"),
+                    c,
+                    c - t,
+                    c + t,
+                    fr,
+                    true,
+                    baseline,
+                )
+            })
+            .collect()
+    };
     let sidebands: Vec<Line> = match h {
         Hypothesis::Outer => Vec::new(),
-        Hypothesis::Inner => [(-1.0, "−fr"), (1.0, "+fr")]
-            .iter()
-            .map(|&(s, tag)| {
-                let c = f1 + s * fr;
-                let tol = (0.6 * df).max(0.005 * c);
-                env.line(format!("{name}×1{tag}"), c, c - tol, c + tol, fr, true)
-            })
-            .collect(),
-        Hypothesis::Ball => [(-1.0, "−FTF"), (1.0, "+FTF")]
-            .iter()
-            .map(|&(s, tag)| {
-                let c = f1 + s * ftf_hz;
-                let tol = (0.6 * df).max(0.005 * c + (SLIP_MAX + SPEED_TOL) * ftf_hz);
-                env.line(format!("{name}×1{tag}"), c, c - tol, c + tol, fr, true)
-            })
-            .collect(),
+        Hypothesis::Inner => pair(fr, ["−fr", "+fr"], &|c| (0.6 * df).max(0.005 * c)),
+        Hypothesis::Ball => pair(ftf_hz, ["−FTF", "+FTF"], &|c| {
+            (0.6 * df).max(0.005 * c + (SLIP_MAX + SPEED_TOL) * ftf_hz)
+        }),
     };
     let score_db = harmonics
         .iter()
-        .map(|l| l.prominence_db.max(0.0))
+        .map(|l| l.evidence_db.max(0.0))
         .sum::<f64>()
         + 0.5
             * sidebands
                 .iter()
-                .map(|l| l.prominence_db.max(0.0))
+                .map(|l| l.evidence_db.max(0.0))
                 .sum::<f64>();
     let mut ev = HypothesisEvidence {
         hypothesis: h,

@@ -148,6 +148,63 @@ pub struct Baseline {
     pub residual_kurtosis: f64,
     /// Samples in the baseline.
     pub samples: usize,
+    /// The baseline's own residual, kept to read the healthy machine's envelope lines in the
+    /// same bands as the recording's (a line the baseline already holds is not fault
+    /// evidence, see `Line::evidence_db`). `None` for a baseline from a model
+    /// ([`Baseline::from_whitener`]); not serialised.
+    #[serde(skip)]
+    pub residual: Option<std::sync::Arc<[f64]>>,
+    /// The residual's envelope spectra per band set and segment lengths, computed once.
+    #[serde(skip)]
+    spectra: SpectraCache,
+}
+
+/// Squared envelope spectra of a baseline's residual, keyed by the rate, band edges and Welch
+/// segment lengths they were computed for (a batch run at a few speeds needs a few).
+#[derive(Default)]
+struct SpectraCache(std::sync::Mutex<Vec<SpectraEntry>>);
+
+/// One key (rate, band edges, segment lengths as bits) and its spectra.
+type SpectraEntry = (Vec<u64>, std::sync::Arc<Vec<Option<EnvelopeSpectrum>>>);
+
+/// At most this many band sets are kept per baseline.
+const SPECTRA_CACHE_LEN: usize = 16;
+
+impl SpectraCache {
+    fn get(&self, key: &[u64]) -> Option<std::sync::Arc<Vec<Option<EnvelopeSpectrum>>>> {
+        let v = self.0.lock().ok()?;
+        v.iter().find(|(k, _)| k == key).map(|(_, s)| s.clone())
+    }
+
+    fn put(&self, key: Vec<u64>, spectra: std::sync::Arc<Vec<Option<EnvelopeSpectrum>>>) {
+        if let Ok(mut v) = self.0.lock() {
+            if v.len() >= SPECTRA_CACHE_LEN {
+                v.remove(0);
+            }
+            v.push((key, spectra));
+        }
+    }
+}
+
+impl Clone for SpectraCache {
+    fn clone(&self) -> Self {
+        Self(std::sync::Mutex::new(
+            self.0.lock().map(|v| v.clone()).unwrap_or_default(),
+        ))
+    }
+}
+
+/// A cache: equal whatever it holds.
+impl PartialEq for SpectraCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for SpectraCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SpectraCache")
+    }
 }
 
 impl Baseline {
@@ -166,6 +223,8 @@ impl Baseline {
             residual_rms,
             residual_kurtosis,
             samples: x.len(),
+            residual: Some(e.into()),
+            spectra: SpectraCache::default(),
         })
     }
 
@@ -200,6 +259,8 @@ impl Baseline {
             residual_rms,
             residual_kurtosis,
             samples,
+            residual: None,
+            spectra: SpectraCache::default(),
         })
     }
 }
@@ -303,7 +364,7 @@ impl Default for Thresholds {
             sk_sigmas: SK_SIGMAS,
             cfar_quantile: CFAR_QUANTILE,
             rule: format!(
-                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault",
+                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault; against a baseline recording, a line the healthy machine already holds (>= {LINE_THRESHOLD_DB} dB there) counts only by what it has grown",
                 100.0 * (1.0 - CFAR_QUANTILE)
             ),
         }
@@ -359,9 +420,14 @@ impl Diagnosis {
                         .chain(&e.sidebands)
                         .map(|l| {
                             format!(
-                                "{} {:.1}{}{}",
+                                "{} {:.1}{}{}{}",
                                 l.label,
                                 l.prominence_db,
+                                if l.evidence_db == l.prominence_db {
+                                    String::new()
+                                } else {
+                                    format!(" (baseline {:.1})", l.prominence_db - l.evidence_db)
+                                },
                                 if l.explained_by.is_some() { "ₓ" } else { "" },
                                 if l.consistent { "" } else { "≠" }
                             )
@@ -463,6 +529,50 @@ pub fn diagnose(
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
 ) -> Result<Diagnosis> {
+    thread_local! {
+        // FFT plans and Hann windows kept between recordings of one thread
+        static ENGINE: std::cell::RefCell<SpectralEngine> =
+            std::cell::RefCell::new(SpectralEngine::new());
+    }
+    ENGINE.with_borrow_mut(|engine| diagnose_with(engine, x, fs_hz, rpm, bearing, baseline))
+}
+
+/// The healthy machine's squared envelope spectra in `bands`, one Welch segment length per band
+/// (`None` where the baseline is shorter than the segment).
+fn baseline_spectra(
+    engine: &mut SpectralEngine,
+    residual: &[f64],
+    fs_hz: f64,
+    bands: &[Band],
+    segs: &[usize],
+) -> Result<Vec<Option<EnvelopeSpectrum>>> {
+    let benvs = engine.band_squared_envelopes(residual, fs_hz, bands)?;
+    let mut out = Vec::with_capacity(benvs.len());
+    for (be, &seg) in benvs.iter().zip(segs) {
+        let s = &be.squared_envelope;
+        out.push(if s.len() >= seg {
+            let psd = engine.welch_psd(s, be.rate_hz, WelchConfig::half_overlap(seg))?;
+            Some(EnvelopeSpectrum {
+                band_hz: [be.band.low_hz(), be.band.high_hz()],
+                resolution_hz: psd.resolution_hz,
+                power: psd.values,
+                ..EnvelopeSpectrum::default()
+            })
+        } else {
+            None
+        });
+    }
+    Ok(out)
+}
+
+fn diagnose_with(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    rpm: f64,
+    bearing: &BearingSpec,
+    baseline: Option<&Baseline>,
+) -> Result<Diagnosis> {
     check_fs(fs_hz)?;
     if !(rpm.is_finite() && (MIN_RPM..=MAX_RPM).contains(&rpm)) {
         return Err(DiagnosisError::RpmOutOfRange {
@@ -542,20 +652,24 @@ pub fn diagnose(
 
     // 2. bands: squared envelopes, spectral kurtosis, Welch squared envelope spectra
     let bands = candidate_bands(fs_hz, min_width);
-    let mut engine = SpectralEngine::new();
     let envs = engine.band_squared_envelopes(&e, fs_hz, &bands)?;
     let duration_turns = e.len() as f64 / fs_hz * fr;
     let seg_turns = (duration_turns / 4.0)
         .clamp(SEGMENT_TURNS_MIN, SEGMENT_TURNS_MAX)
         .min(duration_turns);
     let mut spectra = Vec::with_capacity(envs.len());
+    let mut segs = Vec::with_capacity(envs.len());
     for be in &envs {
         let s = &be.squared_envelope;
         let n = s.len() as f64;
         let m1 = s.iter().sum::<f64>() / n;
         let m2 = s.iter().map(|v| v * v).sum::<f64>() / n;
         let sk = if m1 > 0.0 { m2 / (m1 * m1) - 2.0 } else { 0.0 };
-        let seg = ((seg_turns / fr * be.rate_hz).round() as usize).clamp(16, s.len());
+        // `seg_turns` shaft turns, shortened to the nearest even 7-smooth length (≤ 2 %
+        // shorter): an odd or large-prime segment takes a real FFT several times slower
+        let target = (seg_turns / fr * be.rate_hz).round() as usize;
+        let seg = (2 * residual_features::smooth_floor(target / 2)).clamp(16, s.len());
+        segs.push(seg);
         let cfg = WelchConfig::half_overlap(seg);
         let psd = engine.welch_psd(s, be.rate_hz, cfg)?;
         let segments = if s.len() >= seg {
@@ -575,7 +689,7 @@ pub fn diagnose(
         let top_hz = analysis_top_hz(&o, fr);
         let mut kinematic: Vec<f64> = Hypothesis::ALL
             .iter()
-            .flat_map(|&h| evidence::evaluate(h, &sp, &o, fr).family(fr, o.ftf * fr))
+            .flat_map(|&h| evidence::evaluate(h, &sp, None, &o, fr).family(fr, o.ftf * fr))
             .collect();
         let mut j = 1.0;
         while j * fr <= top_hz {
@@ -585,6 +699,32 @@ pub fn diagnose(
         sp.set_threshold(fr, top_hz, &kinematic);
         spectra.push(sp);
     }
+    // the healthy machine's squared envelope spectra in the same bands, at the same resolution
+    // (a baseline recording only; one too short for a band's Welch segment gives none there)
+    let base_spectra: std::sync::Arc<Vec<Option<EnvelopeSpectrum>>> = match baseline
+        .and_then(|b| b.residual.as_deref().map(|r| (b, r)))
+    {
+        Some((b, br)) => {
+            let mut key = vec![fs_hz.to_bits()];
+            for (band, &seg) in bands.iter().zip(&segs) {
+                key.extend([
+                    band.low_hz().to_bits(),
+                    band.high_hz().to_bits(),
+                    seg as u64,
+                ]);
+            }
+            match b.spectra.get(&key) {
+                Some(s) => s,
+                None => {
+                    let s =
+                        std::sync::Arc::new(baseline_spectra(engine, br, fs_hz, &bands, &segs)?);
+                    b.spectra.put(key, s.clone());
+                    s
+                }
+            }
+        }
+        None => std::sync::Arc::new(vec![None; spectra.len()]),
+    };
     let sk_best = (0..spectra.len())
         .max_by(|&a, &b| {
             spectra[a]
@@ -612,7 +752,7 @@ pub fn diagnose(
     let eval_all = |i: usize| -> Vec<HypothesisEvidence> {
         Hypothesis::ALL
             .iter()
-            .map(|&h| evidence::evaluate(h, &spectra[i], &o, fr))
+            .map(|&h| evidence::evaluate(h, &spectra[i], base_spectra[i].as_ref(), &o, fr))
             .collect()
     };
     let best_score = |v: &[HypothesisEvidence]| v.iter().map(|e| e.score_db).fold(0.0, f64::max);
@@ -676,7 +816,15 @@ pub fn diagnose(
         .map(|k| {
             let f = k as f64 * fr;
             let tol = (0.6 * sp.resolution_hz).max(0.005 * f);
-            sp.line(format!("fr×{k}"), f, f - tol, f + tol, fr, false)
+            sp.line(
+                format!("fr×{k}"),
+                f,
+                f - tol,
+                f + tol,
+                fr,
+                false,
+                base_spectra[bi].as_ref(),
+            )
         })
         .collect();
     let score = |h: Hypothesis| {

@@ -109,6 +109,59 @@ fn each_class_6205_1797rpm_12k_baseline_and_self() {
     }
 }
 
+/// Against a baseline, a line the healthy machine already holds is not evidence: a machine
+/// whose reference recording already had an inner-race defect reads `normal` when nothing has
+/// changed (another stretch of the same state), still reads a new outer-race defect, and the same
+/// recording self-referenced reads `inner`.
+#[test]
+fn lines_the_baseline_holds_are_not_evidence() {
+    let g = BearingGeometry::skf_6205();
+    let spec = BearingSpec::parse("6205").unwrap();
+    let (rpm, fs) = (1797.0, 12_000.0);
+    let reference = Baseline::prepare(&sim(g, FaultClass::Inner, rpm, fs, 99), fs).unwrap();
+    let same = sim(g, FaultClass::Inner, rpm, fs, 7);
+    let d = diagnose(&same, fs, rpm, &spec, Some(&reference)).unwrap();
+    assert_eq!(
+        d.verdict, "normal",
+        "unchanged inner defect against its own state"
+    );
+    let inner = &d.evidence[0];
+    assert!(
+        inner
+            .harmonics
+            .iter()
+            .any(|l| l.prominence_db >= 6.0 && l.evidence_db < l.prominence_db),
+        "the BPFI lines are there and the baseline's are subtracted: {:?}",
+        inner.harmonics
+    );
+    assert!(
+        d.evidence
+            .iter()
+            .flat_map(|e| e.harmonics.iter())
+            .all(|l| l.baseline_prominence_db.is_some())
+    );
+    assert_eq!(
+        diagnose(&same, fs, rpm, &spec, None).unwrap().verdict,
+        "inner"
+    );
+    let outer = sim(g, FaultClass::Outer, rpm, fs, 7);
+    let d = diagnose(&outer, fs, rpm, &spec, Some(&reference)).unwrap();
+    assert_eq!(
+        d.verdict, "outer",
+        "a new fault against a baseline with another"
+    );
+    // a recording against itself is unchanged, whatever it holds
+    for class in [FaultClass::Outer, FaultClass::Ball] {
+        let x = sim(g, class, rpm, fs, 5);
+        let own = Baseline::prepare(&x, fs).unwrap();
+        assert_eq!(
+            diagnose(&x, fs, rpm, &spec, Some(&own)).unwrap().verdict,
+            "normal",
+            "{class:?} against itself"
+        );
+    }
+}
+
 #[test]
 fn combined_inner_outer_is_joined() {
     let g = BearingGeometry::skf_6205();
@@ -153,7 +206,7 @@ fn report_serialises_without_nan() {
     let spec = BearingSpec::parse("6205").unwrap();
     let d = run(g, &spec, FaultClass::Outer, 1797.0, 12_000.0, true);
     // serde_json writes NaN as null: the only nulls allowed are "not explained" and, when
-    // self-referenced, the energy ratios
+    // self-referenced, the energy ratios and the lines' baseline prominences
     fn nulls(v: &serde_json::Value, key: &str, out: &mut Vec<String>) {
         match v {
             serde_json::Value::Null => out.push(key.to_string()),
@@ -172,7 +225,7 @@ fn report_serialises_without_nan() {
     assert_eq!(v["reference"], "self");
     let mut n = Vec::new();
     nulls(&v, "", &mut n);
-    n.retain(|k| k != "explained_by");
+    n.retain(|k| k != "explained_by" && k != "baseline_prominence_db");
     assert_eq!(n, ["energy_ratio", "energy_ratio_db"]);
 }
 

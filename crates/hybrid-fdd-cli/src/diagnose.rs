@@ -541,7 +541,7 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         d.kurtogram_band.spectral_kurtosis
     );
     m += &format!("Rule: {}.\n\n", d.thresholds.rule);
-    m += "| hypothesis | score (dB) | detected | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | counts |\n|---|---:|---|---|---|---:|---:|---:|---|\n";
+    m += "| hypothesis | score (dB) | detected | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | in baseline (dB) | evidence (dB) | counts |\n|---|---:|---|---|---|---:|---:|---:|---:|---:|---|\n";
     for e in &d.evidence {
         for (i, l) in e.harmonics.iter().chain(&e.sidebands).enumerate() {
             let head = if i == 0 {
@@ -562,9 +562,12 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
                 (true, None, false) => "no, off the common fundamental".to_string(),
                 _ => "no".to_string(),
             };
+            let base = l
+                .baseline_prominence_db
+                .map_or("—".to_string(), |b| format!("{b:.1}"));
             m += &format!(
-                "| {head} | {} | {:.2} | {:.2} | {:.1} | {counts} |\n",
-                l.label, l.expected_hz, l.found_hz, l.prominence_db
+                "| {head} | {} | {:.2} | {:.2} | {:.1} | {base} | {:.1} | {counts} |\n",
+                l.label, l.expected_hz, l.found_hz, l.prominence_db, l.evidence_db
             );
         }
     }

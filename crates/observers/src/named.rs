@@ -442,7 +442,11 @@ pub fn arx_observer(
     } else {
         design_arx_linear(model, &f, &s.linear)?
     };
-    let p = ArxLaguerrePredictor::new(model, &f, &rep.kp)?;
+    let p = if s.linear.innovations {
+        ArxLaguerrePredictor::new_innovations(model, &rep.kp)?
+    } else {
+        ArxLaguerrePredictor::new(model, &f, &rep.kp)?
+    };
     let law = make_law(kind, rep.law_gains, rep.law_gains[1], s)?;
     Ok(Observer::new(p, law))
 }

@@ -42,7 +42,7 @@ pub use features::{
 pub use spectral::{
     Band, BandEnvelope, SpectralEngine, SpectralPeak, Spectrum, Taper, WelchConfig,
     amplitude_spectrum, band_energy, band_squared_envelopes, bandpass_fft, envelope_spectrum,
-    hilbert_envelope, welch_psd,
+    hilbert_envelope, smooth_floor, welch_psd,
 };
 pub use stats::{crest_factor, energy, kurtosis, peak, rms, skewness};
 pub use window::{TailPolicy, WindowPlan, WindowSet, Windowing};

@@ -159,21 +159,37 @@ pub struct BandEnvelope {
     pub squared_envelope: Vec<f64>,
 }
 
+/// Only prime factors in `primes`.
+fn is_smooth(m: usize, primes: &[usize]) -> bool {
+    let mut r = m;
+    for &p in primes {
+        while r % p == 0 && r > 0 {
+            r /= p;
+        }
+    }
+    r == 1
+}
+
 /// Smallest `m ≥ n` whose only prime factors are 2, 3 and 5 (fast FFT sizes).
 fn smooth_size(n: usize) -> usize {
     let mut m = n.max(1);
-    loop {
-        let mut r = m;
-        for p in [2, 3, 5] {
-            while r % p == 0 {
-                r /= p;
-            }
-        }
-        if r == 1 {
-            return m;
-        }
+    while !is_smooth(m, &[2, 3, 5]) {
         m += 1;
     }
+    m
+}
+
+/// Largest `m ≤ n` (`n ≥ 1`) whose only prime factors are 2, 3, 5 and 7: how many samples of
+/// a record of `n` to transform so that its FFT is fast. A length with a large prime factor (a
+/// 10 s, 12 kHz record less an AR filter's warm-up, 119 992 = 2³·53·283) takes a Bluestein FFT
+/// several times slower; the largest 7-smooth length keeps at least 98 % of a record of 10⁴
+/// samples or more (unit test).
+pub fn smooth_floor(n: usize) -> usize {
+    let mut m = n.max(1);
+    while !is_smooth(m, &[2, 3, 5, 7]) {
+        m -= 1;
+    }
+    m
 }
 
 /// Welch PSD settings: segment length and overlap in samples.
@@ -199,6 +215,10 @@ impl WelchConfig {
 pub struct SpectralEngine {
     real: RealFftPlanner<f64>,
     complex: FftPlanner<f64>,
+    /// Hann weights by length, for repeated Welch estimates at the same segment length.
+    hann: Vec<(usize, Arc<[f64]>)>,
+    /// A reusable segment buffer.
+    scratch: Vec<f64>,
 }
 
 impl Default for SpectralEngine {
@@ -228,7 +248,22 @@ impl SpectralEngine {
         Self {
             real: RealFftPlanner::new(),
             complex: FftPlanner::new(),
+            hann: Vec::new(),
+            scratch: Vec::new(),
         }
+    }
+
+    /// Hann weights of length `m`, computed once per length (the last few lengths are kept).
+    fn hann(&mut self, m: usize) -> Arc<[f64]> {
+        if let Some((_, w)) = self.hann.iter().find(|(n, _)| *n == m) {
+            return w.clone();
+        }
+        let w: Arc<[f64]> = Taper::Hann.weights(m).into();
+        if self.hann.len() >= 64 {
+            self.hann.remove(0);
+        }
+        self.hann.push((m, w.clone()));
+        w
     }
 
     fn forward(&mut self, n: usize) -> Arc<dyn RealToComplex<f64>> {
@@ -307,17 +342,21 @@ impl SpectralEngine {
             });
         }
         let step = m - overlap;
-        let w = Taper::Hann.weights(m);
+        let w = self.hann(m);
         let s2: f64 = w.iter().map(|v| v * v).sum();
         let plan = self.forward(m);
         let mut acc = vec![0.0; m / 2 + 1];
         let mut out = plan.make_output_vec();
+        let mut buf = std::mem::take(&mut self.scratch);
+        buf.resize(m, 0.0);
         let mut segments = 0usize;
         let mut start = 0;
         while start + m <= x.len() {
             let seg = &x[start..start + m];
             let mean = seg.iter().sum::<f64>() / m as f64;
-            let mut buf: Vec<f64> = seg.iter().zip(&w).map(|(v, wi)| (v - mean) * wi).collect();
+            for ((b, v), wi) in buf.iter_mut().zip(seg).zip(w.iter()) {
+                *b = (v - mean) * wi;
+            }
             plan.process(&mut buf, &mut out)
                 .map_err(|_| FeatureError::Fft { len: m })?;
             for (k, (a, c)) in acc.iter_mut().zip(&out).enumerate() {
@@ -326,6 +365,7 @@ impl SpectralEngine {
             segments += 1;
             start += step;
         }
+        self.scratch = buf;
         for a in &mut acc {
             *a /= segments as f64;
         }
@@ -592,6 +632,15 @@ mod tests {
         let full = hilbert_envelope(&bandpass_fft(&x, fs, band).unwrap()).unwrap();
         assert!((full[0] * full[0] - e.squared_envelope[0]).abs() < 1e-9);
         assert!(smooth_size(7) == 8 && smooth_size(31) == 32 && smooth_size(121) == 125);
+        assert!(smooth_floor(11) == 10 && smooth_floor(31) == 30 && smooth_floor(1) == 1);
+        assert_eq!(smooth_floor(119_992), 119_070);
+        for n in (10_000usize..1_100_000).step_by(997) {
+            let m = smooth_floor(n);
+            assert!(
+                m <= n && 50 * (n - m) <= n && is_smooth(m, &[2, 3, 5, 7]),
+                "{n} -> {m}"
+            );
+        }
         assert!(band_squared_envelopes(&x, fs, &[Band::new(5000.0, 6000.0).unwrap()]).is_err());
     }
 }

@@ -91,6 +91,8 @@ struct DenseKernel {
     k: Vec<f64>,
     kp: Vec<f64>,
     f: Vec<f64>,
+    /// 1 when the fault enters the output directly (f is then zero), else 0.
+    s_out: f64,
     x: Vec<f64>,
     x0: Vec<f64>,
     tmp: Vec<f64>,
@@ -112,7 +114,7 @@ impl DenseKernel {
             y_next += self.k[i] * v;
         }
         std::mem::swap(&mut self.x, &mut self.tmp);
-        y_next
+        y_next + self.s_out * s
     }
 }
 
@@ -188,7 +190,30 @@ impl ArxLaguerrePredictor {
         fault_direction: &[f64],
         kp: &[f64],
     ) -> Result<Self, ObserverError> {
-        Self::build(model, fault_direction, kp, true)
+        Self::build(model, fault_direction, kp, true, false)
+    }
+
+    /// The predictor of the innovations design (K_p = b_y, [`crate::design_innovations`]) of
+    /// an ARX-Laguerre model: its state is then the Laguerre filter bank of the *measured*
+    /// output (b_y Ŷ + K_p e = b_y y), exact, so there is no state error for the fault to
+    /// correct; the fault estimate d̂ and the law's level-1 injection add to the next
+    /// prediction directly, Ŷ(k+1) = Kᵀ X̂(k+1) + d̂ + c₁, instead of entering the state as if
+    /// they had been measured (where the model's filters would carry every past injection into
+    /// later predictions and a sign law would fight its own history). As the shift-form path
+    /// predictor ([`ArxLaguerrePredictor::new_path`]) does; `fault_direction` is then zero.
+    ///
+    /// # Errors
+    /// As [`ArxLaguerrePredictor::new`], and [`ObserverError::InvalidParameter`] when K_p is
+    /// not b_y.
+    pub fn new_innovations(model: &LinearModel, kp: &[f64]) -> Result<Self, ObserverError> {
+        if kp != model.b_y.as_slice() {
+            return Err(ObserverError::InvalidParameter {
+                name: "K_p",
+                value: kp.first().copied().unwrap_or(f64::NAN),
+                reason: "the innovations predictor needs K_p = b_y",
+            });
+        }
+        Self::build(model, &model.b_y, kp, true, true)
     }
 
     /// The predictor of a shift-form (AR) model ([`LinearModel::from_ar`]) with the
@@ -245,7 +270,7 @@ impl ArxLaguerrePredictor {
         fault_direction: &[f64],
         kp: &[f64],
     ) -> Result<Self, ObserverError> {
-        Self::build(model, fault_direction, kp, false)
+        Self::build(model, fault_direction, kp, false, false)
     }
 
     fn build(
@@ -253,6 +278,7 @@ impl ArxLaguerrePredictor {
         fault_direction: &[f64],
         kp: &[f64],
         allow_cascade: bool,
+        output_fault: bool,
     ) -> Result<Self, ObserverError> {
         model.validate()?;
         let n = model.order();
@@ -271,7 +297,7 @@ impl ArxLaguerrePredictor {
             .map(|(a, b)| a * b)
             .sum();
         let fnorm: f64 = fault_direction.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !kf.is_finite() || kf.abs() <= 1e-9 * fnorm.max(1e-300) {
+        if !output_fault && (!kf.is_finite() || kf.abs() <= 1e-9 * fnorm.max(1e-300)) {
             return Err(ObserverError::FaultDirectionInvisible { value: kf.abs() });
         }
         if let Some(v) = kp.iter().find(|v| !v.is_finite()) {
@@ -281,7 +307,13 @@ impl ArxLaguerrePredictor {
                 reason: "must be finite",
             });
         }
-        let f: Vec<f64> = fault_direction.iter().map(|v| v / kf).collect();
+        // normalised so that Kᵀf = 1; zero when the fault enters the output directly
+        let f: Vec<f64> = if output_fault {
+            vec![0.0; n]
+        } else {
+            fault_direction.iter().map(|v| v / kf).collect()
+        };
+        let s_out = if output_fault { 1.0 } else { 0.0 };
         let structure = if allow_cascade {
             model.laguerre_structure()
         } else {
@@ -309,7 +341,7 @@ impl ArxLaguerrePredictor {
                         dot(&model.k, &model.b_y),
                         dot(&model.k, &model.b_u),
                         dot(&model.k, kp),
-                        dot(&model.k, &f),
+                        dot(&model.k, &f) + s_out,
                     ],
                     k: fixed(&model.k),
                     kp: fixed(kp),
@@ -325,6 +357,7 @@ impl ArxLaguerrePredictor {
                 k: model.k.clone(),
                 kp: kp.to_vec(),
                 f,
+                s_out,
                 x: vec![0.0; n],
                 x0: vec![0.0; n],
                 tmp: vec![0.0; n],
