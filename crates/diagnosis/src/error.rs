@@ -92,6 +92,31 @@ pub enum DiagnosisError {
     /// A spectral computation failed (should not happen after validation; reported, not panicked).
     #[error("spectral computation failed: {0}")]
     Spectral(#[from] residual_features::FeatureError),
+    /// Training or applying the optional classifier failed (`classify`'s error, as text).
+    #[error("classifier: {0}")]
+    Classifier(String),
+    /// A trained classifier was applied to a diagnosis with another reference.
+    #[error(
+        "the classifier was trained on {trained}-referenced diagnoses, this one is {got}-referenced"
+    )]
+    ReferenceMismatch {
+        /// Reference of the training diagnoses.
+        trained: String,
+        /// Reference of the diagnosis to classify.
+        got: String,
+    },
+    /// A saved classifier that this version cannot use.
+    #[error("trained classifier file: {reason}")]
+    ClassifierFormat {
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+impl From<classify::ClassifyError> for DiagnosisError {
+    fn from(e: classify::ClassifyError) -> Self {
+        Self::Classifier(e.to_string())
+    }
 }
 
 /// Result with [`DiagnosisError`].

@@ -52,6 +52,7 @@
 
 pub mod error;
 pub mod evidence;
+pub mod trained;
 pub mod whiten;
 
 use residual_features::{Band, SpectralEngine, WelchConfig};
@@ -60,6 +61,7 @@ use serde::{Deserialize, Serialize};
 pub use bearing_model::BearingSpec;
 pub use error::{DiagnosisError, Result};
 pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line};
+pub use trained::{EVIDENCE_FEATURES, Labelled, TrainedDiagnoser};
 pub use whiten::{ArWhitener, OrderScore};
 
 use bearing_model::FaultOrders;

@@ -14,6 +14,21 @@ pub struct Args {
     /// or a directory: every `.mat`/`.csv` in it is diagnosed, in parallel.
     #[arg(long)]
     pub input: Option<PathBuf>,
+    /// How the recordings are read and what machine they come from.
+    #[command(flatten)]
+    pub recording: RecordingFlags,
+    /// JSON report path (Markdown and PNG beside it); with a directory input, an output directory.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Optional trained classifier (`hybrid-fdd train-classifier`'s JSON): its class is added
+    /// to the report under `"classifier"` beside the training-free verdict.
+    #[arg(long)]
+    pub classifier: Option<PathBuf>,
+}
+
+/// The flags `diagnose` and `train-classifier` share: channel, rate, speed, bearing, baseline.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct RecordingFlags {
     /// Channel: of a `.mat` file DE, FE or BA; of a CSV/TSV a column name or number (1 = first;
     /// by default `accel`, the only column, or the second of `time,signal`).
     #[arg(long, default_value = "DE")]
@@ -31,12 +46,39 @@ pub struct Args {
     /// Healthy recording of the same machine (same formats; resampled by an integer factor
     /// with an anti-aliasing FIR when its rate is a multiple of the recording's), or a machine
     /// model JSON from `cargo xtask calibrate` (its structural path is the healthy model; same
-    /// sampling rate and units as the recording).
+    /// sampling rate and units as the recording). Without it the evidence is self-referenced.
     #[arg(long)]
     pub baseline: Option<PathBuf>,
-    /// JSON report path (Markdown and PNG beside it); with a directory input, an output directory.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
+}
+
+impl RecordingFlags {
+    /// The plan these flags give (the bearing is required).
+    ///
+    /// # Errors
+    /// A missing or unparsable `--bearing`.
+    pub fn plan(&self) -> anyhow::Result<Plan> {
+        let spec = self
+            .bearing
+            .as_deref()
+            .context("--bearing is required (6205, 6203, a geometry or the four multiples)")?;
+        Ok(Plan {
+            channel: self.channel.clone(),
+            fs: self.fs,
+            rpm: self.rpm,
+            bearing: BearingSpec::parse(spec)?,
+        })
+    }
+
+    /// The baseline, when `--baseline` is given.
+    ///
+    /// # Errors
+    /// An unreadable baseline.
+    pub fn baseline_source(&self) -> anyhow::Result<Option<BaselineSource>> {
+        self.baseline
+            .as_deref()
+            .map(|p| BaselineSource::load(p, &self.channel, None))
+            .transpose()
+    }
 }
 
 /// A loaded recording.
@@ -424,6 +466,72 @@ pub struct Outcome {
     pub baseline_note: Option<String>,
     /// Unit of the samples.
     pub unit: &'static str,
+    /// The trained classifier's class, when one was given.
+    pub trained: Option<TrainedClass>,
+}
+
+/// What an optional trained classifier says about a recording.
+#[derive(Debug, Clone)]
+pub struct TrainedClass {
+    /// Its class (the majority over the segments).
+    pub class: String,
+    /// The class of each segment.
+    pub segments: Vec<String>,
+    /// The classifier's name.
+    pub classifier: String,
+    /// Examples and recordings it was trained on.
+    pub examples: usize,
+    /// Distinct recordings among them.
+    pub recordings: usize,
+    /// Where it was read from.
+    pub file: String,
+}
+
+/// Read a trained classifier saved by `train-classifier`.
+///
+/// # Errors
+/// Unreadable file, or the library's format error.
+pub fn load_classifier(path: &Path) -> anyhow::Result<diagnosis::TrainedDiagnoser> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("classifier {}", path.display()))?;
+    diagnosis::TrainedDiagnoser::from_json(&text)
+        .with_context(|| format!("classifier {}", path.display()))
+}
+
+/// Apply a trained classifier to a recording the way it was trained: its segments diagnosed
+/// against the same reference, classified, and the majority class kept.
+///
+/// # Errors
+/// Missing speed, the library's errors (another reference than the training diagnoses).
+pub fn apply_classifier(
+    o: &mut Outcome,
+    t: &diagnosis::TrainedDiagnoser,
+    file: &Path,
+    l: &Loaded,
+    plan: &Plan,
+    baseline: Option<&BaselineSource>,
+) -> anyhow::Result<()> {
+    let rpm = plan
+        .rpm
+        .or(l.rpm)
+        .context("--rpm is required (the file stores no speed)")?;
+    let b = baseline.map(|src| src.at(l.fs_hz)).transpose()?;
+    let (class, segments) = t.classify_recording(
+        &l.samples,
+        l.fs_hz,
+        rpm,
+        &plan.bearing,
+        b.as_ref().map(|b| &b.0),
+    )?;
+    o.trained = Some(TrainedClass {
+        class,
+        segments,
+        classifier: t.classifier.clone(),
+        examples: t.examples,
+        recordings: t.recordings,
+        file: file.display().to_string(),
+    });
+    Ok(())
 }
 
 /// Diagnose samples already loaded.
@@ -467,6 +575,7 @@ pub fn diagnose_loaded(
         diagnosis: d,
         baseline_note: note,
         unit: l.unit,
+        trained: None,
     })
 }
 
@@ -480,9 +589,23 @@ pub fn write_reports(o: &Outcome, report: &Path, title: &str) -> anyhow::Result<
     {
         std::fs::create_dir_all(parent)?;
     }
+    let mut json = serde_json::to_value(&o.diagnosis)?;
+    if let (Some(t), Some(obj)) = (&o.trained, json.as_object_mut()) {
+        obj.insert(
+            "classifier".into(),
+            serde_json::json!({
+                "class": t.class,
+                "segments": t.segments,
+                "classifier": t.classifier,
+                "examples": t.examples,
+                "recordings": t.recordings,
+                "file": t.file,
+            }),
+        );
+    }
     std::fs::write(
         report.with_extension("json"),
-        serde_json::to_string_pretty(&o.diagnosis)? + "\n",
+        serde_json::to_string_pretty(&json)? + "\n",
     )?;
     std::fs::write(report.with_extension("md"), markdown(o, title))?;
     crate::figure::envelope_figure(&o.diagnosis, &report.with_extension("png"), title)?;
@@ -495,6 +618,17 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
     let op = &d.operating_point;
     let s = &d.statistics;
     let mut m = format!("# Diagnosis of {title}\n\n**Verdict: {}**\n\n", d.verdict);
+    if let Some(t) = &o.trained {
+        m += &format!(
+            "Trained classifier ({}, {} examples from {} labelled recordings, {}): **{}** (segments: {}) — learned from the user's labels, beside the training-free verdict above.\n\n",
+            t.classifier,
+            t.examples,
+            t.recordings,
+            t.file,
+            t.class,
+            t.segments.join(", ")
+        );
+    }
     m += &format!(
         "- reference: {} ({})\n- operating point: {:.1} rpm (fr = {:.3} Hz), fs = {} Hz, bearing {}\n\
          - fault frequencies (Hz): BPFO {:.2}, BPFI {:.2}, BSF (ball-defect rate, 2× spin) {:.2}, FTF {:.2}\n\
@@ -612,26 +746,22 @@ fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
-    let spec = args
-        .bearing
+    let plan = args.recording.plan()?;
+    let baseline = args.recording.baseline_source()?;
+    let trained = args
+        .classifier
         .as_deref()
-        .context("--bearing is required (6205, 6203, a geometry or the four multiples)")?;
-    let plan = Plan {
-        channel: args.channel.clone(),
-        fs: args.fs,
-        rpm: args.rpm,
-        bearing: BearingSpec::parse(spec)?,
-    };
-    let baseline = args
-        .baseline
-        .as_deref()
-        .map(|p| BaselineSource::load(p, &args.channel, None))
+        .map(|p| load_classifier(p).map(|t| (t, p)))
         .transpose()?;
     let files = expand(input)?;
     let one = |path: &Path, out: &Path| -> anyhow::Result<Outcome> {
         let l = load(path, &plan.channel, plan.fs)?;
-        let o = diagnose_loaded(&l, &plan, baseline.as_ref())
+        let mut o = diagnose_loaded(&l, &plan, baseline.as_ref())
             .with_context(|| path.display().to_string())?;
+        if let Some((t, p)) = &trained {
+            apply_classifier(&mut o, t, p, &l, &plan, baseline.as_ref())
+                .with_context(|| path.display().to_string())?;
+        }
         let title = path
             .file_name()
             .and_then(|s| s.to_str())
@@ -642,7 +772,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if !input.is_dir() {
         let o = one(input, report)?;
         println!(
-            "{}: {} ({} reference) -> {}",
+            "{}: {} ({} reference){} -> {}",
             input.display(),
             o.diagnosis.verdict,
             if o.baseline_note.is_some() {
@@ -650,6 +780,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             } else {
                 "self"
             },
+            o.trained.as_ref().map_or(String::new(), |t| format!(
+                "; trained classifier: {}",
+                t.class
+            )),
             report.display()
         );
         return Ok(());

@@ -10,3 +10,4 @@ pub mod close_loop;
 pub mod diagnose;
 pub mod figure;
 pub mod simulate;
+pub mod train;

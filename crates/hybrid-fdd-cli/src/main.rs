@@ -6,6 +6,8 @@
 //! hybrid-fdd calibrate --input 97.mat --decimate 4 --out rig.json
 //! hybrid-fdd close-loop --input 130.mat --fault outer --machine rig.json --report out/130.json
 //! hybrid-fdd simulate --fault outer --rpm 1797 --fs 12000 --duration 2 --seed 1 --out sim.csv
+//! hybrid-fdd train-classifier --labels labelled.csv --bearing 6205 --out clf.json
+//! hybrid-fdd diagnose --input 130.mat --bearing 6205 --classifier clf.json --report out/130.json
 //! ```
 
 use clap::{Parser, Subcommand};
@@ -32,6 +34,10 @@ enum Command {
     /// Simulate a recording: the calibrated CWRU rig at 6205 / 12 kHz (accel in g), else the
     /// bare 5-DOF model (m/s²); CSV `time_s,accel` + JSON sidecar stating `accel_unit`.
     Simulate(hybrid_fdd_cli::simulate::Args),
+    /// Train the optional classifier on labelled recordings (CSV `file,label[,load_hp][,rpm]`):
+    /// the diagnosis evidence of their segments, a Gini tree or linear SVM, grouped
+    /// cross-validation printed; `diagnose --classifier` then adds its class to the report.
+    TrainClassifier(hybrid_fdd_cli::train::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -40,6 +46,7 @@ fn main() -> std::process::ExitCode {
         Command::Calibrate(a) => hybrid_fdd_cli::close_loop::calibrate(a),
         Command::CloseLoop(a) => hybrid_fdd_cli::close_loop::run(a),
         Command::Simulate(a) => hybrid_fdd_cli::simulate::run(a),
+        Command::TrainClassifier(a) => hybrid_fdd_cli::train::run(&a),
     };
     match r {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -132,3 +132,108 @@ fn simulate_then_close_the_loop_then_calibrate() {
     assert!(format!("{e:#}").contains("--report"), "{e:#}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[derive(Parser)]
+struct TrainClassifier {
+    #[command(flatten)]
+    a: hybrid_fdd_cli::train::Args,
+}
+
+#[derive(Parser)]
+struct Diagnose {
+    #[command(flatten)]
+    a: hybrid_fdd_cli::diagnose::Args,
+}
+
+/// `simulate` 2 s of the calibrated CWRU rig (the default at 6205 / 12 kHz) into `out`.
+fn simulate_rig(fault: &str, seed: &str, out: &str) {
+    let sim = Simulate::try_parse_from([
+        "simulate",
+        "--fault",
+        fault,
+        "--duration",
+        "2",
+        "--seed",
+        seed,
+        "--out",
+        out,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+}
+
+/// A user with labelled recordings: `train-classifier` on a labels CSV, then `diagnose
+/// --classifier` adds the trained class (majority over the recording's segments) to the report
+/// beside the training-free verdict; a labels file without the needed columns is refused.
+#[test]
+fn train_a_classifier_on_labelled_recordings_then_use_it() {
+    let dir = std::env::temp_dir().join(format!("hybrid-fdd-train-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let mut labels = String::from("file,label,load_hp\n");
+    for fault in ["none", "inner", "outer", "ball"] {
+        for seed in ["1", "2"] {
+            let name = format!("{fault}-{seed}.csv");
+            simulate_rig(fault, seed, &p(&name));
+            let label = if fault == "none" { "normal" } else { fault };
+            labels += &format!("{name},{label},0\n");
+        }
+    }
+    std::fs::write(p("labels.csv"), labels).unwrap();
+    let clf = p("clf.json");
+    let t = TrainClassifier::try_parse_from([
+        "train-classifier",
+        "--labels",
+        &p("labels.csv"),
+        "--bearing",
+        "6205",
+        "--rpm",
+        "1797",
+        "--segment-seconds",
+        "0.5",
+        "--out",
+        &clf,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::train::run(&t.a).unwrap();
+    let saved =
+        diagnosis::TrainedDiagnoser::from_json(&std::fs::read_to_string(&clf).unwrap()).unwrap();
+    assert_eq!((saved.examples, saved.recordings), (32, 8));
+    simulate_rig("outer", "3", &p("new.csv"));
+    let report = p("new.json");
+    let d = Diagnose::try_parse_from([
+        "diagnose",
+        "--input",
+        &p("new.csv"),
+        "--bearing",
+        "6205",
+        "--rpm",
+        "1797",
+        "--classifier",
+        &clf,
+        "--report",
+        &report,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::diagnose::run(&d.a).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(v["classifier"]["class"], "outer", "{}", v["classifier"]);
+    assert_eq!(v["classifier"]["segments"].as_array().unwrap().len(), 4);
+    assert!(v["verdict"].is_string(), "the training-free verdict stays");
+    // a labels file without a label column
+    std::fs::write(p("bad.csv"), "file,class\nnone-1.csv,normal\n").unwrap();
+    let t = TrainClassifier::try_parse_from([
+        "train-classifier",
+        "--labels",
+        &p("bad.csv"),
+        "--bearing",
+        "6205",
+        "--out",
+        &clf,
+    ])
+    .unwrap();
+    let e = hybrid_fdd_cli::train::run(&t.a).unwrap_err().to_string();
+    assert!(e.contains("`label`"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
