@@ -105,6 +105,16 @@ pub enum DiagnosisError {
         /// Reference of the diagnosis to classify.
         got: String,
     },
+    /// A trained classifier was applied to a recording at another sampling rate.
+    #[error(
+        "the classifier was trained at {trained_hz} Hz, the recording is at {recording_hz} Hz: resample it (or train at its rate)"
+    )]
+    ClassifierRate {
+        /// Rate of the recording.
+        recording_hz: f64,
+        /// Rate of the training recordings.
+        trained_hz: f64,
+    },
     /// A saved classifier that this version cannot use.
     #[error("trained classifier file: {reason}")]
     ClassifierFormat {

@@ -143,6 +143,9 @@ pub struct TrainedDiagnoser {
     pub recordings: usize,
     /// The classifier's name.
     pub classifier: String,
+    /// Sampling rate of the training recordings, Hz; it classifies only diagnoses at this rate
+    /// (the evidence — band positions, resolutions — depends on it).
+    pub fs_hz: f64,
     /// Length of the segments the examples were diagnosed on, s; a recording is classified the
     /// same way ([`TrainedDiagnoser::classify_recording`]).
     pub segment_seconds: f64,
@@ -151,22 +154,28 @@ pub struct TrainedDiagnoser {
 }
 
 impl TrainedDiagnoser {
-    /// Train `spec` on every example (all diagnosed with `reference`, on segments of
-    /// `segment_seconds`).
+    /// Train `spec` on every example (all diagnosed with `reference`, at `fs_hz`, on segments
+    /// of `segment_seconds`).
     ///
     /// # Errors
     /// As [`labelled_dataset`], the classifier's training errors (e.g. a single class), and
-    /// [`DiagnosisError::ClassifierFormat`] for a segment length that is not > 0.
+    /// [`DiagnosisError::ClassifierFormat`] for a rate or segment length that is not > 0.
     pub fn train(
         examples: &[Labelled],
         reference: Reference,
+        fs_hz: f64,
         segment_seconds: f64,
         spec: &ClassifierSpec,
     ) -> Result<Self> {
-        if !(segment_seconds.is_finite() && segment_seconds > 0.0) {
-            return Err(DiagnosisError::ClassifierFormat {
-                reason: format!("segment length {segment_seconds} s must be > 0"),
-            });
+        for (what, v) in [
+            ("sampling rate (Hz)", fs_hz),
+            ("segment length (s)", segment_seconds),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(DiagnosisError::ClassifierFormat {
+                    reason: format!("{what} {v} must be > 0"),
+                });
+            }
         }
         let data = labelled_dataset(examples)?;
         let all: Vec<usize> = (0..data.n_samples()).collect();
@@ -183,6 +192,7 @@ impl TrainedDiagnoser {
             examples: examples.len(),
             recordings: recs.len(),
             classifier: spec.name().into(),
+            fs_hz,
             segment_seconds,
             model,
         })
@@ -226,9 +236,17 @@ impl TrainedDiagnoser {
     /// The class of a diagnosis.
     ///
     /// # Errors
+    /// [`DiagnosisError::ClassifierRate`] for a diagnosis at another sampling rate,
     /// [`DiagnosisError::ReferenceMismatch`] when `d` was diagnosed with another reference than
     /// the training examples; the classifier's errors.
     pub fn classify(&self, d: &Diagnosis) -> Result<String> {
+        let fs = d.operating_point.fs_hz;
+        if (fs - self.fs_hz).abs() > 1e-9 * self.fs_hz {
+            return Err(DiagnosisError::ClassifierRate {
+                recording_hz: fs,
+                trained_hz: self.fs_hz,
+            });
+        }
         if d.reference != self.reference {
             let name = |r: Reference| match r {
                 Reference::Baseline => "baseline".to_string(),
@@ -273,8 +291,10 @@ impl TrainedDiagnoser {
         if t.classes.is_empty() {
             return Err(bad("no classes".into()));
         }
-        if !(t.segment_seconds.is_finite() && t.segment_seconds > 0.0) {
-            return Err(bad(format!("segment_seconds {}", t.segment_seconds)));
+        for (what, v) in [("segment_seconds", t.segment_seconds), ("fs_hz", t.fs_hz)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(bad(format!("{what} {v} must be > 0")));
+            }
         }
         Ok(t)
     }

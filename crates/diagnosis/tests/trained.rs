@@ -55,6 +55,7 @@ fn trained_on_one_seed_classifies_another() {
     let t = TrainedDiagnoser::train(
         &examples,
         Reference::SelfReference,
+        FS,
         0.5,
         &classify::ClassifierSpec::tree(),
     )
@@ -76,6 +77,15 @@ fn trained_on_one_seed_classifies_another() {
         back.classify(&d),
         Err(DiagnosisError::ReferenceMismatch { .. })
     ));
+    // another sampling rate is refused with what to do
+    let x6: Vec<f64> = sim(FaultClass::Outer, 23)
+        .iter()
+        .step_by(2)
+        .copied()
+        .collect();
+    let d6 = diagnose(&x6, FS / 2.0, RPM, &spec, None).unwrap();
+    let e = back.classify(&d6).unwrap_err();
+    assert!(matches!(e, DiagnosisError::ClassifierRate { .. }), "{e}");
     // foreign or damaged files are refused with what is wrong
     let mut v: serde_json::Value = serde_json::from_str(&t.to_json().unwrap()).unwrap();
     v["version"] = 99.into();
@@ -96,6 +106,7 @@ fn trained_on_one_seed_classifies_another() {
         TrainedDiagnoser::train(
             &one,
             Reference::SelfReference,
+            FS,
             0.5,
             &classify::ClassifierSpec::tree()
         )

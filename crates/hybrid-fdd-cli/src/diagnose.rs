@@ -417,12 +417,10 @@ impl BaselineSource {
             return Ok(b);
         }
         let name = self.path.display();
-        let ratio = self.fs_hz / fs_hz;
-        let (x, fs_b, note) = if ratio > 1.0 + 1e-9 && (ratio - ratio.round()).abs() < 1e-9 {
-            let q = ratio.round() as usize;
-            let d = bearing_data::Decimator::new(bearing_data::DecimatorParams::new(q))?;
+        let (x, fs_b, note) = if let Some((x, q)) = decimated_to(&self.samples, self.fs_hz, fs_hz)?
+        {
             (
-                d.decimate(&self.samples)?,
+                x,
                 fs_hz,
                 format!(
                     "{name}, {} Hz decimated by {q} (bearing-data anti-aliasing FIR) to {fs_hz} Hz",
@@ -441,6 +439,27 @@ impl BaselineSource {
         let b = Arc::new((b, note));
         cache.push((key, b.clone()));
         Ok(b)
+    }
+}
+
+/// `x` sampled at `from_hz`, decimated to `to_hz` with `bearing-data`'s anti-aliasing FIR, and
+/// the factor, when `from_hz` is an integer multiple (> 1) of `to_hz`; `None` otherwise (equal
+/// rates, or rates that an integer factor cannot join).
+///
+/// # Errors
+/// The decimator's errors.
+pub fn decimated_to(
+    x: &[f64],
+    from_hz: f64,
+    to_hz: f64,
+) -> anyhow::Result<Option<(Vec<f64>, usize)>> {
+    let ratio = from_hz / to_hz;
+    if ratio > 1.0 + 1e-9 && (ratio - ratio.round()).abs() < 1e-9 {
+        let q = ratio.round() as usize;
+        let d = bearing_data::Decimator::new(bearing_data::DecimatorParams::new(q))?;
+        Ok(Some((d.decimate(x)?, q)))
+    } else {
+        Ok(None)
     }
 }
 
@@ -515,14 +534,14 @@ pub fn apply_classifier(
         .rpm
         .or(l.rpm)
         .context("--rpm is required (the file stores no speed)")?;
-    let b = baseline.map(|src| src.at(l.fs_hz)).transpose()?;
-    let (class, segments) = t.classify_recording(
-        &l.samples,
-        l.fs_hz,
-        rpm,
-        &plan.bearing,
-        b.as_ref().map(|b| &b.0),
-    )?;
+    // at the classifier's rate (decimated when the recording's is an integer multiple of it)
+    let (x, fs) = match decimated_to(&l.samples, l.fs_hz, t.fs_hz)? {
+        Some((x, _)) => (x, t.fs_hz),
+        None => (l.samples.clone(), l.fs_hz),
+    };
+    let b = baseline.map(|src| src.at(fs)).transpose()?;
+    let (class, segments) =
+        t.classify_recording(&x, fs, rpm, &plan.bearing, b.as_ref().map(|b| &b.0))?;
     o.trained = Some(TrainedClass {
         class,
         segments,

@@ -7,7 +7,9 @@ use anyhow::{Context as _, bail};
 use diagnosis::{Labelled, Reference, TrainedDiagnoser};
 use rayon::prelude::*;
 
-use crate::diagnose::{BaselineSource, Loaded, Plan, RecordingFlags, diagnose_loaded, load};
+use crate::diagnose::{
+    BaselineSource, Loaded, Plan, RecordingFlags, decimated_to, diagnose_loaded, load,
+};
 
 /// Flags of `train-classifier`.
 #[derive(clap::Args, Debug, Clone)]
@@ -212,11 +214,33 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let spec = spec_named(&args.model)?;
     let rows = read_labels(labels)?;
     let baseline = args.recording.baseline_source()?;
+    let mut loaded: Vec<Loaded> = rows
+        .par_iter()
+        .map(|r| load(&r.file, &base_plan.channel, base_plan.fs))
+        .collect::<anyhow::Result<_>>()?;
+    // one rate: the lowest; recordings at an integer multiple of it are decimated (as a
+    // baseline is), any other rate is refused
+    let fs = loaded.iter().map(|l| l.fs_hz).fold(f64::INFINITY, f64::min);
+    let mut decimated = 0usize;
+    for (l, r) in loaded.iter_mut().zip(&rows) {
+        if (l.fs_hz - fs).abs() > 1e-9 * fs {
+            let Some((x, _)) = decimated_to(&l.samples, l.fs_hz, fs)? else {
+                bail!(
+                    "{}: {} Hz is not an integer multiple of {fs} Hz, the lowest rate among the labelled recordings: resample it",
+                    r.file.display(),
+                    l.fs_hz
+                );
+            };
+            l.samples = x;
+            l.fs_hz = fs;
+            decimated += 1;
+        }
+    }
     let bar = indicatif::ProgressBar::new(rows.len() as u64);
     let per: Vec<Vec<Labelled>> = rows
         .par_iter()
-        .map(|r| -> anyhow::Result<Vec<Labelled>> {
-            let l = load(&r.file, &base_plan.channel, base_plan.fs)?;
+        .zip(&loaded)
+        .map(|(r, l)| -> anyhow::Result<Vec<Labelled>> {
             let plan = Plan {
                 rpm: r.rpm.or(base_plan.rpm),
                 ..base_plan.clone()
@@ -227,7 +251,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 load_hp: r.load_hp,
                 fault_size_mils: l.fault_size_in.map(|d| (d * 1000.0).round() as u32),
             };
-            let ex = examples(&l, &plan, baseline.as_ref(), args.segment_seconds, &meta)
+            let ex = examples(l, &plan, baseline.as_ref(), args.segment_seconds, &meta)
                 .with_context(|| r.file.display().to_string());
             bar.inc(1);
             ex
@@ -240,7 +264,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     } else {
         Reference::SelfReference
     };
-    let t = TrainedDiagnoser::train(&all, reference, args.segment_seconds, &spec)?;
+    let t = TrainedDiagnoser::train(&all, reference, fs, args.segment_seconds, &spec)?;
+    if decimated > 0 {
+        println!("{decimated} recordings decimated to {fs} Hz (bearing-data anti-aliasing FIR)");
+    }
     if let Some(parent) = out.parent()
         && !parent.as_os_str().is_empty()
     {
