@@ -34,6 +34,18 @@
 //!    [`LINE_THRESHOLD_DB`] above the local median, or harmonic 1 does together with one of its
 //!    sidebands. See `docs/equations/diagnosis.md` for the formulas and the reasoning behind the
 //!    constants (chosen on simulated recordings and noise statistics, never on CWRU labels).
+//!    Against a baseline recording, a line the healthy machine already holds counts only by what
+//!    it has grown ([`Line::evidence_db`]).
+//! 5. **Optional, with labels** ([`trained`]): a classifier trained on the evidence of labelled
+//!    recordings' segments, beside the training-free verdict.
+//!
+//! # Dependencies and why
+//! - `bearing-model`: the bearing's kinematics (`BearingSpec`, `FaultOrders`), one type for it.
+//! - `laguerre-id`: the AR least squares of the whitening filter.
+//! - `residual-features`: the FFT, band envelopes and Welch spectra.
+//! - `classify`: the optional trained classifier (its Gini tree and linear SVM, and `Dataset`).
+//! - `serde` / `serde_json`: reports and the trained classifier's file; `thiserror`: the one
+//!   error enum.
 //!
 //! # Example
 //! ```
