@@ -10,6 +10,7 @@ use anyhow::Context as _;
 use bearing_data::{LoadOptions, load_record};
 use diagnosis::BearingSpec;
 use hybrid_fdd_cli::diagnose::{BaselineSource, CWRU_UNIT, Loaded, Outcome, Plan, diagnose_loaded};
+use hybrid_fdd_cli::train::{ExampleMeta, cross_validate, examples};
 use rayon::prelude::*;
 
 use crate::common::Context;
@@ -123,6 +124,8 @@ struct Row {
     base: Result<Outcome, String>,
     own: Result<Outcome, String>,
     machine: Result<Outcome, String>,
+    /// The trained classifier's examples from this record (12 kHz fault records only).
+    examples: Vec<diagnosis::Labelled>,
 }
 
 fn verdict(r: &Result<Outcome, String>) -> &str {
@@ -182,6 +185,18 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
             let own = diagnose_loaded(&l, &plan, None).map_err(|e| format!("{e:#}"));
             let msrc = if l.fs_hz == 48_000.0 { &m48 } else { &m12 };
             let machine = diagnose_loaded(&l, &plan, Some(msrc)).map_err(|e| format!("{e:#}"));
+            let examples = if l.fs_hz == 12_000.0 {
+                let meta = ExampleMeta {
+                    label: e.fault.as_str().into(),
+                    recording: e.number.to_string(),
+                    load_hp: u32::from(e.load_hp),
+                    fault_size_mils: e.diameter_mils.map(u32::from),
+                };
+                examples(&l, &plan, None, SEGMENT_S, &meta)
+                    .with_context(|| format!("examples of {}", e.number))?
+            } else {
+                Vec::new()
+            };
             bar.inc(1);
             Ok(Row {
                 number: e.number,
@@ -194,6 +209,7 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
                 base,
                 own,
                 machine,
+                examples,
             })
         })
         .collect::<anyhow::Result<_>>()?;
@@ -208,7 +224,25 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
             )?;
         }
     }
-    let trained = trained_section(dir, &entries, &x12, &plan)?;
+    // the normal class of the trained classifier: 97 at 12 kHz
+    let normal = Loaded {
+        samples: x12,
+        fs_hz: 12_000.0,
+        rpm: Some(b97.rpm().value),
+        unit: CWRU_UNIT,
+        units: "g",
+        fault_size_in: None,
+    };
+    let meta97 = ExampleMeta {
+        label: "normal".into(),
+        recording: "97".into(),
+        load_hp: 0,
+        fault_size_mils: None,
+    };
+    let mut all = examples(&normal, &plan, None, SEGMENT_S, &meta97)?;
+    let faulty = rows.iter().filter(|r| !r.examples.is_empty()).count();
+    all.extend(rows.iter().flat_map(|r| r.examples.iter().cloned()));
+    let trained = trained_section(&all, faulty)?;
     write_outputs(&rows, &trained, out)?;
     println!("wrote {}", out.display());
     Ok(())
@@ -245,50 +279,11 @@ fn reason(r: &Row, o: &Result<Outcome, String>) -> String {
 /// Seconds per example of the optional trained classifier.
 const SEGMENT_S: f64 = 2.5;
 
-/// The optional trained classifier on top, evaluated on the 12 kHz drive-end records and 97
-/// (decimated): self-referenced evidence of 2.5 s segments, Gini tree and linear SVM, grouped
+/// The optional trained classifier on top, evaluated on `all` — the examples (self-referenced
+/// evidence of 2.5 s segments) of 97 decimated to 12 kHz and of the `faulty` 12 kHz drive-end
+/// records, made where each record is loaded — with a Gini tree and a linear SVM under grouped
 /// protocols only (no recording on both sides).
-fn trained_section(
-    dir: &Path,
-    entries: &[&bearing_data::CatalogEntry],
-    x97_12k: &[f64],
-    plan: &Plan,
-) -> anyhow::Result<String> {
-    use hybrid_fdd_cli::train::{ExampleMeta, cross_validate, examples};
-    let twelve: Vec<_> = entries
-        .iter()
-        .filter(|e| e.fs_hz == 12_000 && e.number != 97)
-        .collect();
-    let b97 = load_record(dir, 97, &LoadOptions::default())?;
-    let normal = Loaded {
-        samples: x97_12k.to_vec(),
-        fs_hz: 12_000.0,
-        rpm: Some(b97.rpm().value),
-        unit: CWRU_UNIT,
-        units: "g",
-        fault_size_in: None,
-    };
-    let meta97 = ExampleMeta {
-        label: "normal".into(),
-        recording: "97".into(),
-        load_hp: 0,
-        fault_size_mils: None,
-    };
-    let mut all = examples(&normal, plan, None, SEGMENT_S, &meta97)?;
-    let per: Vec<Vec<diagnosis::Labelled>> = twelve
-        .par_iter()
-        .map(|e| -> anyhow::Result<Vec<diagnosis::Labelled>> {
-            let (_, l) = cwru_loaded(dir, e)?;
-            let meta = ExampleMeta {
-                label: e.fault.as_str().into(),
-                recording: e.number.to_string(),
-                load_hp: u32::from(e.load_hp),
-                fault_size_mils: e.diameter_mils.map(u32::from),
-            };
-            examples(&l, plan, None, SEGMENT_S, &meta).with_context(|| e.number.to_string())
-        })
-        .collect::<anyhow::Result<_>>()?;
-    all.extend(per.into_iter().flatten());
+fn trained_section(all: &[diagnosis::Labelled], faulty: usize) -> anyhow::Result<String> {
     let mut m = format!(
         "\n## Optional trained classifier on top (for users with labelled data)\n\n\
          `hybrid-fdd train-classifier` / `diagnosis::TrainedDiagnoser`: the training-free \
@@ -301,12 +296,12 @@ fn trained_section(
          per fold, against ~60 fault segments). Accuracy over all test examples (ACA, eq. 5.37) \
          and per class, mean over folds:\n\n| classifier | protocol | ACA (%) | per class (%) |\n|---|---|---:|---|\n",
         diagnosis::EVIDENCE_FEATURES.len(),
-        twelve.len(),
+        faulty,
         all.len()
     );
     for (name, model) in [("Gini tree", "tree"), ("linear SVM", "svm")] {
         let spec = hybrid_fdd_cli::train::spec_named(model)?;
-        for (protocol, r) in cross_validate(&all, &spec) {
+        for (protocol, r) in cross_validate(all, &spec) {
             match r {
                 Ok((avg, per)) => {
                     let _ = writeln!(m, "| {name} | {protocol} | {avg:.1} | {per} |");
