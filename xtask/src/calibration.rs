@@ -229,9 +229,9 @@ fn write(
     md.push_str(&format!(
         "**Calibration.** Healthy machine: {} (the closed loop's machine model: structural path of \
          order {}, {} lines, speed ratio {:.5}; its tones — the measurement chain's interference — \
-         rescaled to the training records' chain; the 97 row keeps 97's own levels). Sensor: horizontal sensitivity {:.3} of the vertical. Contact load: radial preload {:.1} µm per ball (chosen \
-         from {:?} µm by the training records' kurtosis). One impact path per fault location (AR \
-         order {}) and one severity gain per record fitted on: {} ({} records: {}). Everything else is held out: the 1–3 hp records, the \
+         rescaled to the training records' chain; the 97 row keeps 97's own levels; what its named effects leave of 97's PSD is added as shaped noise, a {}-tap FIR). Sensor: horizontal sensitivity {:.3} of the vertical. Contact load: radial preload {:.1} µm per ball (chosen \
+         from {:?} µm by the training records' kurtosis). One impact path per fault location and size ({} paths, AR \
+         order {}; a size without one uses the nearest calibrated size's) and one severity gain per record fitted on: {} ({} records: {}). Everything else is held out: the 1–3 hp records, the \
          outer race at 12 o'clock at every load (the 5-DOF model's spall moved there, severity of the \
          6 o'clock spall of that size) and the 48 kHz drive-end records (decimated to 12 kHz). Only the training \
          records' PSDs, mean squares and kurtosis are fitted (the severity's random fraction matches \
@@ -246,9 +246,11 @@ fn write(
         model.healthy.path.as_ref().map_or(0, |p| p.order()),
         model.healthy.lines.len(),
         model.healthy.speed_ratio,
+        model.background_fir.len(),
         model.sensor_horizontal,
         model.preload_m * 1e6,
         rig::PRELOADS_M.iter().map(|p| p * 1e6).collect::<Vec<_>>(),
+        model.impact_paths.len(),
         rig::IMPACT_PATH_ORDER,
         model.provenance.training_rule,
         model.provenance.training_records.len(),

@@ -230,3 +230,59 @@ fn signal_stats_measure_and_reject() {
         Err(CloseLoopError::TooShort { .. })
     ));
 }
+
+/// The committed rig holds one impact path per calibrated location and size; a spall is seen
+/// through its own size's path, another size through the nearest one (log size); a path
+/// without a size (files written before paths were fitted per size) serves every size; a
+/// non-positive size is rejected on load.
+#[test]
+fn impact_paths_are_per_size_and_the_nearest_calibrated_size_is_used() {
+    let r = rig::cwru_rig().unwrap();
+    for s in &r.severities {
+        let p = r.impact_path_for(s.location, s.size_mm).unwrap();
+        assert_eq!(p.location, s.location);
+        assert_eq!(p.size_mm, Some(s.size_mm), "{:?} {}", s.location, s.size_mm);
+    }
+    let sizes = |loc: Location| -> Vec<f64> {
+        let mut v: Vec<f64> = r
+            .impact_paths
+            .iter()
+            .filter(|p| p.location == loc)
+            .filter_map(|p| p.size_mm)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let inner = sizes(Location::Inner);
+    assert!(inner.len() >= 2, "{inner:?}");
+    let (small, large) = (inner[0], inner[inner.len() - 1]);
+    assert_eq!(
+        r.impact_path_for(Location::Inner, 0.9 * small)
+            .unwrap()
+            .size_mm,
+        Some(small)
+    );
+    assert_eq!(
+        r.impact_path_for(Location::Inner, 6.0).unwrap().size_mm,
+        Some(large)
+    );
+    // the paths of different sizes are different paths
+    assert_ne!(
+        r.impact_path_for(Location::Inner, small).unwrap().path,
+        r.impact_path_for(Location::Inner, large).unwrap().path
+    );
+    // an unsized (pooled) path serves every size of its location
+    let mut pooled = r.clone();
+    pooled
+        .impact_paths
+        .retain(|p| p.location != Location::Outer);
+    let mut p = r.impact_path_for(Location::Outer, 0.533).unwrap().clone();
+    p.size_mm = None;
+    pooled.impact_paths.push(p.clone());
+    let back = RigModel::from_json(&pooled.to_json().unwrap()).unwrap();
+    assert_eq!(back.impact_path_for(Location::Outer, 0.178).unwrap(), &p);
+    assert!(!pooled.to_json().unwrap().contains("\"size_mm\": null"));
+    let mut bad = r.clone();
+    bad.impact_paths[0].size_mm = Some(0.0);
+    assert!(RigModel::from_json(&bad.to_json().unwrap()).is_err());
+}

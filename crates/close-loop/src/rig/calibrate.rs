@@ -132,16 +132,24 @@ fn chain_response(
     if r.iter().all(|v| *v > 10f64.powf(-0.1)) {
         return Ok(Vec::new());
     }
-    // frequency sampling of √R on an N-point grid, zero phase, Hann window
+    Ok(zero_phase_fir(&r, welch, |v| v.sqrt()))
+}
+
+/// A Hann-windowed zero-phase FIR of `2·CHAIN_HALF + 1` taps whose amplitude response samples
+/// `amp(p(f))`, `p` a per-bin quantity of `welch`'s grid interpolated linearly in frequency
+/// (frequency sampling on a 1024-point grid).
+fn zero_phase_fir(p: &[f64], welch: &Welch, amp: impl Fn(f64) -> f64) -> Vec<f64> {
+    let fs = welch.fs();
+    let nb = p.len();
     let nfft = 1024usize;
-    let amp = |f: f64| {
+    let at = |f: f64| {
         let x = f / welch.df();
         let k = (x.floor() as usize).min(nb - 2);
         let t = (x - k as f64).clamp(0.0, 1.0);
-        ((1.0 - t) * r[k] + t * r[k + 1]).sqrt()
+        amp((1.0 - t) * p[k] + t * p[k + 1])
     };
     let h_k: Vec<f64> = (0..=nfft / 2)
-        .map(|k| amp(k as f64 * fs / nfft as f64))
+        .map(|k| at(k as f64 * fs / nfft as f64))
         .collect();
     let mut h = vec![0.0; 2 * CHAIN_HALF + 1];
     for (j, v) in h.iter_mut().enumerate() {
@@ -154,7 +162,42 @@ fn chain_response(
         let win = 0.5 * (1.0 + (PI * m / (CHAIN_HALF as f64 + 1.0)).cos());
         *v = acc / nfft as f64 * win;
     }
-    Ok(h)
+    h
+}
+
+/// The healthy recording's broadband remainder: what the loop's machine model leaves of the
+/// healthy PSD (both smoothed over ±[`SMOOTH_HZ`]), `R = max(0, S_healthy − S_model)`, as the
+/// zero-phase FIR that shapes unit-variance white noise to it (|H| = √(R·fs/2): white noise of
+/// unit variance has the one-sided density 2/fs). It carries the healthy machine's power the
+/// loop did not name — lines it left (CWRU's 360 Hz family), their spread — so the simulated
+/// band energies of the healthy machine are the measured ones. Empty when the model holds
+/// every band within 1 dB already.
+fn background_remainder(
+    machine: &MachineModel,
+    healthy: &[f64],
+    rpm: f64,
+    welch: &Welch,
+    half: usize,
+) -> Result<Vec<f64>, CloseLoopError> {
+    let fs = welch.fs();
+    let s_h = smooth(&welch.try_psd(healthy)?, half);
+    let model = background_of(machine, &machine.lines, &[], fs, rpm, healthy.len(), 17);
+    let s_m = smooth(&welch.try_psd(&model)?, half);
+    let r: Vec<f64> = s_h
+        .iter()
+        .zip(&s_m)
+        .map(|(a, b)| (a - b).max(0.0))
+        .collect();
+    if s_h
+        .iter()
+        .zip(&s_m)
+        .all(|(a, b)| *b >= *a * 10f64.powf(-0.1))
+    {
+        return Ok(Vec::new());
+    }
+    Ok(zero_phase_fir(&r, welch, |v| {
+        (v.max(0.0) * fs / 2.0).sqrt()
+    }))
 }
 
 /// Impact paths and gains fitted for one preload.
@@ -165,20 +208,15 @@ struct PathFit {
 }
 
 impl PathFit {
-    fn path_of(&self, loc: Location) -> &StructuralPath {
-        &self
-            .paths
-            .iter()
-            .find(|p| p.location == loc)
-            .unwrap_or(&self.paths[0])
-            .path
+    fn path_of(&self, loc: Location, size_mm: f64) -> &ImpactPath {
+        super::nearest_path(&self.paths, loc, size_mm).unwrap_or(&self.paths[0])
     }
 }
 
-/// For each location with training records: the AR path of the pooled log ratio of smoothed
-/// excess PSD (measured minus healthy, at least a tenth of the measured) to smoothed excitation
-/// PSD, each record's ratio normalised to zero mean log; then each record's gain from its excess
-/// mean square.
+/// For each location and spall size with training records: the AR path of the mean log ratio of
+/// smoothed excess PSD (measured minus healthy, at least a tenth of the measured) to smoothed
+/// excitation PSD, each record's ratio normalised to zero mean log; then each record's gain from
+/// its excess mean square.
 #[allow(clippy::too_many_arguments)]
 fn fit_paths(
     bearing: Bearing,
@@ -187,8 +225,7 @@ fn fit_paths(
     machine: &MachineModel,
     training: &[TrainingRecord<'_>],
     measured: &[(Vec<f64>, f64)],
-    s_h: &[f64],
-    ms_h: f64,
+    background: &[(Vec<f64>, f64)],
     welch: &Welch,
     half: usize,
     len: usize,
@@ -212,7 +249,7 @@ fn fit_paths(
         let r: Vec<f64> = measured[i]
             .0
             .iter()
-            .zip(s_h)
+            .zip(&background[i].0)
             .zip(&s_x)
             .map(|((a, b), x)| ((a - b).max(0.1 * a) / x.max(1e-300)).max(1e-300).ln())
             .collect();
@@ -222,21 +259,35 @@ fn fit_paths(
     }
     let mut paths = Vec::new();
     for loc in Location::ALL {
-        let idx: Vec<usize> = (0..training.len())
-            .filter(|&i| training[i].location == loc && ratios[i].iter().all(|v| v.is_finite()))
+        let mut sizes: Vec<f64> = training
+            .iter()
+            .filter(|t| t.location == loc)
+            .map(|t| t.size_mm)
             .collect();
-        if idx.is_empty() {
-            continue;
+        sizes.sort_by(f64::total_cmp);
+        sizes.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs().max(1.0));
+        for size in sizes {
+            let idx: Vec<usize> = (0..training.len())
+                .filter(|&i| {
+                    training[i].location == loc
+                        && (training[i].size_mm - size).abs() <= 1e-9 * size.abs().max(1.0)
+                        && ratios[i].iter().all(|v| v.is_finite())
+                })
+                .collect();
+            if idx.is_empty() {
+                continue;
+            }
+            let shape: Vec<f64> = (0..nb)
+                .map(|k| (idx.iter().map(|&i| ratios[i][k]).sum::<f64>() / idx.len() as f64).exp())
+                .collect();
+            let mut path = StructuralPath::from_psd(&shape, welch.df(), fs, IMPACT_PATH_ORDER)?;
+            path.excitation_variance = 1.0;
+            paths.push(ImpactPath {
+                location: loc,
+                size_mm: Some(size),
+                path,
+            });
         }
-        let shape: Vec<f64> = (0..nb)
-            .map(|k| (idx.iter().map(|&i| ratios[i][k]).sum::<f64>() / idx.len() as f64).exp())
-            .collect();
-        let mut path = StructuralPath::from_psd(&shape, welch.df(), fs, IMPACT_PATH_ORDER)?;
-        path.excitation_variance = 1.0;
-        paths.push(ImpactPath {
-            location: loc,
-            path,
-        });
     }
     if paths.is_empty() {
         return Err(CloseLoopError::Model {
@@ -249,7 +300,10 @@ fn fit_paths(
         sims,
     };
     for (i, t) in training.iter().enumerate() {
-        let through = fit.path_of(t.location).filter(&fit.sims[i].vertical);
+        let through = fit
+            .path_of(t.location, t.size_mm)
+            .path
+            .filter(&fit.sims[i].vertical);
         let ms_x = mean_square(&through[WARMUP.min(through.len() / 2)..]);
         if !(ms_x > 0.0 && ms_x.is_finite()) {
             return Err(CloseLoopError::Model {
@@ -257,7 +311,7 @@ fn fit_paths(
             });
         }
         fit.gains
-            .push(((measured[i].1 - ms_h).max(0.0) / ms_x).sqrt());
+            .push(((measured[i].1 - background[i].1).max(0.0) / ms_x).sqrt());
     }
     Ok(fit)
 }
@@ -313,40 +367,60 @@ pub fn calibrate_rig(
     let nperseg = ((fs / 12.0).log2().round().exp2() as usize).max(crate::MIN_NPERSEG);
     let welch = Welch::new(fs, nperseg)?;
     let half = ((SMOOTH_HZ / welch.df()).round() as usize).max(1);
-    let s_h = smooth(&welch.try_psd(healthy)?, half);
-    let ms_h = variance(healthy);
     let measured: Vec<(Vec<f64>, f64)> = training
         .iter()
         .map(|t| Ok((smooth(&welch.try_psd(t.y)?, half), variance(t.y))))
         .collect::<Result<_, CloseLoopError>>()?;
     let chain_lines = chain_tones(&machine, healthy, training, fs)?;
+    let remainder = background_remainder(&machine, healthy, rpm, &welch, half)?;
+    // what the fault must add to each training record is its excess over the rig's own healthy
+    // machine at that record's speed (chain tones, remainder and all), not over the healthy
+    // recording: the two differ where the recording chains do (the ~4.2 kHz interference comb
+    // is far stronger on 97 than on the 12 kHz fault records)
+    let bg_of = |rpm: f64, n: usize, seed: u64| {
+        background_of(&machine, &chain_lines, &remainder, fs, rpm, n, seed)
+    };
+    let background: Vec<(Vec<f64>, f64)> = training
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let n = t.y.len().min((4.0 * fs) as usize);
+            let bg = bg_of(t.rpm, n, 7 + i as u64);
+            Ok((smooth(&welch.try_psd(&bg)?, half), variance(&bg)))
+        })
+        .collect::<Result<_, CloseLoopError>>()?;
     let kurt: Vec<f64> = training.iter().map(|t| kurtosis(t.y)).collect();
     // the contact load: the preload whose fitted rig gives the training records' kurtosis best
     // (mean |ln(simulated / measured kurtosis)|), on 2 s excitations
+    let fit_at = |preload: f64, len: usize| {
+        fit_paths(
+            bearing,
+            preload,
+            fs,
+            &machine,
+            training,
+            &measured,
+            &background,
+            &welch,
+            half,
+            len,
+        )
+    };
     let short = (2.0 * fs) as usize;
     let mut best: Option<(f64, f64)> = None;
     for &preload in PRELOADS_M {
-        let fit = fit_paths(
-            bearing, preload, fs, &machine, training, &measured, &s_h, ms_h, &welch, half, short,
-        )?;
+        let fit = fit_at(preload, short)?;
         let mut err = 0.0;
         for (i, t) in training.iter().enumerate() {
-            let (g, path) = (&fit.gains[i], fit.path_of(t.location));
-            let through = path.filter(
+            let (g, path) = (&fit.gains[i], fit.path_of(t.location, t.size_mm));
+            let through = path.path.filter(
                 &fit.sims[i]
                     .vertical
                     .iter()
                     .map(|v| g * v)
                     .collect::<Vec<_>>(),
             );
-            let bg = background_of(
-                &machine,
-                &chain_lines,
-                fs,
-                t.rpm,
-                through.len(),
-                7 + i as u64,
-            );
+            let bg = bg_of(t.rpm, through.len(), 7 + i as u64);
             let y: Vec<f64> = through.iter().zip(&bg).map(|(a, b)| a + b).collect();
             err += (kurtosis(&y[WARMUP.min(y.len() / 2)..]) / kurt[i])
                 .ln()
@@ -359,30 +433,22 @@ pub fn calibrate_rig(
     }
     let preload_m = best.map_or(0.0, |b| b.0);
     let long = (4.0 * fs) as usize;
-    let fit = fit_paths(
-        bearing, preload_m, fs, &machine, training, &measured, &s_h, ms_h, &welch, half, long,
-    )?;
+    let fit = fit_at(preload_m, long)?;
     // severities (gain, random fraction) of every training record for a sensor κ
-    let severities_for = |kappa: f64, chain: &[f64]| {
+    let severities_for = |fit: &PathFit, kappa: f64, chain: &[f64]| {
         let mut out = Vec::with_capacity(training.len());
         for (i, t) in training.iter().enumerate() {
-            let path = fit.path_of(t.location);
+            let path = fit.path_of(t.location, t.size_mm);
             let seen = fit.sims[i].seen(kappa);
             let bg = apply_fir(
                 chain,
-                &background_of(
-                    &machine,
-                    &chain_lines,
-                    fs,
-                    t.rpm,
-                    fit.sims[i].vertical.len(),
-                    7 + i as u64,
-                ),
+                &bg_of(t.rpm, fit.sims[i].vertical.len(), 7 + i as u64),
             );
-            let excess = (measured[i].1 - ms_h).max(0.0);
+            let skip = WARMUP.min(bg.len() / 2);
+            let excess = (measured[i].1 - variance(&bg[skip..])).max(0.0);
             // gain and kurtosis of the simulated record for a random fraction q
             let at = |q: f64| {
-                let through = apply_fir(chain, &path.filter(&mix(&seen, q, 11 + i as u64)));
+                let through = apply_fir(chain, &path.path.filter(&mix(&seen, q, 11 + i as u64)));
                 let skip = WARMUP.min(through.len() / 2);
                 let g = (excess / mean_square(&through[skip..]).max(1e-300)).sqrt();
                 let y: Vec<f64> = through[skip..]
@@ -418,7 +484,7 @@ pub fn calibrate_rig(
         }
         out
     };
-    let severities = severities_for(0.0, &[]);
+    let severities = severities_for(&fit, 0.0, &[]);
     let impact_paths = fit.paths.clone();
     let mut rig = RigModel {
         format: FORMAT.to_string(),
@@ -432,6 +498,7 @@ pub fn calibrate_rig(
         preload_m,
         sensor_horizontal: 0.0,
         chain_fir: Vec::new(),
+        background_fir: remainder.clone(),
         depth_m: DEPTH_M,
         slip_fraction: SLIP_FRACTION,
         severities,
@@ -445,15 +512,15 @@ pub fn calibrate_rig(
         .training_records
         .extend(cross.iter().map(|t| t.name.to_string()));
     // κ from the off-axis records with the κ = 0 severities, then the severities again with κ
-    rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross, ms_h)?;
+    rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross)?;
     if rig.sensor_horizontal > 0.0 {
-        rig.severities = severities_for(rig.sensor_horizontal, &[]);
+        rig.severities = severities_for(&fit, rig.sensor_horizontal, &[]);
     }
     // the measurement chain's response (the fault records' anti-alias roll-off), then the
     // severities once more behind it
     rig.chain_fir = chain_response(&rig, training, &measured, &welch, half)?;
     if !rig.chain_fir.is_empty() {
-        rig.severities = severities_for(rig.sensor_horizontal, &rig.chain_fir);
+        rig.severities = severities_for(&fit, rig.sensor_horizontal, &rig.chain_fir);
     }
     Ok(rig)
 }
@@ -465,7 +532,6 @@ fn fit_horizontal(
     rig: &RigModel,
     bearing: Bearing,
     cross: &[TrainingRecord<'_>],
-    ms_h: f64,
 ) -> Result<f64, CloseLoopError> {
     let mut logs = Vec::new();
     for (i, t) in cross.iter().enumerate() {
@@ -481,12 +547,21 @@ fn fit_horizontal(
             t.y.len().min((4.0 * rig.fs_hz) as usize) + WARMUP,
             2000 + i as u64,
         )?;
-        let path = rig.impact_path(Location::Outer)?;
+        let path = rig.impact_path_for(Location::Outer, t.size_mm)?;
         let ms = |k: f64| {
-            let f = path.filter(&mix(&e.seen(k), q, 13 + i as u64));
+            let f = path.path.filter(&mix(&e.seen(k), q, 13 + i as u64));
             g * g * mean_square(&f[WARMUP..])
         };
-        let target = (variance(t.y) - ms_h).max(0.0);
+        let bg = background_of(
+            &rig.healthy,
+            &rig.chain_lines,
+            &rig.background_fir,
+            rig.fs_hz,
+            t.rpm,
+            t.y.len().min((4.0 * rig.fs_hz) as usize),
+            7 + i as u64,
+        );
+        let target = (variance(t.y) - variance(&bg)).max(0.0);
         let (mut lo, mut hi) = (0.0f64, 20.0f64);
         if ms(hi) < target || ms(lo) > target {
             continue;
@@ -506,4 +581,67 @@ fn fit_horizontal(
     } else {
         (logs.iter().sum::<f64>() / logs.len() as f64).exp()
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Gaussian;
+    use crate::spectrum::{bandpass_coefficients, biquad_filter};
+
+    fn band_power(psd: &[f64], welch: &Welch, lo: f64, hi: f64) -> f64 {
+        (0..psd.len())
+            .filter(|&k| (lo..hi).contains(&welch.frequency(k)))
+            .map(|k| psd[k])
+            .sum()
+    }
+
+    /// A healthy recording holding a band the machine model does not (narrow-band noise at
+    /// 600 Hz, twice the model's power in 400–800 Hz): the remainder puts the band's power back
+    /// and leaves the other bands alone; with nothing missing there is no remainder to speak of.
+    #[test]
+    fn the_remainder_restores_what_the_machine_model_leaves() {
+        let rig = crate::rig::cwru_rig().unwrap();
+        let m = &rig.healthy;
+        let (fs, rpm, n) = (rig.fs_hz, 1797.0, 96_000);
+        let welch = Welch::new(fs, 1024).unwrap();
+        let half = ((SMOOTH_HZ / welch.df()).round() as usize).max(1);
+        let model = background_of(m, &m.lines, &[], fs, rpm, n, 3);
+        let p_model = welch.try_psd(&model).unwrap();
+        let band = |p: &[f64]| band_power(p, &welch, 400.0, 800.0);
+        let (b, a) = bandpass_coefficients(600.0, 0.1, fs);
+        let mut g = Gaussian::new(5);
+        let w: Vec<f64> = (0..n).map(|_| g.sample()).collect();
+        let mut extra = biquad_filter(&b, &a, &w);
+        let k = (2.0 * band(&p_model) / band(&welch.try_psd(&extra).unwrap())).sqrt();
+        extra.iter_mut().for_each(|v| *v *= k);
+        let healthy: Vec<f64> = model.iter().zip(&extra).map(|(a, b)| a + b).collect();
+        let p_healthy = welch.try_psd(&healthy).unwrap();
+
+        let fir = background_remainder(m, &healthy, rpm, &welch, half).unwrap();
+        assert!(!fir.is_empty());
+        let with = welch
+            .try_psd(&background_of(m, &m.lines, &fir, fs, rpm, n, 9))
+            .unwrap();
+        let ratio = band(&with) / band(&p_healthy);
+        assert!((0.8..1.25).contains(&ratio), "400–800 Hz: {ratio}");
+        let (lo, hi) = (
+            band_power(&with, &welch, 2000.0, 4000.0),
+            band_power(&p_model, &welch, 2000.0, 4000.0),
+        );
+        assert!((lo / hi - 1.0).abs() < 0.1, "2–4 kHz: {lo} vs {hi}");
+
+        // the model's own realisation: at most a trace of remainder
+        let own = background_remainder(m, &model, rpm, &welch, half).unwrap();
+        let trace = welch
+            .try_psd(&background_of(m, &m.lines, &own, fs, rpm, n, 9))
+            .unwrap();
+        let total = |p: &[f64]| p.iter().sum::<f64>();
+        assert!(
+            total(&trace) / total(&p_model) < 1.15,
+            "{} vs {}",
+            total(&trace),
+            total(&p_model)
+        );
+    }
 }

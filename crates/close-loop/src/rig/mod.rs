@@ -5,16 +5,20 @@
 //! 1. **the healthy machine** — the [`MachineModel`] the loop calibrated on a healthy recording:
 //!    its structural path `1/A(z)` driven by white excitation at the identified level, its white
 //!    noise floor and its lines (shaft orders at the calibrated speed ratio, tones), each line with
-//!    a seeded random phase;
+//!    a seeded random phase; plus the healthy recording's *remainder*, the smoothed PSD the
+//!    model's named effects leave, as shaped noise ([`RigModel::background_fir`]);
 //! 2. **the fault** — the 5-DOF model's (eqs. 2.12–2.25) housing acceleration with the spalls of
 //!    the class, its sprung-mass resonance moved out of band ([`EXCITATION_HOUSING_HZ`], ζ 0.7) so
 //!    that it is the bearing's local response to the contact forces, seen through the rig's
 //!    *impact path* `1/A_i(z)` and scaled by a severity gain `g(location, size)`.
 //!
 //! [`calibrate_rig`] fits the free quantities on measured records: the healthy machine on a
-//! healthy recording (the loop, [`crate::machine::calibrate`]); the impact path as the AR model
-//! (Levinson) of the pooled ratio of the training fault records' excess PSD (measured minus
-//! healthy) to the simulated excitation's PSD, both smoothed over ±150 Hz; the severity gain of
+//! healthy recording (the loop, [`crate::machine::calibrate`]); one impact path per fault
+//! location and spall size as the AR model (Levinson) of the mean ratio of that location's and
+//! size's training records' excess PSD (measured minus healthy) to the simulated excitation's
+//! PSD, both smoothed over ±150 Hz (each CWRU fault size is a separate bearing, seeded and
+//! mounted on its own: its path differs from the other sizes' while the load barely changes
+//! it); a spall of another size is seen through the nearest calibrated size's path; the severity gain of
 //! each training record in closed form from its excess mean square. Calibration uses signal
 //! statistics only (PSDs and RMS), never a label beyond the catalogued fault location and size,
 //! and never an accuracy. Between calibrated sizes the gain is interpolated log-log; outside
@@ -93,13 +97,37 @@ pub struct Severity {
     pub record: String,
 }
 
-/// The path from one fault location to the sensor.
+/// The path from one fault location — and, since each CWRU fault size is a separate bearing,
+/// one spall size — to the sensor.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ImpactPath {
     /// Fault location.
     pub location: Location,
+    /// Spall width of the training records it was fitted on, mm; `None` for a path pooled over
+    /// every size of the location (rig files written before paths were fitted per size).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size_mm: Option<f64>,
     /// AR path `1/A_i(z)`.
     pub path: StructuralPath,
+}
+
+/// The path of `location` for a spall of `size_mm` among `paths`: the one fitted on the nearest
+/// size (in log size; a pooled path matches every size), else the first path of any location.
+pub(super) fn nearest_path(
+    paths: &[ImpactPath],
+    location: Location,
+    size_mm: f64,
+) -> Option<&ImpactPath> {
+    let distance = |p: &ImpactPath| match p.size_mm {
+        Some(s) if s > 0.0 && size_mm > 0.0 => (s.ln() - size_mm.ln()).abs(),
+        Some(s) => (s - size_mm).abs(),
+        None => 0.0,
+    };
+    paths
+        .iter()
+        .filter(|p| p.location == location)
+        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+        .or(paths.first())
 }
 
 /// Where a rig model came from.
@@ -152,6 +180,12 @@ pub struct RigModel {
     /// records (see [`calibrate_rig`]).
     #[serde(default)]
     pub chain_fir: Vec<f64>,
+    /// The healthy recording's broadband remainder — the power of the healthy PSD (smoothed
+    /// ±150 Hz) that the machine model's named effects do not carry — as a zero-phase FIR
+    /// shaping unit-variance white noise; added to every background (empty = none; rig files
+    /// written before it have none).
+    #[serde(default)]
+    pub background_fir: Vec<f64>,
     /// Spall depth used in the excitation model, m.
     pub depth_m: f64,
     /// Slip fraction used in the excitation model.
@@ -375,13 +409,29 @@ impl RigModel {
         } else {
             &self.chain_lines
         };
-        background_of(&self.healthy, lines, self.fs_hz, rpm, n, seed)
+        background_of(
+            &self.healthy,
+            lines,
+            &self.background_fir,
+            self.fs_hz,
+            rpm,
+            n,
+            seed,
+        )
     }
 
     /// The healthy machine as its calibration recording holds it (lines at that recording's
     /// levels): what the healthy recording is compared with.
     pub fn background_as_calibrated(&self, rpm: f64, n: usize, seed: u64) -> Vec<f64> {
-        background_of(&self.healthy, &self.healthy.lines, self.fs_hz, rpm, n, seed)
+        background_of(
+            &self.healthy,
+            &self.healthy.lines,
+            &self.background_fir,
+            self.fs_hz,
+            rpm,
+            n,
+            seed,
+        )
     }
 
     /// The fault's contribution: for each location of the class, the 5-DOF excitation of its
@@ -418,7 +468,7 @@ impl RigModel {
                 .iter()
                 .map(|v| g * v)
                 .collect();
-            let f = self.impact_path(loc)?.filter(&x);
+            let f = self.impact_path_for(loc, s.size_mm)?.path.filter(&x);
             for (a, b) in y.iter_mut().zip(&f[WARMUP..]) {
                 *a += b;
             }
@@ -426,7 +476,9 @@ impl RigModel {
         Ok(y)
     }
 
-    /// The impact path of `location` (the pooled path when the rig holds none for it).
+    /// The first impact path of `location` (the first path of any location when the rig holds
+    /// none for it). A rig fitted per size holds one path per calibrated size:
+    /// [`RigModel::impact_path_for`] picks the one for a spall.
     ///
     /// # Errors
     /// [`CloseLoopError::Model`] when the rig holds no impact path at all.
@@ -439,6 +491,23 @@ impl RigModel {
             .ok_or_else(|| CloseLoopError::Model {
                 reason: "the rig model holds no impact path".into(),
             })
+    }
+
+    /// The impact path of `location` for a spall of `size_mm`: the path fitted on the nearest
+    /// calibrated size of that location (in log size; beyond the calibrated sizes the nearest
+    /// one is held, as the severity is), a pooled path where the rig holds one, else the first
+    /// path of any location.
+    ///
+    /// # Errors
+    /// [`CloseLoopError::Model`] when the rig holds no impact path at all.
+    pub fn impact_path_for(
+        &self,
+        location: Location,
+        size_mm: f64,
+    ) -> Result<&ImpactPath, CloseLoopError> {
+        nearest_path(&self.impact_paths, location, size_mm).ok_or_else(|| CloseLoopError::Model {
+            reason: "the rig model holds no impact path".into(),
+        })
     }
 
     /// A simulated recording of the rig (rig units, [`RigModel::units`]).
@@ -496,10 +565,21 @@ impl RigModel {
             || m.impact_paths.iter().any(|p| {
                 p.path.ar.iter().any(|a| !a.is_finite())
                     || !(p.path.excitation_variance.is_finite() && p.path.excitation_variance > 0.0)
+                    || p.size_mm.is_some_and(|s| !(s.is_finite() && s > 0.0))
             })
         {
             return Err(fmt(
-                "`impact_paths` is empty or holds a non-finite coefficient".into(),
+                "`impact_paths` is empty or holds a non-finite coefficient or a size that is not > 0"
+                    .into(),
+            ));
+        }
+        if m.chain_fir
+            .iter()
+            .chain(&m.background_fir)
+            .any(|v| !v.is_finite())
+        {
+            return Err(fmt(
+                "`chain_fir` or `background_fir` holds a non-finite tap".into(),
             ));
         }
         if !(m.preload_m.is_finite() && (0.0..=1e-4).contains(&m.preload_m)) {
@@ -528,34 +608,68 @@ impl RigModel {
     }
 }
 
-/// `x` plus white noise carrying the fraction `q` of the sum's power: `x + √(q/(1−q))·RMS(x)·w`.
+/// `x` plus a random part carrying the fraction `q` of the sum's power:
+/// `x + √(q/(1−q))·r`, `r` a phase-randomised copy of `x` (every DFT bin keeps its magnitude,
+/// its phase is drawn uniformly, seeded): the same power spectrum as the 5-DOF impacts, Gaussian
+/// in distribution, so the random part lowers the kurtosis without changing the spectral shape
+/// the impact path was fitted to (white noise would: the path divides the excess PSD by the
+/// impacts' PSD, and white noise through it is over-weighted wherever the impacts are weak).
 pub(super) fn mix(x: &[f64], q: f64, seed: u64) -> Vec<f64> {
     let q = q.clamp(0.0, 0.99);
-    if q == 0.0 {
+    if q == 0.0 || x.is_empty() {
         return x.to_vec();
     }
-    let sd = (q / (1.0 - q) * mean_square(x)).sqrt();
+    let r = phase_randomised(x, seed);
+    let c = (q / (1.0 - q)).sqrt();
+    x.iter().zip(&r).map(|(v, w)| v + c * w).collect()
+}
+
+/// A phase-randomised surrogate of `x`: the DFT magnitudes of `x` with seeded uniform phases
+/// (Hermitian, so real; DC and, for even lengths, the Nyquist bin keep their values), hence the
+/// same periodogram and mean square.
+pub(super) fn phase_randomised(x: &[f64], seed: u64) -> Vec<f64> {
+    use rustfft::num_complex::Complex;
+    let n = x.len();
+    let mut buf: Vec<Complex<f64>> = x.iter().map(|&v| Complex::new(v, 0.0)).collect();
+    let mut planner = rustfft::FftPlanner::new();
+    planner.plan_fft_forward(n).process(&mut buf);
     let mut g = Gaussian::new(seed);
-    x.iter().map(|v| v + sd * g.sample()).collect()
+    for k in 1..n.div_ceil(2) {
+        let phase = 2.0 * PI * g.uniform();
+        let m = buf[k].norm();
+        buf[k] = Complex::from_polar(m, phase);
+        buf[n - k] = buf[k].conj();
+    }
+    planner.plan_fft_inverse(n).process(&mut buf);
+    buf.iter().map(|c| c.re / n as f64).collect()
 }
 
 /// The healthy machine's signal (see [`RigModel::background`]).
 pub(super) fn background_of(
     machine: &MachineModel,
     lines: &[MachineLine],
+    remainder: &[f64],
     fs: f64,
     rpm: f64,
     n: usize,
     seed: u64,
 ) -> Vec<f64> {
     let h = &machine;
+    let mut y = if remainder.is_empty() {
+        vec![0.0; n]
+    } else {
+        let mut g = Gaussian::new(seed ^ 0x2E3A_1DE4);
+        let w: Vec<f64> = (0..n).map(|_| g.sample()).collect();
+        apply_fir(remainder, &w)
+    };
     let mut g = Gaussian::new(seed ^ 0xB6C0_5EED);
-    let mut y = vec![0.0; n];
     if let Some(p) = &h.path {
         let sd = (p.excitation_variance * h.path_level).max(0.0).sqrt();
         let e: Vec<f64> = (0..n + WARMUP).map(|_| sd * g.sample()).collect();
         let f = p.filter(&e);
-        y.copy_from_slice(&f[WARMUP..]);
+        for (a, b) in y.iter_mut().zip(&f[WARMUP..]) {
+            *a += b;
+        }
     }
     let floor_sd = (h.noise_floor_psd * fs / 2.0).max(0.0).sqrt();
     if floor_sd > 0.0 {
@@ -595,4 +709,53 @@ pub(super) fn apply_fir(h: &[f64], x: &[f64]) -> Vec<f64> {
             (lo..=hi).map(|j| h[j + m - i] * x[j]).sum()
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kurt(x: &[f64]) -> f64 {
+        let n = x.len() as f64;
+        let m = x.iter().sum::<f64>() / n;
+        let v = x.iter().map(|a| (a - m).powi(2)).sum::<f64>() / n;
+        x.iter().map(|a| (a - m).powi(4)).sum::<f64>() / n / (v * v)
+    }
+
+    /// The random part keeps the impacts' spectrum (and so the mix keeps the shape the impact
+    /// path was fitted to) while the mix loses impulsiveness; odd and even lengths.
+    #[test]
+    fn the_random_part_has_the_spectrum_of_the_impacts() {
+        for n in [4095usize, 4096] {
+            // a decaying ringing every 100 samples: impulsive, strongly coloured
+            let x: Vec<f64> = (0..n)
+                .map(|i| {
+                    let t = (i % 100) as f64;
+                    (-t / 6.0).exp() * (0.9 * t).sin()
+                })
+                .collect();
+            let r = phase_randomised(&x, 7);
+            let spec = |y: &[f64]| {
+                let mut b: Vec<rustfft::num_complex::Complex<f64>> = y
+                    .iter()
+                    .map(|&v| rustfft::num_complex::Complex::new(v, 0.0))
+                    .collect();
+                rustfft::FftPlanner::new()
+                    .plan_fft_forward(n)
+                    .process(&mut b);
+                b.iter().map(|c| c.norm()).collect::<Vec<f64>>()
+            };
+            let (sx, sr) = (spec(&x), spec(&r));
+            let peak = sx.iter().cloned().fold(0.0, f64::max);
+            for (a, b) in sx.iter().zip(&sr) {
+                assert!((a - b).abs() <= 1e-9 * peak, "{a} vs {b}");
+            }
+            assert!((mean_square(&r) / mean_square(&x) - 1.0).abs() < 1e-9);
+            assert!(kurt(&x) > 4.0, "input kurtosis {}", kurt(&x));
+            assert!(kurt(&r) < 3.5, "surrogate kurtosis {}", kurt(&r));
+            let m = mix(&x, 0.5, 3);
+            assert!(kurt(&m) < kurt(&x));
+            assert_eq!(mix(&x, 0.0, 3), x);
+        }
+    }
 }
