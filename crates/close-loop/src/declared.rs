@@ -139,4 +139,11 @@ pub trait DeclaredModel {
     fn housing_mode(&self) -> Option<(f64, f64)> {
         None
     }
+
+    /// A key that is equal for two models exactly when their simulations are (every parameter
+    /// and seed), so the loop simulates each (model, speed) once per run; `None` (the default)
+    /// for a model that cannot say, which is then simulated every time it is asked.
+    fn cache_key(&self) -> Option<String> {
+        None
+    }
 }

@@ -92,6 +92,10 @@ pub(crate) struct Ctx<'a> {
     pub eps: f64,
     /// Speed ratios judged and rejected (not simulated again).
     pub rejected_ratios: std::sync::Mutex<Vec<f64>>,
+    /// Simulations of the run, by model key ([`DeclaredModel::cache_key`]) and speed ratio:
+    /// the candidates of every round re-try the same models (a slip fraction, the declared
+    /// physics at the current speed), and the 5-DOF simulation is most of a round's time.
+    pub bases: std::sync::Mutex<std::collections::HashMap<(String, u64), Arc<Base>>>,
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,
     pub cfg: &'a CheckedConfig,
@@ -139,6 +143,12 @@ impl Ctx<'_> {
         model: &dyn DeclaredModel,
         ratio: f64,
     ) -> Result<Arc<Base>, CloseLoopError> {
+        let key = model.cache_key().map(|k| (k, ratio.to_bits()));
+        if let Some(k) = &key {
+            if let Some(b) = self.bases.lock().ok().and_then(|m| m.get(k).cloned()) {
+                return Ok(b);
+            }
+        }
         let n = self.n_fit;
         let op = self.op.with_speed_ratio(ratio);
         let signal = model.simulate(&op, n, self.fs)?;
@@ -159,12 +169,16 @@ impl Ctx<'_> {
             Some(p) if p.len() == self.welch_hi.n_bins() => p,
             _ => self.welch_hi.try_psd(&signal)?,
         };
-        Ok(Arc::new(Base {
+        let base = Arc::new(Base {
             ratio,
             signal,
             psd,
             psd_hi,
-        }))
+        });
+        if let (Some(k), Ok(mut m)) = (key, self.bases.lock()) {
+            m.insert(k, base.clone());
+        }
+        Ok(base)
     }
 
     /// The multiplier that puts the declared physics behind a structural path: its PSD is divided

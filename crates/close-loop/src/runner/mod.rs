@@ -121,6 +121,7 @@ pub fn close_loop_from(
         n_fit,
         eps,
         rejected_ratios: std::sync::Mutex::new(Vec::new()),
+        bases: std::sync::Mutex::new(std::collections::HashMap::new()),
         s_fit,
         s_held: welch.try_psd(&y[n_fit..])?,
         s_fit_hi: welch_hi.try_psd(&y[..n_fit])?,
