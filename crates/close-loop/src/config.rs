@@ -49,6 +49,12 @@ pub struct LoopConfig {
     pub noise_stop_factor: f64,
     /// An effect must also lower the held-out error by at least this much, dB.
     pub min_improvement_db: f64,
+    /// A phase-coherent line (tone, shaft harmonic or comb in the measurement channel) is also
+    /// kept when it removes at least this fraction of the held-out signal's power from the
+    /// time-domain residual without raising the held-out spectral error: a narrow line covers a
+    /// few of the scored bins, so the bin-averaged distance alone under-rates a strong one.
+    #[serde(default = "default_min_line_power")]
+    pub min_line_power: f64,
     /// Highest AR order tried for the structural path.
     pub max_path_order: usize,
 }
@@ -75,9 +81,14 @@ impl Default for LoopConfig {
             floor_db: -30.0,
             noise_stop_factor: 1.25,
             min_improvement_db: 0.03,
+            min_line_power: default_min_line_power(),
             max_path_order: 128,
         }
     }
+}
+
+fn default_min_line_power() -> f64 {
+    0.005
 }
 
 /// A validated [`LoopConfig`].
@@ -156,6 +167,7 @@ impl LoopConfig {
         range("floor_db", self.floor_db, -200.0, 0.0)?;
         range("noise_stop_factor", self.noise_stop_factor, 0.0, 10.0)?;
         range("min_improvement_db", self.min_improvement_db, 0.0, 10.0)?;
+        range("min_line_power", self.min_line_power, 0.0, 1.0)?;
         range("max_path_order", self.max_path_order as f64, 2.0, 256.0)?;
         Ok(CheckedConfig(self))
     }

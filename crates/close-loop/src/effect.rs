@@ -261,6 +261,19 @@ impl Effect {
         )
     }
 
+    /// A line subtracted phase-coherently in the measurement channel (a tone, a shaft harmonic
+    /// kept as a sensor line, a shaft or line-frequency comb): what it explains shows directly
+    /// in the held-out time-domain residual.
+    pub fn is_coherent_line(&self) -> bool {
+        matches!(
+            self,
+            Self::Tone { .. }
+                | Self::ShaftHarmonic { force: None, .. }
+                | Self::ShaftComb { .. }
+                | Self::LineComb { .. }
+        )
+    }
+
     /// Its kind.
     pub fn kind(&self) -> EffectKind {
         match self {

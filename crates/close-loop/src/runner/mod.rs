@@ -187,6 +187,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             cands.retain(|e| e.effect.is_line());
         }
         cands.sort_by(|a, b| a.fit_lsd.total_cmp(&b.fit_lsd));
+        let cands = strong_lines_first(ctx, &st, cands);
         rejected.clear();
         let mut accepted = None;
         'judge: for cand in cands {
@@ -210,8 +211,15 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             versions.push(cand);
             for cand in versions {
                 let h = ctx.held_scores(&cand.state);
-                if h.lsd <= held.lsd * (1.0 - c.margin) && held.lsd - h.lsd >= c.min_improvement_db
-                {
+                let spectral = h.lsd <= held.lsd * (1.0 - c.margin)
+                    && held.lsd - h.lsd >= c.min_improvement_db;
+                // a strong coherent line covers a few bins of the spectral distance: it is also
+                // kept when it removes ≥ min_line_power of the held-out signal's power from the
+                // time-domain residual and does not raise the spectral error
+                let coherent = cand.effect.is_coherent_line()
+                    && h.lsd <= held.lsd
+                    && held.rms * held.rms - h.rms * h.rms >= c.min_line_power;
+                if spectral || coherent {
                     accepted = Some((cand, h));
                     break 'judge;
                 }
@@ -318,6 +326,44 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         spectra,
         machine,
     })
+}
+
+/// `cands` (sorted by fitting-part error) with the coherent-line candidates (tones, sensor-side
+/// shaft harmonics, combs) reordered among the places they hold: the strong ones first, largest
+/// first — a line that removes at least `min_line_power` of the fitting part's power from its
+/// time-domain residual is a large, plain effect, judged before weaker lines however few bins
+/// it covers — then the others in their spectral order. Every other candidate (path,
+/// resonance, modulation, slip, a speed offset that moves the model's own lines) keeps its place.
+fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<Evaluated> {
+    let c = ctx.cfg.get();
+    let total = crate::metric::mean_square(&ctx.y[..ctx.n_fit]);
+    if total <= 0.0 {
+        return cands;
+    }
+    let now = crate::metric::mean_square(&ctx.fit_residual(st));
+    let is_line: Vec<bool> = cands.iter().map(|e| e.effect.is_coherent_line()).collect();
+    let mut strong: Vec<(f64, Evaluated)> = Vec::new();
+    let mut weak: Vec<Evaluated> = Vec::new();
+    let mut others: Vec<Evaluated> = Vec::new();
+    for e in cands {
+        if !e.effect.is_coherent_line() {
+            others.push(e);
+            continue;
+        }
+        let removed = (now - crate::metric::mean_square(&ctx.fit_residual(&e.state))) / total;
+        if removed >= c.min_line_power {
+            strong.push((removed, e));
+        } else {
+            weak.push(e);
+        }
+    }
+    strong.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut lines = strong.into_iter().map(|(_, e)| e).chain(weak);
+    let mut others = others.into_iter();
+    is_line
+        .into_iter()
+        .filter_map(|l| if l { lines.next() } else { others.next() })
+        .collect()
 }
 
 /// Held-out RMS of the observer residual of y − (the state's phase-coherent lines), the observer
