@@ -194,7 +194,10 @@ pub fn load_with(
                 "DE" => bearing_data::SensorEnd::DriveEnd,
                 "FE" => bearing_data::SensorEnd::FanEnd,
                 "BA" => bearing_data::SensorEnd::Base,
-                other => bail!("unknown channel `{other}` of a .mat file (DE, FE or BA)"),
+                other => bail!(
+                    "{}: unknown channel `{other}` of a .mat file (DE, FE or BA)",
+                    path.display()
+                ),
             };
             let bytes =
                 std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
@@ -227,12 +230,19 @@ pub fn load_with(
                     fault_size_in: bearing_data::entry(number).and_then(|e| e.fault_diameter_in()),
                 });
             }
-            let set = bearing_data::select_set(bearing_data::read_variable_sets(&bytes)?, None)?;
+            let set = bearing_data::read_variable_sets(&bytes)
+                .and_then(|sets| bearing_data::select_set(sets, None))
+                .with_context(|| path.display().to_string())?;
             let x = set
                 .channel(end)
                 .with_context(|| format!("{} has no {channel} channel", path.display()))?
                 .to_vec();
-            let fs = fs.context("--fs is required for a .mat file that is not a CWRU record")?;
+            let fs = fs.with_context(|| {
+                format!(
+                    "{}: --fs is required for a .mat file that is not a CWRU record",
+                    path.display()
+                )
+            })?;
             Ok(Loaded {
                 samples: x,
                 fs_hz: fs,
@@ -243,7 +253,10 @@ pub fn load_with(
             })
         }
         "csv" | "txt" | "tsv" => load_csv(path, channel, fs, flag),
-        other => bail!("unsupported input extension `{other}` (.mat, .csv, .tsv or .txt)"),
+        other => bail!(
+            "{}: unsupported input extension `{other}` (.mat, .csv, .tsv or .txt)",
+            path.display()
+        ),
     }
 }
 
@@ -561,8 +574,8 @@ impl BaselineSource {
                 .with_context(|| format!("baseline machine model {}", path.display()))?;
             return Ok(Self::from_machine(path, m));
         }
-        let l = load_with(path, channel, fs, FsFlag::ForUnstated)
-            .with_context(|| format!("baseline {}", path.display()))?;
+        // the loader's errors name the file
+        let l = load_with(path, channel, fs, FsFlag::ForUnstated).context("baseline")?;
         Ok(Self::from_samples(path, l.samples, l.fs_hz))
     }
 
