@@ -19,20 +19,26 @@ use close_loop::{
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Recording: a CWRU `.mat` file (named by its number, e.g. `105.mat`), a one-column `.csv`,
-    /// or `cargo xtask simulate`'s CSV (its `accel` column is read, fs from `time_s`).
+    /// or `hybrid-fdd simulate`'s CSV (its `accel` column is read, fs from `time_s`).
     #[arg(long)]
     pub input: Option<PathBuf>,
     /// Channel of a `.mat` file: DE, FE or BA.
     #[arg(long, default_value = "DE")]
     pub channel: String,
-    /// Sampling rate, Hz (required for CSV; a CWRU file's own rate otherwise).
+    /// Sampling rate, Hz, of a recording that stores none (a text file without a time column).
+    /// A CWRU `.mat` file's rate and a time column's always win; a `--fs` more than 0.1 %
+    /// (`.mat`) or 1 % (time column) away from it is an error.
     #[arg(long)]
     pub fs: Option<f64>,
-    /// Declared shaft speed, rpm (a CWRU file's stored speed when omitted).
+    /// Declared shaft speed, rpm (when omitted: a CWRU file's stored speed; the `rpm` of a
+    /// `simulate` CSV's JSON sidecar, said on stderr).
     #[arg(long)]
     pub rpm: Option<f64>,
     /// Bearing: `6205`, `6203`, a geometry (`n=8,d=0.235in,D=1.245in,angle=0deg`) or the four
-    /// multiples (`bpfo=…,bpfi=…,ftf=…,bsf=…`); the physics model simulates 6205 and 6203 only.
+    /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
+    /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
+    /// doubled (the 6205's textbook BSF is 2.3567). The physics model simulates 6205 and 6203
+    /// only (`--model arx-laguerre` or `phenomenological` for others).
     #[arg(long, default_value = "6205")]
     pub bearing: String,
     /// Declared fault: none|outer|inner|ball.
@@ -54,8 +60,8 @@ pub struct Args {
     /// JSON report path (Markdown and PNG are written beside it).
     #[arg(long)]
     pub report: Option<PathBuf>,
-    /// Start from a calibrated machine model (`cargo xtask calibrate`) instead of the bare
-    /// declared model.
+    /// Start from a calibrated machine model (`hybrid-fdd calibrate` or `cargo xtask
+    /// calibrate`) instead of the bare declared model.
     #[arg(long)]
     pub machine: Option<PathBuf>,
     /// Units of the recording: g, m/s^2 or unknown (default: g for CWRU .mat files, m/s^2 for
@@ -71,7 +77,7 @@ pub struct Args {
     pub fault_size_in: Option<f64>,
 }
 
-/// Flags of `cargo xtask calibrate`.
+/// Flags of `hybrid-fdd calibrate` (and `cargo xtask calibrate`).
 #[derive(clap::Args, Debug)]
 pub struct CalibrateArgs {
     /// Healthy recording (`.mat` or `.csv`).
@@ -80,15 +86,26 @@ pub struct CalibrateArgs {
     /// Channel of a `.mat` file: DE, FE or BA.
     #[arg(long, default_value = "DE")]
     pub channel: String,
-    /// Sampling rate, Hz (required for a plain CSV).
+    /// Sampling rate, Hz, of a recording that stores none (as `close-loop --fs`: a CWRU file's
+    /// rate and a time column's win, a `--fs` that disagrees with them is an error).
     #[arg(long)]
     pub fs: Option<f64>,
-    /// Declared shaft speed, rpm (a CWRU file's stored speed when omitted).
+    /// Declared shaft speed, rpm (a CWRU file's stored speed, or a `simulate` sidecar's, when
+    /// omitted).
     #[arg(long)]
     pub rpm: Option<f64>,
-    /// Bearing designation.
+    /// Bearing: `6205`, `6203`, a geometry (`n=12,d=7.94mm,D=38.5mm,angle=0deg`) or the four
+    /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
+    /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
+    /// doubled (the 6205's textbook BSF is 2.3567). A bearing other than 6205/6203 needs
+    /// `--model arx-laguerre` or `phenomenological`.
     #[arg(long, default_value = "6205")]
     pub bearing: String,
+    /// Declared model (as `close-loop --model`): physics (5-DOF; 6205 and 6203 only),
+    /// arx-laguerre (identified on the fitting segment; any bearing) or phenomenological
+    /// (impact train; any bearing).
+    #[arg(long, default_value = "physics")]
+    pub model: String,
     /// Units of the recording (as `close-loop --units`).
     #[arg(long)]
     pub units: Option<String>,
@@ -107,7 +124,8 @@ pub struct CalibrateArgs {
     pub out: PathBuf,
 }
 
-/// `cargo xtask calibrate`: the loop on a healthy recording, its result saved as a machine model.
+/// `hybrid-fdd calibrate` (and `cargo xtask calibrate`): the loop on a healthy recording from
+/// the declared model `--model`, its result saved as a machine model.
 pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
     let t = Instant::now();
     let args = Args {
@@ -117,7 +135,7 @@ pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
         rpm: a.rpm,
         bearing: a.bearing,
         fault: "none".into(),
-        model: "physics".into(),
+        model: a.model,
         line_frequency: a.line_frequency,
         seconds: None,
         max_effects: a.max_effects,
@@ -257,10 +275,14 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
     if let Some(s) = args.seconds {
         y.truncate((s * fs).round() as usize);
     }
-    let rpm = args
-        .rpm
-        .or(loaded.rpm)
-        .context("--rpm is required (the file stores no speed)")?;
+    let (rpm, note) = match loaded.rpm {
+        Some(r) => (Some(args.rpm.unwrap_or(r)), None),
+        None => crate::diagnose::rpm_or_sidecar(input, args.rpm),
+    };
+    if let Some(n) = note {
+        eprintln!("note: {n}");
+    }
+    let rpm = rpm.context("--rpm is required (the file stores no speed)")?;
     let builtin = args.bearing.parse::<bearing_model::Bearing>().ok();
     let bearing = match builtin {
         Some(b) => BearingSpec::designated(b),

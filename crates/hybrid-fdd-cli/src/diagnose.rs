@@ -11,7 +11,10 @@ use rayon::prelude::*;
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct Args {
     /// Recording: a CWRU `.mat` file (named by its number, e.g. `130.mat`), a one-column `.csv`,
-    /// or a directory: every `.mat`/`.csv` in it is diagnosed, in parallel.
+    /// or a directory: every `.mat`/`.csv`/`.tsv` in it is diagnosed, in parallel, one report per
+    /// file (named by its stem; by stem and extension, `x_csv.json`, when two files share a stem)
+    /// and `summary.csv` listing each file's report; the exit status is non-zero when any file
+    /// failed (after all reports and the summary are written).
     #[arg(long)]
     pub input: Option<PathBuf>,
     /// How the recordings are read and what machine they come from.
@@ -33,20 +36,29 @@ pub struct RecordingFlags {
     /// by default `accel`, the only column, or the second of `time,signal`).
     #[arg(long, default_value = "DE")]
     pub channel: String,
-    /// Sampling rate, Hz (required for CSV; a CWRU file's own rate otherwise).
+    /// Sampling rate, Hz, of recordings that store none (a text file without a time column, a
+    /// `.mat` file that is not a CWRU record). A CWRU `.mat` file's rate and a time column's
+    /// always win: for a single file, a `--fs` more than 0.1 % (`.mat`) or 1 % (time column)
+    /// away from it is an error; in a directory batch (and `train-classifier`'s labelled list)
+    /// `--fs` applies only to the files that store no rate.
     #[arg(long)]
     pub fs: Option<f64>,
-    /// Shaft speed, rpm (a CWRU file's stored speed, else its nominal one, when omitted).
+    /// Shaft speed, rpm (when omitted: a CWRU file's stored speed, else its nominal one; the
+    /// `rpm` of a `simulate` CSV's JSON sidecar, said on stderr).
     #[arg(long)]
     pub rpm: Option<f64>,
-    /// Bearing: `6205`, `6203`, `n=9,d=0.3126in,D=1.537in,angle=0deg` or
-    /// `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`.
+    /// Bearing: `6205`, `6203`, a geometry `n=9,d=0.3126in,D=1.537in,angle=0deg` or the four
+    /// shaft-rate multiples `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135` (the 6205's). There
+    /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
+    /// doubled (the 6205's textbook BSF is 2.3567; CWRU's `bsf` is 4.7135).
     #[arg(long)]
     pub bearing: Option<String>,
     /// Healthy recording of the same machine (same formats; resampled by an integer factor
     /// with an anti-aliasing FIR when its rate is a multiple of the recording's), or a machine
-    /// model JSON from `cargo xtask calibrate` (its structural path is the healthy model; same
-    /// sampling rate and units as the recording). Without it the evidence is self-referenced.
+    /// model JSON from `hybrid-fdd calibrate` (or `cargo xtask calibrate`; its structural path is
+    /// the healthy model; same sampling rate and units as the recording). A text baseline
+    /// without a time column is taken at `--fs`; a `.mat` baseline or one with a time column at
+    /// its own rate. Without a baseline the evidence is self-referenced.
     #[arg(long)]
     pub baseline: Option<PathBuf>,
 }
@@ -76,7 +88,7 @@ impl RecordingFlags {
     pub fn baseline_source(&self) -> anyhow::Result<Option<BaselineSource>> {
         self.baseline
             .as_deref()
-            .map(|p| BaselineSource::load(p, &self.channel, None))
+            .map(|p| BaselineSource::load(p, &self.channel, self.fs))
             .transpose()
     }
 }
@@ -102,14 +114,75 @@ pub struct Loaded {
 pub const CWRU_UNIT: &str =
     "file units (CWRU accelerometer data; the data README states no unit, commonly read as g)";
 
+/// How a `--fs` meets a rate the file itself stores (a CWRU record's, a time column's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FsFlag {
+    /// One recording: the file's own rate is used, and a `--fs` that disagrees with it (by more
+    /// than [`MAT_RATE_TOLERANCE`] or [`TIME_RATE_TOLERANCE`]) is an error.
+    MustAgree,
+    /// A directory batch, a labelled list or a baseline: `--fs` is the rate of the files that
+    /// store none; a file's own rate is used without comparison.
+    ForUnstated,
+}
+
+/// Largest relative difference between `--fs` and a CWRU record's rate.
+pub const MAT_RATE_TOLERANCE: f64 = 1e-3;
+/// Largest relative difference between `--fs` and the rate of a time column.
+pub const TIME_RATE_TOLERANCE: f64 = 1e-2;
+/// Largest relative deviation of one time step from the median step.
+pub const TIME_STEP_TOLERANCE: f64 = 1e-2;
+
+/// The rate of a file: its stored rate `stored` (described by `what`) when it has one, else
+/// `fs`; under [`FsFlag::MustAgree`] a `fs` more than `tolerance` (relative) from the stored
+/// rate is an error.
+fn resolve_rate(
+    path: &Path,
+    fs: Option<f64>,
+    stored: Option<f64>,
+    tolerance: f64,
+    what: &str,
+    flag: FsFlag,
+) -> anyhow::Result<Option<f64>> {
+    match (stored, fs) {
+        // a NaN --fs disagrees too
+        (Some(s), Some(f))
+            if flag == FsFlag::MustAgree && ((f - s).abs() > tolerance * s || f.is_nan()) =>
+        {
+            bail!(
+                "{}: --fs {f} Hz disagrees with {what} ({s} Hz, tolerance {} %): omit --fs",
+                path.display(),
+                100.0 * tolerance
+            )
+        }
+        (Some(s), _) => Ok(Some(s)),
+        (None, f) => Ok(f),
+    }
+}
+
 /// Load one channel of a `.mat` (CWRU record or CWRU-style variables) or one column of a
-/// delimited text file (`,`, `;` or tab; `cargo xtask simulate`'s CSV: its `accel` column, fs
-/// from `time_s` when not given).
+/// delimited text file (`,`, `;` or tab; `hybrid-fdd simulate`'s CSV: its `accel` column, fs
+/// from `time_s`), as one recording: a `--fs` that disagrees with the file's own rate is an
+/// error ([`load_with`] and [`FsFlag::MustAgree`]).
 /// The one recording loader of the command-line tools (`hybrid-fdd`, `cargo xtask`).
 ///
 /// # Errors
-/// Unreadable files, unknown channel or extension, missing `--fs` where the file has no rate.
+/// Unreadable files, unknown channel or extension, missing `--fs` where the file has no rate,
+/// a `--fs` that disagrees with the file's rate, a time column that is not increasing and
+/// evenly spaced.
 pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loaded> {
+    load_with(path, channel, fs, FsFlag::MustAgree)
+}
+
+/// [`load`] with the rule `flag` for a `fs` where the file stores its own rate.
+///
+/// # Errors
+/// As [`load`].
+pub fn load_with(
+    path: &Path,
+    channel: &str,
+    fs: Option<f64>,
+    flag: FsFlag,
+) -> anyhow::Result<Loaded> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -121,7 +194,10 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
                 "DE" => bearing_data::SensorEnd::DriveEnd,
                 "FE" => bearing_data::SensorEnd::FanEnd,
                 "BA" => bearing_data::SensorEnd::Base,
-                other => bail!("unknown channel `{other}` of a .mat file (DE, FE or BA)"),
+                other => bail!(
+                    "{}: unknown channel `{other}` of a .mat file (DE, FE or BA)",
+                    path.display()
+                ),
             };
             let bytes =
                 std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
@@ -132,25 +208,41 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
             if let Some(number) = number
                 && let Ok(rec) = bearing_data::parse_record(&bytes, number)
             {
+                let fs_hz = resolve_rate(
+                    path,
+                    fs,
+                    Some(rec.fs_hz()),
+                    MAT_RATE_TOLERANCE,
+                    "the CWRU record's rate",
+                    flag,
+                )?
+                .unwrap_or(rec.fs_hz());
                 let x = rec
                     .channel(end)
                     .with_context(|| format!("{} has no {channel} channel", path.display()))?
                     .to_vec();
                 return Ok(Loaded {
                     samples: x,
-                    fs_hz: fs.unwrap_or(rec.fs_hz()),
+                    fs_hz,
                     rpm: Some(rec.rpm().value),
                     unit: CWRU_UNIT,
                     units: "g",
                     fault_size_in: bearing_data::entry(number).and_then(|e| e.fault_diameter_in()),
                 });
             }
-            let set = bearing_data::select_set(bearing_data::read_variable_sets(&bytes)?, None)?;
+            let set = bearing_data::read_variable_sets(&bytes)
+                .and_then(|sets| bearing_data::select_set(sets, None))
+                .with_context(|| path.display().to_string())?;
             let x = set
                 .channel(end)
                 .with_context(|| format!("{} has no {channel} channel", path.display()))?
                 .to_vec();
-            let fs = fs.context("--fs is required for a .mat file that is not a CWRU record")?;
+            let fs = fs.with_context(|| {
+                format!(
+                    "{}: --fs is required for a .mat file that is not a CWRU record",
+                    path.display()
+                )
+            })?;
             Ok(Loaded {
                 samples: x,
                 fs_hz: fs,
@@ -160,25 +252,133 @@ pub fn load(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
                 fault_size_in: None,
             })
         }
-        "csv" | "txt" | "tsv" => load_csv(path, channel, fs),
-        other => bail!("unsupported input extension `{other}` (.mat, .csv, .tsv or .txt)"),
+        "csv" | "txt" | "tsv" => load_csv(path, channel, fs, flag),
+        other => bail!(
+            "{}: unsupported input extension `{other}` (.mat, .csv, .tsv or .txt)",
+            path.display()
+        ),
     }
 }
 
 /// Time-column names read as seconds.
 const TIME_NAMES: [&str; 5] = ["time_s", "time", "t", "seconds", "s"];
 
-/// A delimited text recording: the delimiter sniffed from the first data line (tab, `;` or
-/// `,`); the column by `channel` (a header name, case-insensitive, or a 1-based number), else
+/// A text field without its surrounding blanks and double quotes.
+fn unquote(f: &str) -> &str {
+    let f = f.trim();
+    f.strip_prefix('"')
+        .and_then(|g| g.strip_suffix('"'))
+        .map_or(f, str::trim)
+}
+
+/// The sampling rate of a time column in seconds, `stamps` as (line number, value): strictly
+/// increasing, every step within [`TIME_STEP_TOLERANCE`] of the median step; the rate over the
+/// whole span, snapped to a whole Hz when within 1 ppm of one (`simulate` prints its stamps
+/// to 1 ns).
+///
+/// # Errors
+/// Fewer than two stamps, a non-finite, decreasing, repeated or unevenly spaced stamp (the
+/// first offending line named).
+fn time_column_rate(path: &Path, column: &str, stamps: &[(usize, f64)]) -> anyhow::Result<f64> {
+    let name = path.display();
+    if let Some((line, t)) = stamps.iter().find(|(_, t)| !t.is_finite()) {
+        bail!("{name}: line {line}: time `{column}` = {t} is not finite");
+    }
+    if stamps.len() < 2 {
+        bail!("{name}: the time column `{column}` has fewer than two stamps; give --fs");
+    }
+    let steps: Vec<(usize, f64)> = stamps
+        .windows(2)
+        .map(|w| (w[1].0, w[1].1 - w[0].1))
+        .collect();
+    if let Some((line, dt)) = steps.iter().find(|(_, dt)| *dt <= 0.0) {
+        bail!(
+            "{name}: the time column `{column}` is not strictly increasing at line {line} (step {dt:.4e} s)"
+        );
+    }
+    let mut sorted: Vec<f64> = steps.iter().map(|s| s.1).collect();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    if let Some((line, dt)) = steps
+        .iter()
+        .find(|(_, dt)| (dt - median).abs() > TIME_STEP_TOLERANCE * median)
+    {
+        bail!(
+            "{name}: the time column `{column}` is not evenly spaced: the step to line {line} is {dt:.4e} s, the median step {median:.4e} s (more than {} % apart)",
+            100.0 * TIME_STEP_TOLERANCE
+        );
+    }
+    let (a, b) = (stamps[0].1, stamps[stamps.len() - 1].1);
+    let f = (stamps.len() - 1) as f64 / (b - a);
+    let whole = f.round();
+    Ok(if (f - whole).abs() <= 1e-6 * f {
+        whole
+    } else {
+        f
+    })
+}
+
+/// A CSV reading error of `bearing-data` restated for the user: the file named, columns
+/// numbered from 1 (as `--channel`), lines as in the file; `lines` are the file's data lines
+/// (line number, text) in order.
+fn csv_error(
+    path: &Path,
+    e: bearing_data::DataError,
+    names: &[String],
+    signal: usize,
+    lines: &[(usize, &str)],
+) -> anyhow::Error {
+    let name = path.display();
+    let col = |c: usize| match names.get(c) {
+        Some(n) if !n.starts_with("column ") => format!("column {} (`{n}`)", c + 1),
+        _ => format!("column {}", c + 1),
+    };
+    match e {
+        bearing_data::DataError::NonFinite { index, .. } => match lines.get(index) {
+            Some((line, _)) => anyhow::anyhow!(
+                "{name}: line {line}, {}: non-finite sample (NaN or infinity)",
+                col(signal)
+            ),
+            None => anyhow::anyhow!(
+                "{name}: data row {}, {}: non-finite sample (NaN or infinity)",
+                index + 1,
+                col(signal)
+            ),
+        },
+        bearing_data::DataError::CsvNotANumber { line, column, text } => {
+            anyhow::anyhow!(
+                "{name}: line {line}, {}: {text:?} is not a number",
+                col(column)
+            )
+        }
+        bearing_data::DataError::CsvMissingField {
+            line,
+            fields,
+            column,
+        } => anyhow::anyhow!(
+            "{name}: line {line} has {fields} field(s), no {}",
+            col(column)
+        ),
+        other => anyhow::Error::new(other).context(name.to_string()),
+    }
+}
+
+/// A delimited text recording: a UTF-8 byte-order mark dropped, the delimiter sniffed from the
+/// first data line (tab, `;` or `,`), header names and fields without surrounding double
+/// quotes; the column by `channel` (a header name, case-insensitive, or a 1-based number), else
 /// `accel` (`simulate`'s CSV), else the only column, else the second of two when the first is
-/// time; the rate from `fs` or from a time column in seconds.
-fn load_csv(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loaded> {
-    let text =
+/// time; the rate from a time column in seconds (checked, [`time_column_rate`]), else `fs`.
+fn load_csv(path: &Path, channel: &str, fs: Option<f64>, flag: FsFlag) -> anyhow::Result<Loaded> {
+    let raw =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut lines = text
+    let text = raw.strip_prefix('\u{feff}').unwrap_or(&raw);
+    let content: Vec<(usize, &str)> = text
         .lines()
-        .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let first = lines.next().unwrap_or("");
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+        .collect();
+    let first = content.first().map_or("", |c| c.1);
     let delimiter = if first.contains('\t') {
         b'\t'
     } else if first.contains(';') {
@@ -188,7 +388,7 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
     };
     let split = |l: &str| -> Vec<String> {
         l.split(char::from(delimiter))
-            .map(|f| f.trim().to_string())
+            .map(|f| unquote(f).to_string())
             .collect()
     };
     let fields = split(first);
@@ -198,6 +398,7 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
     } else {
         (1..=fields.len()).map(|i| format!("column {i}")).collect()
     };
+    let data = &content[usize::from(has_header).min(content.len())..];
     let listed = || names.join(", ");
     let time_col = (names.len() >= 2 && TIME_NAMES.contains(&names[0].as_str())).then_some(0);
     let want = channel.trim();
@@ -229,39 +430,42 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
             listed()
         )
     };
-    let fs = match fs {
-        Some(f) => f,
-        None => match time_col.filter(|&t| t != col) {
-            Some(t) => {
-                // over the whole span (the stamps are printed to 1 ns by `simulate`), then
-                // snapped to a whole Hz when within that resolution of one
-                let stamps: Vec<f64> = std::iter::once(first)
-                    .filter(|_| !has_header)
-                    .chain(lines)
-                    .filter_map(|l| split(l).get(t)?.parse().ok())
-                    .collect();
-                match (stamps.first(), stamps.last()) {
-                    (Some(a), Some(b)) if stamps.len() >= 2 && b > a => {
-                        let f = (stamps.len() - 1) as f64 / (b - a);
-                        let whole = f.round();
-                        if (f - whole).abs() <= 1e-6 * f {
-                            whole
-                        } else {
-                            f
-                        }
-                    }
-                    _ => bail!(
-                        "cannot infer fs from the `{}` column (seconds expected); give --fs",
-                        names[t]
-                    ),
-                }
-            }
-            None => bail!(
-                "--fs is required for a text recording without a time column ({})",
-                TIME_NAMES.join(", ")
-            ),
-        },
+    let stored = match time_col.filter(|&t| t != col) {
+        Some(t) => {
+            let stamps = data
+                .iter()
+                .map(|&(line, l)| {
+                    let f = split(l);
+                    let v = f.get(t).with_context(|| {
+                        format!(
+                            "{}: line {line} has no `{}` field",
+                            path.display(),
+                            names[t]
+                        )
+                    })?;
+                    let v: f64 = v.parse().map_err(|_| {
+                        anyhow::anyhow!(
+                            "{}: line {line}: time `{}` = {v:?} is not a number",
+                            path.display(),
+                            names[t]
+                        )
+                    })?;
+                    Ok((line, v))
+                })
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            Some(time_column_rate(path, &names[t], &stamps)?)
+        }
+        None => None,
     };
+    let what = format!("the rate of its time column `{}`", names[0]);
+    let fs =
+        resolve_rate(path, fs, stored, TIME_RATE_TOLERANCE, &what, flag)?.with_context(|| {
+            format!(
+                "{}: --fs is required for a text recording without a time column ({})",
+                path.display(),
+                TIME_NAMES.join(", ")
+            )
+        })?;
     let mut opts = bearing_data::CsvOptions::new(fs, bearing_data::Column::Index(col));
     opts.delimiter = delimiter;
     opts.header = if has_header {
@@ -269,15 +473,12 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
     } else {
         bearing_data::HeaderRow::Absent
     };
-    let sig = bearing_data::read_csv_file(path, &opts)?;
+    let sig = bearing_data::read_csv(text.as_bytes(), &opts)
+        .map_err(|e| csv_error(path, e, &names, col, data))?;
     // `simulate` states the unit of `accel` in its JSON sidecar (g for the calibrated rig, m/s²
     // for the 5-DOF parameter sets; m/s² when there is no sidecar)
     let is_accel = names[col] == "accel";
-    let in_g = is_accel
-        && std::fs::read_to_string(path.with_extension("json"))
-            .ok()
-            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-            .is_some_and(|v| v["accel_unit"] == "g");
+    let in_g = is_accel && sidecar(path).is_some_and(|v| v["accel_unit"] == "g");
     Ok(Loaded {
         samples: sig.into_samples(),
         fs_hz: fs,
@@ -296,11 +497,52 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>) -> anyhow::Result<Loade
     })
 }
 
+/// The JSON sidecar of a text recording (`x.csv` → `x.json`), when it exists and parses.
+fn sidecar(path: &Path) -> Option<serde_json::Value> {
+    let text = std::fs::read_to_string(path.with_extension("json")).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+/// The shaft speed a `simulate` sidecar records (its `rpm`), for a text recording; `None` for
+/// other files and sidecars without one.
+pub fn sidecar_rpm(path: &Path) -> Option<f64> {
+    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    if !matches!(ext.as_str(), "csv" | "tsv" | "txt") {
+        return None;
+    }
+    let v = sidecar(path)?;
+    let from_simulate = v["generator"]
+        .as_str()
+        .is_some_and(|g| g.contains("simulate"));
+    v["rpm"]
+        .as_f64()
+        .filter(|r| from_simulate && r.is_finite() && *r > 0.0)
+}
+
+/// The speed to use for `path`: `rpm` when given, else its `simulate` sidecar's
+/// ([`sidecar_rpm`]), with a note saying so.
+pub fn rpm_or_sidecar(path: &Path, rpm: Option<f64>) -> (Option<f64>, Option<String>) {
+    match rpm {
+        Some(r) => (Some(r), None),
+        None => match sidecar_rpm(path) {
+            Some(r) => (
+                Some(r),
+                Some(format!(
+                    "{}: --rpm {r} from its simulate sidecar {}",
+                    path.display(),
+                    path.with_extension("json").display()
+                )),
+            ),
+            None => (None, None),
+        },
+    }
+}
+
 /// A prepared baseline and a note saying how it was made (rate, decimation).
 pub type Prepared = Arc<(Baseline, String)>;
 
 /// A healthy baseline: a recording's samples, prepared on demand for each recording rate it is
-/// asked for, or a calibrated machine model (`cargo xtask calibrate`), whose structural path is
+/// asked for, or a calibrated machine model (`hybrid-fdd calibrate`), whose structural path is
 /// the healthy model.
 #[derive(Debug)]
 pub struct BaselineSource {
@@ -313,8 +555,10 @@ pub struct BaselineSource {
 }
 
 impl BaselineSource {
-    /// Load a baseline file: a recording (as [`load`]), or a machine model JSON (`.json`,
-    /// validated by `close_loop::machine::MachineModel::from_json`).
+    /// Load a baseline file: a recording (as [`load_with`] under [`FsFlag::ForUnstated`]: a
+    /// text file without a time column at `fs`, the recording's `--fs`; a `.mat` file or a
+    /// time column at its own rate), or a machine model JSON (`.json`, validated by
+    /// `close_loop::machine::MachineModel::from_json`).
     ///
     /// # Errors
     /// As [`load`], or the machine model's typed format errors.
@@ -330,7 +574,8 @@ impl BaselineSource {
                 .with_context(|| format!("baseline machine model {}", path.display()))?;
             return Ok(Self::from_machine(path, m));
         }
-        let l = load(path, channel, fs).with_context(|| format!("baseline {}", path.display()))?;
+        // the loader's errors name the file
+        let l = load_with(path, channel, fs, FsFlag::ForUnstated).context("baseline")?;
         Ok(Self::from_samples(path, l.samples, l.fs_hz))
     }
 
@@ -372,7 +617,7 @@ impl BaselineSource {
         })?;
         let (Some(rms), Some(kurt)) = (m.path_residual_rms, m.path_residual_kurtosis) else {
             anyhow::bail!(
-                "baseline machine model {name} has no path residual statistics (written by an older version): recalibrate it with `cargo xtask calibrate`"
+                "baseline machine model {name} has no path residual statistics (written by an older version): recalibrate it with `hybrid-fdd calibrate` (or `cargo xtask calibrate`)"
             );
         };
         let w = diagnosis::ArWhitener::from_coefficients(
@@ -758,10 +1003,50 @@ fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
     Ok(v)
 }
 
+/// The report name (without extension) of each batch input, in order: its stem, or
+/// `<stem>_<ext>` (`x_csv`, `x_tsv`) when several inputs share the stem (compared ignoring
+/// case), and `<name>_<k>` (k = 1-based position among `files`) for any name still taken twice.
+/// Deterministic: depends on the file names only.
+pub fn report_names(files: &[PathBuf]) -> Vec<String> {
+    let stem = |p: &PathBuf| {
+        p.file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("recording")
+            .to_string()
+    };
+    let count =
+        |names: &[String], n: &str| names.iter().filter(|m| m.eq_ignore_ascii_case(n)).count();
+    let stems: Vec<String> = files.iter().map(stem).collect();
+    let names: Vec<String> = files
+        .iter()
+        .zip(&stems)
+        .map(|(p, s)| {
+            if count(&stems, s) > 1 {
+                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+                format!("{s}_{ext}")
+            } else {
+                s.clone()
+            }
+        })
+        .collect();
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            if count(&names, n) > 1 {
+                format!("{n}_{}", k + 1)
+            } else {
+                n.clone()
+            }
+        })
+        .collect()
+}
+
 /// Run `diagnose` with these flags (one file, or a directory in parallel with a progress bar).
 ///
 /// # Errors
-/// Missing flags, unreadable files, the library's typed errors (one line each).
+/// Missing flags, unreadable files, the library's typed errors (one line each); in a directory
+/// batch, any file that failed (after every report and `summary.csv` are written).
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
@@ -773,8 +1058,34 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .map(|p| load_classifier(p).map(|t| (t, p)))
         .transpose()?;
     let files = expand(input)?;
-    let one = |path: &Path, out: &Path| -> anyhow::Result<Outcome> {
-        let l = load(path, &plan.channel, plan.fs)?;
+    // one recording: its own rate must agree with a --fs; a batch: --fs is for files without one
+    let flag = if input.is_dir() {
+        FsFlag::ForUnstated
+    } else {
+        FsFlag::MustAgree
+    };
+    let one = |path: &Path, out: &Path| -> anyhow::Result<(Outcome, Vec<String>)> {
+        let mut notes = Vec::new();
+        let l = load_with(path, &plan.channel, plan.fs, flag)?;
+        if let Some(f) = plan.fs
+            && (l.fs_hz - f).abs() > MAT_RATE_TOLERANCE * f
+        {
+            notes.push(format!(
+                "{}: its own rate {} Hz used (--fs {f} is for files that store no rate)",
+                path.display(),
+                l.fs_hz
+            ));
+        }
+        let (rpm, note) = if l.rpm.is_none() {
+            rpm_or_sidecar(path, plan.rpm)
+        } else {
+            (plan.rpm, None)
+        };
+        notes.extend(note);
+        let plan = Plan {
+            rpm,
+            ..plan.clone()
+        };
         let mut o = diagnose_loaded(&l, &plan, baseline.as_ref())
             .with_context(|| path.display().to_string())?;
         if let Some((t, p)) = &trained {
@@ -786,10 +1097,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             .and_then(|s| s.to_str())
             .unwrap_or("recording");
         write_reports(&o, out, title)?;
-        Ok(o)
+        Ok((o, notes))
     };
     if !input.is_dir() {
-        let o = one(input, report)?;
+        let (o, notes) = one(input, report)?;
+        for n in notes {
+            eprintln!("note: {n}");
+        }
         println!(
             "{}: {} ({} reference){} -> {}",
             input.display(),
@@ -808,36 +1122,39 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         return Ok(());
     }
     std::fs::create_dir_all(report)?;
+    let names = report_names(&files);
     let bar = indicatif::ProgressBar::new(files.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let results: Vec<(PathBuf, anyhow::Result<Outcome>)> = files
+    type Done = (PathBuf, String, anyhow::Result<(Outcome, Vec<String>)>);
+    let results: Vec<Done> = files
         .par_iter()
-        .map(|p| {
-            let stem = p
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .unwrap_or("recording");
-            let r = one(p, &report.join(format!("{stem}.json")));
+        .zip(&names)
+        .map(|(p, n)| {
+            let json = format!("{n}.json");
+            let r = one(p, &report.join(&json));
             bar.inc(1);
-            (p.clone(), r)
+            (p.clone(), json, r)
         })
         .collect();
     bar.finish_and_clear();
     let mut csv = String::from(
-        "file,verdict,reference,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,error\n",
+        "file,report,verdict,reference,score_inner_db,score_outer_db,score_ball_db,band_low_hz,band_high_hz,error\n",
     );
     let mut failed = 0;
-    for (p, r) in &results {
+    for (p, json, r) in &results {
         let name = p.file_name().and_then(|s| s.to_str()).unwrap_or("");
         match r {
-            Ok(o) => {
+            Ok((o, notes)) => {
+                for n in notes {
+                    eprintln!("note: {n}");
+                }
                 let d = &o.diagnosis;
-                println!("{name}: {}", d.verdict);
+                println!("{name}: {} -> {json}", d.verdict);
                 csv += &format!(
-                    "{name},{},{},{:.2},{:.2},{:.2},{:.0},{:.0},\n",
+                    "{name},{json},{},{},{:.2},{:.2},{:.2},{:.0},{:.0},\n",
                     d.verdict,
                     if o.baseline_note.is_some() {
                         "baseline"
@@ -855,7 +1172,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 failed += 1;
                 let msg = format!("{e:#}").replace([',', '\n'], ";");
                 eprintln!("{name}: error: {msg}");
-                csv += &format!("{name},,,,,,,,{msg}\n");
+                csv += &format!("{name},,,,,,,,,{msg}\n");
             }
         }
     }
@@ -865,8 +1182,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         results.len(),
         report.display()
     );
-    if failed == results.len() {
-        bail!("every recording failed");
+    if failed > 0 {
+        bail!(
+            "{failed} of {} recordings failed (their errors are in {})",
+            results.len(),
+            report.join("summary.csv").display()
+        );
     }
     Ok(())
 }

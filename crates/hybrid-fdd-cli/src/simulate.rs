@@ -1,9 +1,11 @@
 //! `hybrid-fdd simulate` (and `cargo xtask simulate`): simulate a recording and write it as CSV:
 //! one header row, `time_s,accel`, plus all ten states with `--states` (5-DOF sets only). A JSON
-//! sidecar (`<out>.json`) records every parameter used and the unit of `accel` (`accel_unit`).
+//! sidecar (`<out>.json`) records every parameter used, the declared speed (`rpm`, which
+//! `diagnose` and `close-loop` take when `--rpm` is omitted) and the unit of `accel`
+//! (`accel_unit`).
 //!
 //! At CWRU conditions (6205, 12 kHz) the default is the **calibrated rig**
-//! (`close_loop::rig::cwru_rig`, `cargo xtask calibrate-rig`): the 5-DOF model behind the
+//! (`close_loop::rig::cwru_rig`, made by `cargo xtask calibrate-rig`): the 5-DOF model behind the
 //! measured paths of the CWRU rig, in g like the CWRU data. `--params cwru` (the physically
 //! consistent, uncalibrated 5-DOF set) and `--params table2.1` (the dissertation's) give the bare
 //! 5-DOF housing acceleration in m/s².
@@ -39,7 +41,8 @@ pub struct Args {
     /// (dissertation, as printed).
     #[arg(long, default_value = "auto")]
     pub params: String,
-    /// Outer-race spall position, o'clock: 6 (load zone), 3 or 12 (CWRU's positions).
+    /// Outer-race spall position, o'clock: 6 (load zone), 3, 9 or 12 (CWRU's positions are
+    /// 3, 6 and 12).
     #[arg(long, default_value_t = 6)]
     pub outer_clock: u8,
     /// Bearing: 6205 (CWRU drive end) | 6203 (fan end).
@@ -297,7 +300,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     write_csv(&args.out, &rec)?;
     let meta = serde_json::json!({
-        "generator": "cargo xtask simulate (bearing-model)",
+        "generator": "hybrid-fdd simulate / cargo xtask simulate (bearing-model)",
+        "rpm": args.rpm,
         "columns": { "time_s": "s", "accel": "housing (sprung-mass) acceleration, m/s^2" },
         "accel_unit": "m/s^2",
         "fs_hz": rec.fs_hz,
@@ -359,7 +363,8 @@ fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
     let geometry = args.bearing.parse::<Bearing>()?.geometry();
     let shaft_hz = args.rpm / 60.0 * rig.healthy.speed_ratio;
     let meta = serde_json::json!({
-        "generator": "cargo xtask simulate (calibrated CWRU rig, close_loop::rig)",
+        "generator": "hybrid-fdd simulate / cargo xtask simulate (calibrated CWRU rig, close_loop::rig)",
+        "rpm": args.rpm,
         "columns": { "time_s": "s", "accel": format!("acceleration at the drive-end sensor, {} (calibrated CWRU rig; the CWRU data read as g)", rig.units) },
         "accel_unit": rig.units,
         "fs_hz": args.fs,

@@ -8,7 +8,7 @@ use diagnosis::{Labelled, Reference, TrainedDiagnoser};
 use rayon::prelude::*;
 
 use crate::diagnose::{
-    BaselineSource, Loaded, Plan, RecordingFlags, decimated_to, diagnose_loaded, load,
+    BaselineSource, FsFlag, Loaded, Plan, RecordingFlags, decimated_to, diagnose_loaded, load_with,
 };
 
 /// Flags of `train-classifier`.
@@ -216,7 +216,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let baseline = args.recording.baseline_source()?;
     let mut loaded: Vec<Loaded> = rows
         .par_iter()
-        .map(|r| load(&r.file, &base_plan.channel, base_plan.fs))
+        .map(|r| {
+            load_with(
+                &r.file,
+                &base_plan.channel,
+                base_plan.fs,
+                FsFlag::ForUnstated,
+            )
+        })
         .collect::<anyhow::Result<_>>()?;
     // one rate: the lowest; recordings at an integer multiple of it are decimated (as a
     // baseline is), any other rate is refused

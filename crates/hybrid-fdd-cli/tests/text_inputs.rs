@@ -52,3 +52,42 @@ fn ambiguous_or_unknown_columns_are_refused_by_name() {
     let e = load(&p, "3", None).expect_err("no third column");
     assert!(e.to_string().contains("no column `3`"), "{e}");
 }
+
+/// QA m1: a non-finite sample is named with the file, its line and the column numbered from 1
+/// (as `--channel`).
+#[test]
+fn a_non_finite_sample_names_the_file_line_and_column() {
+    let (body, _) = rows(50, 1000.0, ",");
+    let mut lines: Vec<String> = body.lines().map(str::to_string).collect();
+    lines[6] = format!("{},NaN", lines[6].split(',').next().unwrap());
+    let p = write("nan2.csv", &format!("time,vib\n{}\n", lines.join("\n")));
+    let e = load(&p, "DE", None).expect_err("NaN").to_string();
+    assert!(e.contains("nan2.csv"), "{e}");
+    assert!(
+        e.contains("line 8") && e.contains("column 2 (`vib`)"),
+        "{e}"
+    );
+    assert!(e.contains("non-finite"), "{e}");
+}
+
+/// QA m2: a UTF-8 byte-order mark and double quotes around header names and numbers.
+#[test]
+fn a_byte_order_mark_and_quotes_are_dropped() {
+    let (body, x) = rows(200, 8000.0, ",");
+    let quoted: String = body
+        .lines()
+        .map(|l| {
+            let (t, v) = l.split_once(',').unwrap();
+            format!("\"{t}\",\"{v}\"\n")
+        })
+        .collect();
+    let p = write("bom.csv", &format!("\u{feff}\"Time\",\"vib\"\n{quoted}"));
+    let l = load(&p, "DE", None).expect("BOM + quotes");
+    assert_eq!(l.samples, x);
+    assert_eq!(l.fs_hz, 8000.0);
+    assert_eq!(load(&p, "vib", None).expect("by name").samples, x);
+    // a BOM before a headerless one-column file
+    let one: String = x.iter().map(|v| format!("{v}\n")).collect();
+    let p = write("bom1.csv", &format!("\u{feff}{one}"));
+    assert_eq!(load(&p, "DE", Some(8000.0)).expect("BOM").samples, x);
+}
