@@ -64,6 +64,7 @@
 
 pub mod error;
 pub mod evidence;
+pub mod speed;
 pub mod trained;
 pub mod whiten;
 
@@ -300,8 +301,17 @@ pub struct OperatingPoint {
     pub fs_hz: f64,
     /// Declared shaft speed, rpm.
     pub rpm: f64,
-    /// Shaft frequency fr, Hz.
+    /// Shaft frequency fr the analysis used, Hz (`rpm_used` / 60).
     pub shaft_hz: f64,
+    /// Shaft speed the analysis used, rpm: the declared one, or the measured one when the
+    /// recording's shaft-harmonic comb stands out and differs from it by more than half of
+    /// [`SPEED_TOL`] ([`speed`]).
+    #[serde(default)]
+    pub rpm_used: f64,
+    /// The speed measured from the recording's shaft-harmonic comb (`None` when the recording
+    /// is too short to resolve the search).
+    #[serde(default)]
+    pub measured_speed: Option<speed::SpeedEstimate>,
     /// Bearing name or spec.
     pub bearing: String,
     /// Fault orders (× fr).
@@ -598,7 +608,16 @@ fn diagnose_with(
             max: MAX_RPM,
         });
     }
-    let fr = rpm / 60.0;
+    error::check_finite("recording", x)?;
+    // 0. the speed the recording shows (its shaft-harmonic comb, resolved to better than half
+    //    the lines' speed tolerance) replaces the declared one when the comb stands out and the
+    //    two differ by more than half that tolerance: a larger error would eat the windows' margin
+    let measured_speed = speed::estimate_speed(engine, x, fs_hz, rpm)?;
+    let rpm_used = match measured_speed {
+        Some(m) if m.accepted && (m.rpm / rpm - 1.0).abs() > 0.5 * SPEED_TOL => m.rpm,
+        _ => rpm,
+    };
+    let fr = rpm_used / 60.0;
     let o = bearing.orders;
     let min_width = min_band_width_hz(&o, fr);
     if 2.0 * min_width > 0.5 * fs_hz {
@@ -619,7 +638,6 @@ fn diagnose_with(
             min_turns: MIN_TURNS,
         });
     }
-    error::check_finite("recording", x)?;
     if let Some(b) = baseline
         && (b.whitener.fs_hz - fs_hz).abs() > 1e-9 * fs_hz
     {
@@ -887,6 +905,8 @@ fn diagnose_with(
             fs_hz,
             rpm,
             shaft_hz: fr,
+            rpm_used,
+            measured_speed,
             bearing: bearing.name.clone(),
             orders: o,
             frequencies_hz: o.at(fr),

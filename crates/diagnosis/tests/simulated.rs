@@ -205,8 +205,9 @@ fn report_serialises_without_nan() {
     let g = BearingGeometry::skf_6205();
     let spec = BearingSpec::parse("6205").unwrap();
     let d = run(g, &spec, FaultClass::Outer, 1797.0, 12_000.0, true);
-    // serde_json writes NaN as null: the only nulls allowed are "not explained" and, when
-    // self-referenced, the energy ratios and the lines' baseline prominences
+    // serde_json writes NaN as null: the only nulls allowed are "not explained", the measured
+    // speed of a record too short to resolve it (these are 2 s) and, when self-referenced, the
+    // energy ratios and the lines' baseline prominences
     fn nulls(v: &serde_json::Value, key: &str, out: &mut Vec<String>) {
         match v {
             serde_json::Value::Null => out.push(key.to_string()),
@@ -219,13 +220,17 @@ fn report_serialises_without_nan() {
     assert_eq!(v["reference"], "baseline");
     let mut n = Vec::new();
     nulls(&v, "", &mut n);
-    assert!(n.iter().all(|k| k == "explained_by"), "{n:?}");
+    assert!(
+        n.iter()
+            .all(|k| k == "explained_by" || k == "measured_speed"),
+        "{n:?}"
+    );
     let d = run(g, &spec, FaultClass::None, 1797.0, 12_000.0, false);
     let v = serde_json::to_value(&d).unwrap();
     assert_eq!(v["reference"], "self");
     let mut n = Vec::new();
     nulls(&v, "", &mut n);
-    n.retain(|k| k != "explained_by" && k != "baseline_prominence_db");
+    n.retain(|k| k != "explained_by" && k != "baseline_prominence_db" && k != "measured_speed");
     assert_eq!(n, ["energy_ratio", "energy_ratio_db"]);
 }
 
@@ -394,4 +399,59 @@ fn dense_impacts_of_low_kurtosis_are_read_on_periodicity() {
         let h = diagnose(&healthy, fs, rpm, &spec, b).unwrap();
         assert_eq!(h.verdict, "normal", "{:?}", h.scores);
     }
+}
+
+/// A speed declared 1.5 % off (a nameplate speed): the recording's shaft-harmonic comb gives the
+/// speed the fault lines are read at, and the outer-race fault is found; white noise has no comb
+/// to trust and keeps the declared speed.
+#[test]
+fn speed_is_measured_from_the_shaft_comb_when_the_declared_one_is_off() {
+    use rand::{Rng, SeedableRng};
+    use rand_distr::StandardNormal;
+    let (fs, rpm) = (12_000.0, 1480.0);
+    let spec = BearingSpec::parse("6205").unwrap();
+    let fr = rpm / 60.0;
+    let bpfo = spec.orders.bpfo * fr;
+    let n = (8.0 * fs) as usize;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let mut x: Vec<f64> = (0..n)
+        .map(|_| 0.3 * rng.sample::<f64, _>(StandardNormal))
+        .collect();
+    for (k, v) in x.iter_mut().enumerate() {
+        let t = k as f64 / fs;
+        for h in 1..=6 {
+            let a = 0.05 / h as f64;
+            *v += a * (2.0 * std::f64::consts::PI * h as f64 * fr * t + 0.3 * h as f64).cos();
+        }
+    }
+    let (w, zeta) = (2.0 * std::f64::consts::PI * 3200.0, 0.05);
+    let mut t0 = 0.0;
+    while t0 < n as f64 / fs {
+        let k0 = (t0 * fs).ceil() as usize;
+        for (k, v) in x
+            .iter_mut()
+            .enumerate()
+            .skip(k0)
+            .take((0.004 * fs) as usize)
+        {
+            let t = k as f64 / fs - t0;
+            *v += 0.8 * (-zeta * w * t).exp() * (w * t).sin();
+        }
+        t0 += (1.0 + 0.005 * rng.sample::<f64, _>(StandardNormal)) / bpfo;
+    }
+    let declared = rpm * 1.015;
+    let d = diagnose(&x, fs, declared, &spec, None).unwrap();
+    let m = d.operating_point.measured_speed.expect("speed measured");
+    assert!(m.accepted, "{m:?}");
+    assert!(
+        (d.operating_point.rpm_used / rpm - 1.0).abs() < 0.001,
+        "{m:?}"
+    );
+    assert_eq!(d.verdict, "outer", "{:?}", d.scores);
+    let noise: Vec<f64> = (0..n)
+        .map(|_| rng.sample::<f64, _>(StandardNormal))
+        .collect();
+    let d = diagnose(&noise, fs, declared, &spec, None).unwrap();
+    assert_eq!(d.operating_point.rpm_used, declared);
+    assert!(!d.operating_point.measured_speed.unwrap().accepted);
 }

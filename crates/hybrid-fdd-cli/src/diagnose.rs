@@ -893,6 +893,26 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             t.segments.join(", ")
         );
     }
+    m += &match op.measured_speed {
+        Some(ms) => format!(
+            "- speed: declared {:.1} rpm; the recording's shaft-harmonic comb (orders 1–{}) says {:.1} rpm (score {:.1}, contrast {:.1}: {}); analysed at {:.1} rpm\n",
+            op.rpm,
+            ms.orders,
+            ms.rpm,
+            ms.comb_score,
+            ms.contrast,
+            if ms.accepted {
+                "clear"
+            } else {
+                "not clear enough to use"
+            },
+            op.rpm_used
+        ),
+        None => format!(
+            "- speed: declared {:.1} rpm (the recording is too short to measure it from its shaft-harmonic comb)\n",
+            op.rpm
+        ),
+    };
     m += &format!(
         "- reference: {} ({})\n- operating point: {:.1} rpm (fr = {:.3} Hz), fs = {} Hz, bearing {}\n\
          - fault frequencies (Hz): BPFO {:.2}, BPFI {:.2}, BSF (ball-defect rate, 2× spin) {:.2}, FTF {:.2}\n\
@@ -905,7 +925,7 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         o.baseline_note
             .as_deref()
             .unwrap_or("AR model fitted on the recording itself"),
-        op.rpm,
+        op.rpm_used,
         op.shaft_hz,
         op.fs_hz,
         op.bearing,

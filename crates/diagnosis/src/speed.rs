@@ -1,0 +1,122 @@
+//! The shaft speed the recording itself shows: its shaft-harmonic comb.
+//!
+//! A speed read from a nameplate, a drive setting or a rounded log is often off by a few tenths of
+//! a percent to a few percent, while the fault-line windows of [`crate::evidence`] allow only
+//! ± [`crate::SPEED_TOL`] for the speed itself (widening them lets one fault's harmonics
+//! match another's: on the CWRU records a ± 1 % tolerance turned outer-race records into ball
+//! faults). Instead the speed is measured: the comb `k·fr`, `k = 1..=`[`COMB_ORDERS`], is
+//! searched within ± [`SPEED_SEARCH`] of the declared speed in the recording's log amplitude
+//! spectrum, each harmonic scored by the height of its peak (± 1 bin) over the mean log level
+//! within ± 0.3 fr of it. The best ratio is accepted only when the comb stands out: its score
+//! is at least [`COMB_MIN_PER_ORDER`] per harmonic (10 dB on average) and [`COMB_MIN_CONTRAST`]
+//! times the median score over the search. On the CWRU drive-end records the comb agrees with
+//! the logged speed within 0.1 % (score 27–36 against medians of 6–12 for ten orders); white
+//! noise scores ~5 with a contrast below 2. See `docs/equations/diagnosis.md`, "Speed".
+
+use residual_features::{SpectralEngine, Taper};
+use serde::{Deserialize, Serialize};
+
+use crate::Result;
+
+/// Relative half-width of the speed search around the declared speed.
+pub const SPEED_SEARCH: f64 = 0.02;
+/// Shaft orders in the comb.
+pub const COMB_ORDERS: usize = 10;
+/// Smallest comb score per order (log₁₀ power units: 1.0 = 10 dB) to accept a measured speed.
+pub const COMB_MIN_PER_ORDER: f64 = 1.0;
+/// Smallest ratio of the best comb score to the median score over the search.
+pub const COMB_MIN_CONTRAST: f64 = 2.0;
+
+/// The shaft speed measured from the recording's shaft-harmonic comb.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpeedEstimate {
+    /// Measured shaft speed, rpm.
+    pub rpm: f64,
+    /// Comb score at that speed (sum over orders of log₁₀ peak-over-background).
+    pub comb_score: f64,
+    /// Best score over the median score of the search.
+    pub contrast: f64,
+    /// Orders scored (those below the Nyquist frequency).
+    pub orders: usize,
+    /// Whether the comb stands out enough to be trusted (see the module docs).
+    pub accepted: bool,
+}
+
+/// Measure the shaft speed near `rpm` from `x` (sampled at `fs_hz`). `None` when no comb order
+/// lies below the Nyquist frequency or the record is too short for its comb to resolve the speed
+/// to half of [`crate::SPEED_TOL`] (bin width > ½ SPEED_TOL × top order × fr).
+///
+/// # Errors
+/// The spectral engine's errors (non-finite input).
+pub fn estimate_speed(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    rpm: f64,
+) -> Result<Option<SpeedEstimate>> {
+    let fr0 = rpm / 60.0;
+    // a 7-smooth length (≤ 2 % shorter) keeps the real FFT fast
+    let n = 2 * residual_features::smooth_floor(x.len() / 2);
+    if n < 64 {
+        return Ok(None);
+    }
+    let df = fs_hz / n as f64;
+    let mean = x[..n].iter().sum::<f64>() / n as f64;
+    let centred: Vec<f64> = x[..n].iter().map(|v| v - mean).collect();
+    let spec = engine.amplitude_spectrum(&centred, fs_hz, Taper::Hann)?;
+    let floor = spec.values.iter().fold(0.0_f64, |m, v| m.max(*v)) * 1e-12 + 1e-300;
+    let l: Vec<f64> = spec
+        .values
+        .iter()
+        .map(|a| (a * a + floor * floor).log10())
+        .collect();
+    let mut cum = vec![0.0; l.len() + 1];
+    for (k, v) in l.iter().enumerate() {
+        cum[k + 1] = cum[k] + v;
+    }
+    let half = ((0.3 * fr0 / df).round() as usize).max(3);
+    let top = l.len().saturating_sub(half + 2);
+    let orders = (1..=COMB_ORDERS)
+        .filter(|&k| (k as f64 * fr0 * (1.0 + SPEED_SEARCH) / df).round() as usize <= top)
+        .count();
+    // the comb must resolve the speed to half the lines' own tolerance at its top order
+    if orders == 0 || df > 0.5 * crate::SPEED_TOL * orders as f64 * fr0 {
+        return Ok(None);
+    }
+    let score = |r: f64| -> f64 {
+        (1..=orders)
+            .map(|k| {
+                let i = (k as f64 * fr0 * r / df).round() as usize;
+                let (lo, hi) = (i.saturating_sub(half).max(1), i + half + 1);
+                let bg = (cum[hi] - cum[lo]) / (hi - lo) as f64;
+                let peak = l[i - 1].max(l[i]).max(l[i + 1]);
+                (peak - bg).max(0.0)
+            })
+            .sum()
+    };
+    // steps of a quarter bin at the highest order scored
+    let step = 0.25 * df / (orders as f64 * fr0);
+    let steps = (2.0 * SPEED_SEARCH / step).ceil() as usize;
+    let scores: Vec<(f64, f64)> = (0..=steps)
+        .map(|j| {
+            let r = 1.0 - SPEED_SEARCH + 2.0 * SPEED_SEARCH * j as f64 / steps as f64;
+            (r, score(r))
+        })
+        .collect();
+    let (r_best, s_best) =
+        scores.iter().copied().fold(
+            (1.0, f64::NEG_INFINITY),
+            |b, c| if c.1 > b.1 { c } else { b },
+        );
+    let mut sorted: Vec<f64> = scores.iter().map(|c| c.1).collect();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    let contrast = s_best / median.max(1e-9);
+    Ok(Some(SpeedEstimate {
+        rpm: rpm * r_best,
+        comb_score: s_best,
+        contrast,
+        orders,
+        accepted: s_best >= COMB_MIN_PER_ORDER * orders as f64 && contrast >= COMB_MIN_CONTRAST,
+    }))
+}
