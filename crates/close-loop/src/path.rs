@@ -271,6 +271,11 @@ pub fn identify(
         })
 }
 
+/// Fewest samples a structural path is identified from ([`identify_from_signal`]); the loop
+/// identifies it on the fitting part, so a recording needs this many there
+/// ([`crate::min_samples`]).
+pub const MIN_PATH_SAMPLES: usize = 2048;
+
 /// Identify the structural path of a recording directly, without the loop: Welch PSDs of `y`
 /// (segments of about 12 Hz resolution for the score, eight times finer for the AR fit, both
 /// shrunk until at least eight segments fit), lines removed, and the order chosen by
@@ -280,8 +285,8 @@ pub fn identify(
 /// the recording's spectrum.
 ///
 /// # Errors
-/// [`CloseLoopError::TooShort`] below 2048 samples, [`CloseLoopError::InvalidSamplingRate`],
-/// and the errors of the Welch PSD and of [`identify`].
+/// [`CloseLoopError::TooShort`] below [`MIN_PATH_SAMPLES`] samples,
+/// [`CloseLoopError::InvalidSamplingRate`], and the errors of the Welch PSD and of [`identify`].
 pub fn identify_from_signal(
     y: &[f64],
     fs: f64,
@@ -290,9 +295,9 @@ pub fn identify_from_signal(
     if !(fs.is_finite() && fs > 0.0) {
         return Err(CloseLoopError::InvalidSamplingRate { fs });
     }
-    if y.len() < 2048 {
+    if y.len() < MIN_PATH_SAMPLES {
         return Err(CloseLoopError::TooShort {
-            needed: 2048,
+            needed: MIN_PATH_SAMPLES,
             found: y.len(),
         });
     }

@@ -236,6 +236,9 @@ fn bad(name: &'static str, value: f64, min: f64, max: f64) -> CloseLoopError {
     }
 }
 
+/// Smallest spall width accepted, mm (1 nm: anything positive in practice, printable in an error).
+const MIN_SIZE_MM: f64 = 1e-6;
+
 /// The 5-DOF excitation of `class` (spalls of `size_mm` at depth [`DEPTH_M`], outer race at
 /// `outer_angle_rad`, slip [`SLIP_FRACTION`], every ball preloaded by `preload_m`): `n` samples of the housing acceleration (m/s²)
 /// with the sprung-mass resonance moved to [`EXCITATION_HOUSING_HZ`], and of the horizontal
@@ -263,8 +266,8 @@ pub fn excitation(
             horizontal: vec![0.0; n],
         });
     }
-    if !(size_mm.is_finite() && size_mm > 0.0) {
-        return Err(bad("size_mm", size_mm, f64::MIN_POSITIVE, 10.0));
+    if !(size_mm.is_finite() && size_mm >= MIN_SIZE_MM) {
+        return Err(bad("size_mm", size_mm, MIN_SIZE_MM, 10.0));
     }
     let model_err = |e: bearing_model::ModelError| CloseLoopError::Model {
         reason: e.to_string(),
@@ -513,11 +516,14 @@ impl RigModel {
     /// A simulated recording of the rig (rig units, [`RigModel::units`]).
     ///
     /// # Errors
-    /// [`CloseLoopError::InvalidRpm`], [`CloseLoopError::ParameterOutOfRange`] for `n` below
-    /// 1024, and the errors of [`RigModel::fault_signal`].
+    /// [`CloseLoopError::InvalidRpm`], [`CloseLoopError::ParameterOutOfRange`] for a speed above
+    /// 100 000 rpm or `n` below 1024, and the errors of [`RigModel::fault_signal`].
     pub fn synthesize(&self, s: &Synthesis) -> Result<Vec<f64>, CloseLoopError> {
-        if !(s.rpm.is_finite() && s.rpm > 0.0 && s.rpm <= 100_000.0) {
+        if !(s.rpm.is_finite() && s.rpm > 0.0) {
             return Err(CloseLoopError::InvalidRpm { rpm: s.rpm });
+        }
+        if s.rpm > 100_000.0 {
+            return Err(bad("rpm", s.rpm, 0.0, 100_000.0));
         }
         if s.n < 1024 {
             return Err(bad("samples", s.n as f64, 1024.0, f64::INFINITY));

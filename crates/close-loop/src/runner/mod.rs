@@ -16,12 +16,15 @@ use std::sync::Arc;
 pub const MIN_NPERSEG: usize = 256;
 
 /// Samples a recording needs for `cfg`: both parts must hold `min_segments` Welch segments of
-/// [`MIN_NPERSEG`] samples.
+/// [`MIN_NPERSEG`] samples, and the fitting part the [`crate::path::MIN_PATH_SAMPLES`] a
+/// structural path is identified from.
 pub fn min_samples(cfg: &CheckedConfig) -> usize {
     let c = cfg.get();
     let part = MIN_NPERSEG * (c.min_segments + 1) / 2;
     let frac = c.fit_fraction.min(1.0 - c.fit_fraction);
-    (part as f64 / frac).ceil() as usize + 1
+    let welch = (part as f64 / frac).ceil() as usize + 1;
+    let path = (crate::path::MIN_PATH_SAMPLES as f64 / c.fit_fraction).ceil() as usize + 1;
+    welch.max(path)
 }
 
 /// Length of the fitting segment `[0, n_fit)` of an `n`-sample recording (the rest is held out).
