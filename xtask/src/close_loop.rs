@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use close_loop::Outcome;
 use close_loop::machine::MachineModel;
+use close_loop::{EffectKind, Outcome};
 use hybrid_fdd_cli::close_loop::{effect_list, run_one};
 
 use crate::common::Context;
@@ -165,6 +165,26 @@ fn all_real(
     md.push_str(&format!(
         "\nGrade-Y records with the error at least halved: {halved} of {}.\n",
         y.len()
+    ));
+    let (mut at_bound, mut resonances) = (0usize, 0usize);
+    for (.., o) in &rows {
+        for e in o
+            .ledger
+            .effects
+            .iter()
+            .filter(|e| e.kind == EffectKind::Resonance)
+        {
+            resonances += 1;
+            if e.parameters.get("at_search_bound") == Some(&1.0) {
+                at_bound += 1;
+            }
+        }
+    }
+    md.push_str(&format!(
+        "\nOf the {resonances} `resonance` effects, {at_bound} end with their damping (0.7) or gain \
+         (+200 / −0.97) at the search bound (`parameters.at_search_bound` = 1): broad corrections \
+         of the spectral shape that lower the error, not resolved resonances; their descriptions \
+         say so.\n"
     ));
     std::fs::write(out_dir.join("README.md"), md)?;
     std::fs::write(out_dir.join("summary.csv"), csv)?;

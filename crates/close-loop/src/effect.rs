@@ -247,6 +247,19 @@ pub enum Effect {
     },
 }
 
+/// Largest damping ratio a fitted mode may take.
+pub const MODE_MAX_DAMPING: f64 = 0.7;
+/// Gain range of a fitted mode: a bump up to +200 (46 dB), a notch down to −0.97 (−30 dB).
+pub const MODE_GAIN_RANGE: (f64, f64) = (-0.97, 200.0);
+
+/// Whether a fitted mode's damping or gain sits at its search bound (within 1 %): the data did
+/// not pin it, and the "mode" is a broad correction of the spectral shape, not a resonance.
+pub fn mode_at_bound(mode: &Mode) -> bool {
+    mode.damping_ratio >= 0.99 * MODE_MAX_DAMPING
+        || mode.gain >= 0.99 * MODE_GAIN_RANGE.1
+        || mode.gain <= 0.99 * MODE_GAIN_RANGE.0
+}
+
 impl Effect {
     /// An effect on narrow lines (tone, shaft harmonic, comb, or a speed offset that moves the
     /// kinematic lines), detected by a test of its own that does not rest on the broadband level.
@@ -343,6 +356,10 @@ impl Effect {
             }
             Self::Resonance { mode, housing } => {
                 m.insert("housing_mode".into(), if *housing { 1.0 } else { 0.0 });
+                m.insert(
+                    "at_search_bound".into(),
+                    if mode_at_bound(mode) { 1.0 } else { 0.0 },
+                );
                 m.insert("damping_ratio".into(), mode.damping_ratio);
                 m.insert("gain".into(), mode.gain);
                 m.insert(
@@ -453,8 +470,16 @@ impl Effect {
                 mode.frequency_hz, mode.damping_ratio
             ),
             Self::Resonance { mode, .. } => format!(
-                "mode at {:.1} Hz, zeta {:.4}, parallel gain {:+.3}",
-                mode.frequency_hz, mode.damping_ratio, mode.gain
+                "mode at {:.1} Hz, zeta {:.4}, parallel gain {:+.3}{}",
+                mode.frequency_hz,
+                mode.damping_ratio,
+                mode.gain,
+                if mode_at_bound(mode) {
+                    " (damping or gain at its search bound: a broad spectral-shape correction, \
+                     not a resolved resonance)"
+                } else {
+                    ""
+                }
             ),
             Self::SpeedOffset { ratio, .. } => format!("speed ratio {ratio:.5} (true / declared)"),
             Self::Modulation {

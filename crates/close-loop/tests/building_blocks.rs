@@ -312,3 +312,46 @@ proptest! {
         prop_assert!((m.power_gain(0.0, 12_000.0) - 1.0).abs() < 1e-9);
     }
 }
+
+/// A fitted mode whose damping or gain ends at its search bound is reported as such (key
+/// `at_search_bound`, and the description says it is a spectral-shape correction); a resolved
+/// resonance is not.
+#[test]
+fn modes_at_their_search_bound_are_flagged() {
+    use close_loop::effect::{Effect, MODE_GAIN_RANGE, MODE_MAX_DAMPING, mode_at_bound};
+    let resolved = Mode {
+        frequency_hz: 3300.0,
+        damping_ratio: 0.05,
+        gain: 3.0,
+    };
+    let flagged = [
+        Mode {
+            gain: MODE_GAIN_RANGE.1 * 0.9998,
+            ..resolved
+        },
+        Mode {
+            gain: MODE_GAIN_RANGE.0 * 0.9998,
+            ..resolved
+        },
+        Mode {
+            damping_ratio: MODE_MAX_DAMPING * 0.9996,
+            ..resolved
+        },
+    ];
+    assert!(!mode_at_bound(&resolved));
+    let e = Effect::Resonance {
+        mode: resolved,
+        housing: false,
+    };
+    assert_eq!(e.parameters()["at_search_bound"], 0.0);
+    assert!(!e.describe().contains("search bound"));
+    for m in flagged {
+        assert!(mode_at_bound(&m), "{m:?}");
+        let e = Effect::Resonance {
+            mode: m,
+            housing: false,
+        };
+        assert_eq!(e.parameters()["at_search_bound"], 1.0);
+        assert!(e.describe().contains("not a resolved resonance"));
+    }
+}

@@ -66,7 +66,11 @@ pub(super) fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Ve
         }
         let bw = ((hi - lo + 1) as f64 * df).max(2.0 * df);
         let zeta0 = (bw / (2.0 * f0)).clamp(0.003, 0.3);
-        let (g_lo, g_hi) = if v > 0.0 { (0.0, 200.0) } else { (-0.97, 0.0) };
+        let (g_lo, g_hi) = if v > 0.0 {
+            (0.0, crate::effect::MODE_GAIN_RANGE.1)
+        } else {
+            (crate::effect::MODE_GAIN_RANGE.0, 0.0)
+        };
         let g0 = (10f64.powf(v / 20.0) - 1.0).clamp(g_lo, g_hi);
         let nyq = 0.499 * ctx.fs;
         let mut mode = Mode {
@@ -102,7 +106,9 @@ pub(super) fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Ve
                     .1
                 },
                 (mode.damping_ratio / 8.0).max(0.001).ln(),
-                (mode.damping_ratio * 8.0).min(0.7).ln(),
+                (mode.damping_ratio * 8.0)
+                    .min(crate::effect::MODE_MAX_DAMPING)
+                    .ln(),
                 16,
             );
             mode.damping_ratio = lz.exp();
