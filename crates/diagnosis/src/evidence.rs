@@ -40,12 +40,18 @@ pub struct Line {
     /// For harmonics: `found_hz` agrees with h × the fundamental implied by the most prominent
     /// counting harmonic (always true for sidebands and shaft lines).
     pub consistent: bool,
+    /// For a fault harmonic: the integer shaft order k when `found_hz` sits on k·fr (within
+    /// max(0.6 bin, 0.05 %)) while the kinematic frequency does not — a shaft-order line (a
+    /// fan, a coupling, a mesh sideband) that a fault rate close to an integer order (a 6203's
+    /// ball-defect rate is 3.988 fr) would otherwise take in; it does not count.
+    #[serde(default)]
+    pub shaft_order: Option<u32>,
 }
 
 impl Line {
-    /// Present and not explained by another hypothesis.
+    /// Present, not explained by another hypothesis, consistent, and not a shaft-order line.
     pub fn counts(&self) -> bool {
-        self.present && self.explained_by.is_none() && self.consistent
+        self.present && self.explained_by.is_none() && self.consistent && self.shaft_order.is_none()
     }
 }
 
@@ -164,6 +170,7 @@ impl EnvelopeSpectrum {
             evidence_db,
             present: evidence_db >= self.line_threshold_db,
             explained_by: None,
+            shaft_order: None,
             consistent: true,
         }
     }
@@ -240,7 +247,15 @@ pub struct HypothesisEvidence {
 impl HypothesisEvidence {
     /// Recount lines and apply the decision rule: at least two harmonics present, or harmonic 1
     /// present with at least one of its distinguishing sidebands.
-    pub(crate) fn decide(&mut self, df: f64) {
+    pub(crate) fn decide(&mut self, df: f64, fr: f64) {
+        for l in &mut self.harmonics {
+            let tol = (0.6 * df).max(0.0005 * l.found_hz);
+            let k = (l.found_hz / fr).round();
+            l.shaft_order = (k >= 1.0
+                && (l.found_hz - k * fr).abs() <= tol
+                && (l.expected_hz - k * fr).abs() > tol)
+                .then_some(k as u32);
+        }
         // one impact train has one fault frequency: a harmonic counts only when its found
         // frequency is h × the fundamental implied by the most prominent counting harmonic
         // (within max(1.5 bins, 0.3 %))
@@ -248,7 +263,7 @@ impl HypothesisEvidence {
             .harmonics
             .iter()
             .enumerate()
-            .filter(|(_, l)| l.present && l.explained_by.is_none())
+            .filter(|(_, l)| l.present && l.explained_by.is_none() && l.shaft_order.is_none())
             .max_by(|a, b| a.1.evidence_db.total_cmp(&b.1.evidence_db))
             .map(|(i, l)| l.found_hz / (i + 1) as f64);
         for (i, l) in self.harmonics.iter_mut().enumerate() {
@@ -403,7 +418,7 @@ pub(crate) fn evaluate(
         sidebands_present: 0,
         detected: false,
     };
-    ev.decide(df);
+    ev.decide(df, fr);
     ev
 }
 
@@ -431,7 +446,7 @@ pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64,
                 }
             }
         }
-        ev[i].decide(df);
+        ev[i].decide(df, fr);
         if ev[i].detected {
             confirmed.push(i);
         }

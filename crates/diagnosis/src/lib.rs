@@ -854,7 +854,13 @@ fn diagnose_with(
             .collect::<Vec<_>>()
             .join("+")
     };
-    let chosen_by = if impulsive {
+    let chosen_by = if impulsive && eligible.is_empty() {
+        format!(
+            "no band has significant spectral kurtosis; read on periodicity: the band of {} \
+             where a hypothesis has {MIN_LINES} harmonics at >= {PERIODIC_LINE_DB} dB and scores highest",
+            spectra.len()
+        )
+    } else if impulsive {
         format!(
             "largest hypothesis score among the {} of {} bands with significant spectral kurtosis",
             eligible.len(),
