@@ -220,6 +220,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                 // kept when it removes ≥ min_line_power of the held-out signal's power from the
                 // time-domain residual and does not raise the spectral error
                 let coherent = cand.effect.is_coherent_line()
+                    && !is_declared_fault_line(ctx, &st, &cand.effect)
                     && h.lsd <= held.lsd
                     && held.rms * held.rms - h.rms * h.rms >= c.min_line_power;
                 if spectral || coherent {
@@ -353,6 +354,10 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
             others.push(e);
             continue;
         }
+        if is_declared_fault_line(ctx, st, &e.effect) {
+            weak.push(e);
+            continue;
+        }
         let removed = (now - crate::metric::mean_square(&ctx.fit_residual(&e.state))) / total;
         if removed >= c.min_line_power {
             strong.push((removed, e));
@@ -367,6 +372,39 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
         .into_iter()
         .filter_map(|l| if l { lines.next() } else { others.next() })
         .collect()
+}
+
+/// Whether `effect` is a tone on a line of the declared fault's own family at the state's speed
+/// — k·BPFO ± m·fr (outer), k·BPFI ± m·fr (inner), k·(ball-defect rate) ± m·FTF (ball),
+/// k ≥ 1, |m| ≤ 3, within 0.03 % — i.e. a line the declared physics makes but with another
+/// amplitude or phase, not an undeclared tone. Such a line gets no coherent-line privilege
+/// (it is judged by the spectral error alone, as any patch of the declared fault's spectrum).
+fn is_declared_fault_line(ctx: &Ctx<'_>, st: &State, effect: &Effect) -> bool {
+    let Effect::Tone { line } = effect else {
+        return false;
+    };
+    let f = line.frequency_hz;
+    let fr = ctx.op.rpm / 60.0 * st.base.ratio;
+    let o = ctx.op.bearing.orders;
+    let fault = ctx.op.fault;
+    let mut families: Vec<(f64, f64)> = Vec::new();
+    if fault.has_outer() {
+        families.push((o.bpfo * fr, fr));
+    }
+    if fault.has_inner() {
+        families.push((o.bpfi * fr, fr));
+    }
+    if fault.has_ball() {
+        families.push((o.ball_defect * fr, o.ftf * fr));
+    }
+    let tol = 3e-4 * f;
+    families.iter().any(|&(base, side)| {
+        (-3..=3).any(|m: i32| {
+            let rest = f - f64::from(m) * side;
+            let k = (rest / base).round();
+            k >= 1.0 && (rest - k * base).abs() <= tol
+        })
+    })
 }
 
 /// Held-out RMS of the observer residual of y − (the state's phase-coherent lines), the observer
