@@ -366,6 +366,46 @@ fn baseline_from_a_model_matches_the_prepared_one() {
 /// 3 kHz ring-down of ~2.5 ms) overlap into a band of low spectral kurtosis, yet their envelope
 /// holds BPFO and its harmonics far above the background: the band is read on periodicity and
 /// the verdict is `outer`, with and without a baseline; the healthy record stays `normal`.
+/// Adds a train of decaying ring-downs to `x` (one fault's impacts seen through a resonance):
+/// impacts at `rate_hz`, each interval scaled by (1 + `jitter`·z), z standard normal from `rng`
+/// (no draw when `jitter` is 0), each impact a `resonance_hz` sine decaying with damping `zeta`
+/// over `ring_s` seconds, of amplitude `amplitude(t0)` at impact time t0.
+#[allow(clippy::too_many_arguments)]
+fn ring_downs(
+    x: &mut [f64],
+    fs: f64,
+    rate_hz: f64,
+    resonance_hz: f64,
+    zeta: f64,
+    ring_s: f64,
+    jitter: f64,
+    rng: &mut rand_chacha::ChaCha8Rng,
+    amplitude: impl Fn(f64) -> f64,
+) {
+    use rand::Rng;
+    use rand_distr::StandardNormal;
+    let w = 2.0 * std::f64::consts::PI * resonance_hz;
+    let mut t0 = 0.0;
+    while t0 < x.len() as f64 / fs {
+        let k0 = (t0 * fs).ceil() as usize;
+        let a = amplitude(t0);
+        for (k, v) in x
+            .iter_mut()
+            .enumerate()
+            .skip(k0)
+            .take((ring_s * fs) as usize)
+        {
+            let t = k as f64 / fs - t0;
+            *v += a * (-zeta * w * t).exp() * (w * t).sin();
+        }
+        t0 += if jitter == 0.0 {
+            1.0 / rate_hz
+        } else {
+            (1.0 + jitter * rng.sample::<f64, _>(StandardNormal)) / rate_hz
+        };
+    }
+}
+
 #[test]
 fn dense_impacts_of_low_kurtosis_are_read_on_periodicity() {
     use rand::{Rng, SeedableRng};
@@ -380,22 +420,17 @@ fn dense_impacts_of_low_kurtosis_are_read_on_periodicity() {
             .map(|_| 0.35 * rng.sample::<f64, _>(StandardNormal))
             .collect();
         if fault {
-            let (w, zeta) = (2.0 * std::f64::consts::PI * 3000.0, 0.02);
-            let mut t0 = 0.0;
-            while t0 < n as f64 / fs {
-                let k0 = (t0 * fs).ceil() as usize;
-                for (k, v) in x
-                    .iter_mut()
-                    .enumerate()
-                    .skip(k0)
-                    .take((0.012 * fs) as usize)
-                {
-                    let t = k as f64 / fs - t0;
-                    *v += (-zeta * w * t).exp() * (w * t).sin();
-                }
-                // 1 % random slip of the impact instants
-                t0 += (1.0 + 0.01 * rng.sample::<f64, _>(StandardNormal)) / bpfo;
-            }
+            ring_downs(
+                &mut x,
+                fs,
+                bpfo,
+                3000.0,
+                0.02,
+                0.012,
+                0.01,
+                &mut rng,
+                |_| 1.0,
+            );
         }
         x
     };
@@ -440,21 +475,17 @@ fn speed_is_measured_from_the_shaft_comb_when_the_declared_one_is_off() {
             *v += a * (2.0 * std::f64::consts::PI * h as f64 * fr * t + 0.3 * h as f64).cos();
         }
     }
-    let (w, zeta) = (2.0 * std::f64::consts::PI * 3200.0, 0.05);
-    let mut t0 = 0.0;
-    while t0 < n as f64 / fs {
-        let k0 = (t0 * fs).ceil() as usize;
-        for (k, v) in x
-            .iter_mut()
-            .enumerate()
-            .skip(k0)
-            .take((0.004 * fs) as usize)
-        {
-            let t = k as f64 / fs - t0;
-            *v += 0.8 * (-zeta * w * t).exp() * (w * t).sin();
-        }
-        t0 += (1.0 + 0.005 * rng.sample::<f64, _>(StandardNormal)) / bpfo;
-    }
+    ring_downs(
+        &mut x,
+        fs,
+        bpfo,
+        3200.0,
+        0.05,
+        0.004,
+        0.005,
+        &mut rng,
+        |_| 0.8,
+    );
     let declared = rpm * 1.015;
     let d = diagnose(&x, fs, declared, &spec, None).unwrap();
     let m = d.operating_point.measured_speed.expect("speed measured");
@@ -497,22 +528,17 @@ fn mains_combs_and_shaft_orders_are_not_taken_for_the_shaft_or_a_fault() {
         }
     }
     // inner-race impacts at BPFI, amplitude modulated at fr (load zone)
-    let (w, zeta) = (two_pi * 3500.0, 0.05);
-    let mut t0 = 0.0;
-    while t0 < n as f64 / fs {
-        let k0 = (t0 * fs).ceil() as usize;
-        let a = 0.6 * (1.0 + 0.8 * (two_pi * fr * t0).cos());
-        for (k, v) in x
-            .iter_mut()
-            .enumerate()
-            .skip(k0)
-            .take((0.003 * fs) as usize)
-        {
-            let t = k as f64 / fs - t0;
-            *v += a * (-zeta * w * t).exp() * (w * t).sin();
-        }
-        t0 += (1.0 + 0.005 * rng.sample::<f64, _>(StandardNormal)) / bpfi;
-    }
+    ring_downs(
+        &mut x,
+        fs,
+        bpfi,
+        3500.0,
+        0.05,
+        0.003,
+        0.005,
+        &mut rng,
+        |t0| 0.6 * (1.0 + 0.8 * (two_pi * fr * t0).cos()),
+    );
     let d = diagnose(&x, fs, rpm, &spec, None).unwrap();
     assert_eq!(
         d.operating_point.rpm_used, rpm,
@@ -528,21 +554,17 @@ fn mains_combs_and_shaft_orders_are_not_taken_for_the_shaft_or_a_fault() {
         .map(|_| rng.sample::<f64, _>(StandardNormal))
         .collect();
     // a four-blade fan: pressure pulses at 4 fr ringing a 2.5 kHz mode
-    let w = two_pi * 2500.0;
-    let mut t0 = 0.0;
-    while t0 < n as f64 / fs {
-        let k0 = (t0 * fs).ceil() as usize;
-        for (k, v) in y
-            .iter_mut()
-            .enumerate()
-            .skip(k0)
-            .take((0.004 * fs) as usize)
-        {
-            let t = k as f64 / fs - t0;
-            *v += 1.5 * (-0.04 * w * t).exp() * (w * t).sin();
-        }
-        t0 += 1.0 / (4.0 * fr);
-    }
+    ring_downs(
+        &mut y,
+        fs,
+        4.0 * fr,
+        2500.0,
+        0.04,
+        0.004,
+        0.0,
+        &mut rng,
+        |_| 1.5,
+    );
     let d = diagnose(&y, fs, rpm, &spec, None).unwrap();
     assert_eq!(d.verdict, "normal", "{:#?}", d.evidence);
 }
