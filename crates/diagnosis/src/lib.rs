@@ -8,6 +8,10 @@
 //!
 //! # Method
 //!
+//! 0. **Speed** ([`speed`]): the recording's shaft-harmonic comb (orders 1–10 within ± 2 % of the
+//!    declared speed) measures the speed; a clear, complete comb (first order and ≥ 80 % of the
+//!    orders present, mains multiples not scored) replaces a declared speed more than ½
+//!    [`SPEED_TOL`] off (`OperatingPoint::rpm_used`).
 //! 1. **Residual** ([`whiten`]): an AR linear predictor fitted by least squares on the baseline
 //!    (order by held-out prediction error) is applied as a prediction-error filter to the
 //!    recording: the residual of the healthy model, which pre-whitens the structural path and
@@ -24,12 +28,14 @@
 //!    BSF, twice the ball spin) the largest line in a slip-tolerant window around harmonics 1..3,
 //!    its prominence over the local median (dB), and the sidebands that tell faults apart (BPFI ±
 //!    fr, BSF ± FTF). Only impulsive bands are eligible (spectral kurtosis above a Gaussian's by
-//!    [`SK_SIGMAS`] standard deviations); all hypotheses are read in the one eligible band where
+//!    [`SK_SIGMAS`] standard deviations; with none, a band whose envelope holds [`MIN_LINES`]
+//!    fault harmonics ≥ [`PERIODIC_LINE_DB`]); all hypotheses are read in the one such band where
 //!    the best of them scores highest (an envelope-based band choice, as in the IESFOgram of
 //!    Mauricio et al., MSSP 2020 — the same search for every hypothesis, so no label enters).
 //!    A harmonic counts only at h × the fundamental its strongest harmonic implies (one impact
 //!    train, one fault frequency), and lines of a weaker hypothesis that a stronger detected
-//!    one's family explains (e.g. BPFO + fr near BSF) do not count for it.
+//!    one's family explains (e.g. BPFO + fr near BSF) do not count for it, nor do harmonics found
+//!    on an integer shaft order their kinematic rate is not on ([`Line::shaft_order`]).
 //! 4. **Verdict**: a hypothesis is detected when at least [`MIN_LINES`] harmonics stand
 //!    [`LINE_THRESHOLD_DB`] above the local median, or harmonic 1 does together with one of its
 //!    sidebands. See `docs/equations/diagnosis.md` for the formulas and the reasoning behind the
@@ -107,7 +113,8 @@ pub const HARMONICS: usize = 3;
 pub const SLIP_MAX: f64 = 0.02;
 /// Speed-reference offset: CWRU fault lines sit ~0.33 % above the logged speed's prediction.
 pub const SPEED_OFFSET: f64 = 0.0033;
-/// Tolerance on the declared speed itself (± 0.3 %).
+/// Tolerance on the declared speed itself (± 0.3 %; a speed further off is measured from the
+/// recording when it can be, see [`speed`]).
 pub const SPEED_TOL: f64 = 0.003;
 /// Local median of the envelope spectrum taken over ± this many shaft orders around a line.
 pub const BACKGROUND_HALF_WIDTH_ORDERS: f64 = 2.0;
