@@ -497,6 +497,34 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>, flag: FsFlag) -> anyhow
     })
 }
 
+/// A report at `x.json` beside a recording `x.csv` would overwrite the recording's `simulate`
+/// sidecar (its unit and speed): refused with a one-line error.
+///
+/// # Errors
+/// When the report's JSON path is the recording's existing sidecar.
+fn refuse_sidecar_overwrite(input: &Path, report: &Path) -> anyhow::Result<()> {
+    let side = input.with_extension("json");
+    let full = |p: &Path| -> Option<std::path::PathBuf> {
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
+    };
+    if input.extension().is_some_and(|e| e != "json")
+        && side.is_file()
+        && full(&side).is_some()
+        && full(&side) == full(&report.with_extension("json"))
+    {
+        anyhow::bail!(
+            "--report {} would overwrite the recording's sidecar {} (its unit and speed): choose another report path",
+            report.display(),
+            side.display()
+        );
+    }
+    Ok(())
+}
+
 /// The JSON sidecar of a text recording (`x.csv` → `x.json`), when it exists and parses.
 fn sidecar(path: &Path) -> Option<serde_json::Value> {
     let text = std::fs::read_to_string(path.with_extension("json")).ok()?;
@@ -1120,6 +1148,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Ok((o, notes))
     };
     if !input.is_dir() {
+        refuse_sidecar_overwrite(input, report)?;
         let (o, notes) = one(input, report)?;
         for n in notes {
             eprintln!("note: {n}");

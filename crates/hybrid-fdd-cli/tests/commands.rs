@@ -200,7 +200,7 @@ fn train_a_classifier_on_labelled_recordings_then_use_it() {
         diagnosis::TrainedDiagnoser::from_json(&std::fs::read_to_string(&clf).unwrap()).unwrap();
     assert_eq!((saved.examples, saved.recordings), (32, 8));
     simulate_rig("outer", "3", &p("new.csv"));
-    let report = p("new.json");
+    let report = p("new-report.json"); // new.json is the recording's sidecar
     let d = Diagnose::try_parse_from([
         "diagnose",
         "--input",

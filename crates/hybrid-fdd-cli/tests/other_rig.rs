@@ -119,6 +119,23 @@ fn the_speed_of_a_simulated_csv_comes_from_its_sidecar() {
     .a;
     hybrid_fdd_cli::diagnose::run(&a).expect("speed from the sidecar");
     assert_eq!(json(&report)["operating_point"]["rpm"], 1750.0);
+    // a report at the sidecar's own path would overwrite it: refused, sidecar intact
+    let over = Diagnose::try_parse_from([
+        "diagnose",
+        "--input",
+        s(&csv),
+        "--bearing",
+        "6205",
+        "--report",
+        s(&csv.with_extension("json")),
+    ])
+    .unwrap()
+    .a;
+    let e = hybrid_fdd_cli::diagnose::run(&over)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("would overwrite the recording's sidecar"), "{e}");
+    assert_eq!(json(&csv.with_extension("json"))["rpm"], 1750.0);
     // a sidecar not written by simulate is not read for a speed
     std::fs::write(csv.with_extension("json"), r#"{"rpm": 1750}"#).unwrap();
     assert_eq!(hybrid_fdd_cli::diagnose::sidecar_rpm(&csv), None);
