@@ -74,6 +74,27 @@ fn tone_is_found() {
     assert!(o.ledger.error_after < o.ledger.error_before);
 }
 
+/// The tone search covers its whole advertised band: a tone at exactly 0.45·fs, the band's
+/// upper edge (`LoopConfig::band_high_fraction`), is a peak like any other.
+#[test]
+fn tone_at_the_upper_band_edge_is_found() {
+    let f = 0.45 * FS;
+    let y = recording(DeclaredFault::Outer, RPM, |mut x| {
+        add_tone(&mut x, FS, f, 0.05, 0.4);
+        x
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let e = o
+        .ledger
+        .effects
+        .iter()
+        .find(|e| e.frequency_hz.is_some_and(|g| (g / f - 1.0).abs() < 0.005))
+        .unwrap_or_else(|| panic!("no effect at {f} Hz: {:?}", kinds(&o)));
+    assert_eq!(e.kind, EffectKind::Tone);
+    assert!((e.parameters["amplitude"] / 0.05 - 1.0).abs() < 0.2);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
 #[test]
 fn shaft_harmonic_is_found() {
     let fr = RPM / 60.0;

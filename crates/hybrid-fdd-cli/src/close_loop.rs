@@ -462,20 +462,40 @@ pub fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
     c2.draw_series(LineSeries::new(rb, &BLUE.mix(0.6)))?;
     c2.draw_series(LineSeries::new(ra, &RED))?;
     c2.draw_series(LineSeries::new(vec![(f_lo, 0.0), (f_hi, 0.0)], &BLACK))?;
-    for (i, e) in l.effects.iter().enumerate() {
-        if let Some(f) = e.frequency_hz {
-            let col = Palette99::pick(i + 2).to_rgba();
-            c2.draw_series(LineSeries::new(
-                vec![(f, -rmax), (f, rmax)],
-                col.stroke_width(2),
-            ))?;
-            if text {
-                c2.draw_series(std::iter::once(Text::new(
-                    format!("{} {}", i + 1, e.kind.as_str()),
-                    (f, rmax * (0.9 - 0.08 * (i % 5) as f64)),
-                    ("sans-serif", 11).into_font().color(&col),
-                )))?;
-            }
+    let font = 11;
+    let marked: Vec<(usize, f64, String)> = l
+        .effects
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| {
+            e.frequency_hz
+                .map(|f| (i, f, format!("{} {}", i + 1, e.kind.as_str())))
+        })
+        .collect();
+    let spans: Vec<(i32, i32)> = marked
+        .iter()
+        .map(|(_, f, label)| {
+            (
+                c2.backend_coord(&(*f, rmax)).0,
+                crate::figure::label_width(label, font),
+            )
+        })
+        .collect();
+    let rows = crate::figure::label_rows(&spans, 3, 8);
+    let plot_h = f64::from(c2.plotting_area().dim_in_pixel().1.max(1));
+    let row_step = 2.0 * rmax * 13.0 / plot_h;
+    for ((i, f, label), row) in marked.into_iter().zip(rows) {
+        let col = Palette99::pick(i + 2).to_rgba();
+        c2.draw_series(LineSeries::new(
+            vec![(f, -rmax), (f, rmax)],
+            col.stroke_width(2),
+        ))?;
+        if text {
+            c2.draw_series(std::iter::once(Text::new(
+                label,
+                (f, rmax - 0.2 * row_step - row_step * row as f64),
+                ("sans-serif", font).into_font().color(&col),
+            )))?;
         }
     }
     root.present()?;

@@ -29,6 +29,33 @@ pub fn font_available() -> bool {
     })
 }
 
+/// Rows for labels placed along a horizontal axis so that no two overlap: `spans` are the
+/// labels' (left, width) in pixels; each label, taken from left to right, goes to the first row
+/// whose last label ends at least `gap` pixels before it starts, or, when all `rows` are taken
+/// there, to the row that frees up first. Returns the row of each span, in input order.
+pub fn label_rows(spans: &[(i32, i32)], gap: i32, rows: usize) -> Vec<usize> {
+    let rows = rows.max(1);
+    let mut order: Vec<usize> = (0..spans.len()).collect();
+    order.sort_by_key(|&i| (spans[i].0, i));
+    let mut right = vec![i32::MIN / 2; rows];
+    let mut out = vec![0; spans.len()];
+    for i in order {
+        let (left, width) = spans[i];
+        let row = (0..rows)
+            .find(|&r| right[r] + gap <= left)
+            .unwrap_or_else(|| (0..rows).min_by_key(|&r| (right[r], r)).unwrap_or(0));
+        right[row] = right[row].max(left + width);
+        out[i] = row;
+    }
+    out
+}
+
+/// Width in pixels of `label` drawn in a sans-serif font of `size` pixels (an estimate: 0.6 em
+/// per character, DejaVu Sans' average advance).
+pub fn label_width(label: &str, size: u32) -> i32 {
+    (label.chars().count() as f64 * 0.6 * size as f64).ceil() as i32
+}
+
 /// A drawing area of a bitmap figure.
 pub type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
@@ -139,22 +166,50 @@ pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Resul
         marks.push((String::new(), f.bpfi + s * fr, red, true));
         marks.push((String::new(), f.ball_defect + s * f.ftf, green, true));
     }
+    let marks: Vec<_> = marks
+        .into_iter()
+        .filter(|(_, x, _, _)| *x > 0.0 && *x < top)
+        .collect();
+    // label rows that keep neighbouring labels apart (FTF×k and fr×k crowd the low end)
+    let font = 10;
+    let row_px = 12.0;
+    let plot_h = f64::from(c.plotting_area().dim_in_pixel().1.max(1));
+    let row_step = (ymax - ymin) * row_px / plot_h;
+    let spans: Vec<(i32, i32)> = marks
+        .iter()
+        .map(|(label, x, _, _)| {
+            let left = c.backend_coord(&(*x, ymax)).0;
+            (
+                left,
+                if label.is_empty() {
+                    0
+                } else {
+                    label_width(label, font)
+                },
+            )
+        })
+        .collect();
+    let labelled: Vec<usize> = (0..marks.len())
+        .filter(|&i| !marks[i].0.is_empty())
+        .collect();
+    let rows = label_rows(
+        &labelled.iter().map(|&i| spans[i]).collect::<Vec<_>>(),
+        3,
+        6,
+    );
     for (i, (label, x, col, side)) in marks.iter().enumerate() {
-        if *x <= 0.0 || *x >= top {
-            continue;
-        }
         let style = if *side {
             col.mix(0.45).stroke_width(1)
         } else {
             col.mix(0.8).stroke_width(1)
         };
         c.draw_series(LineSeries::new(vec![(*x, ymin), (*x, ymax)], style))?;
-        if text && !label.is_empty() {
-            let y = ymax - 1.5 - 2.2 * (i % 5) as f64;
+        if let (true, Some(j)) = (text, labelled.iter().position(|&m| m == i)) {
+            let y = ymax - 0.3 * row_step - row_step * rows[j] as f64;
             c.draw_series(std::iter::once(Text::new(
                 label.clone(),
                 (*x, y),
-                ("sans-serif", 10).into_font().color(col),
+                ("sans-serif", font).into_font().color(col),
             )))?;
         }
     }
@@ -188,4 +243,46 @@ pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Resul
     }
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::label_rows;
+
+    /// Labels that share a row never overlap while rows remain; crowded labels spread over rows.
+    #[test]
+    fn label_rows_keep_labels_apart() {
+        // FTF×1..3 and fr×1..3 of a 6205 at 1797 rpm: 12, 24, 36 Hz and 30, 60, 90 Hz at ~1.5 px/Hz
+        let spans: Vec<(i32, i32)> = [12.0, 24.0, 36.0, 30.0, 60.0, 90.0]
+            .iter()
+            .map(|f: &f64| ((f * 1.5) as i32 + 60, 36))
+            .collect();
+        let rows = label_rows(&spans, 3, 6);
+        for i in 0..spans.len() {
+            for j in 0..i {
+                if rows[i] == rows[j] {
+                    let (a, b) = if spans[i].0 < spans[j].0 {
+                        (spans[i], spans[j])
+                    } else {
+                        (spans[j], spans[i])
+                    };
+                    assert!(
+                        a.0 + a.1 + 3 <= b.0,
+                        "{i} and {j} overlap in row {}",
+                        rows[i]
+                    );
+                }
+            }
+        }
+        assert!(rows.iter().max().unwrap() >= &2, "{rows:?}");
+        // far-apart labels stay in the first row
+        assert_eq!(
+            label_rows(&[(0, 30), (100, 30), (200, 30)], 3, 6),
+            vec![0, 0, 0]
+        );
+        // more labels than rows at one place: still a row each, the one that frees first
+        let rows = label_rows(&[(0, 50); 3], 3, 2);
+        assert_eq!(rows.len(), 3);
+        assert!(rows.iter().all(|r| *r < 2));
+    }
 }

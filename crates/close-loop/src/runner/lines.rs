@@ -53,7 +53,11 @@ pub(super) fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Eval
         return Vec::new();
     };
     let dfh = ctx.welch_hi.df();
-    let bins = ctx.bins_hi.clone();
+    // the band's upper edge is inclusive: a line at exactly `band_high_fraction`·fs falls between
+    // the band's last bin and the next, so peaks may sit one bin beyond the band, and two guard
+    // bins give that bin the right-hand neighbour its peak test needs
+    let in_band = ctx.bins_hi.len() + 1;
+    let bins = ctx.bins_hi.start..(ctx.bins_hi.end + 2).min(s.len());
     let half = ((25.0 / dfh).round() as usize).max(6);
     let ly: Vec<f64> = bins
         .clone()
@@ -91,7 +95,7 @@ pub(super) fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Eval
             ly[i] - my[i] - model_ex
         })
         .collect();
-    let mut peaks: Vec<(usize, f64)> = (1..ex.len().saturating_sub(1))
+    let mut peaks: Vec<(usize, f64)> = (1..in_band.min(ex.len().saturating_sub(1)))
         .filter(|&i| ex[i] > c.line_threshold_db && ly[i] >= ly[i - 1] && ly[i] >= ly[i + 1])
         .map(|i| {
             let k = bins.start + i;
