@@ -200,7 +200,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
          bearings (169, 185, 197), whose severity then comes from interpolating 0.007 and 0.021 in; \
          its {} records at 12 kHz (every load) held out:\n\n| records | n | RMS within ×1.5 | all four \
          bands within ×1.5 (per band) | kurtosis within 30 % | median RMS sim/meas | median \
-         |kurtosis error| |\n|---|---|---|---|---|---|---|\n{}",
+         |kurtosis error| | median |fault-line prominence error| (dB) |\n|---|---|---|---|---|---|---|---|\n{}",
         rows2.len(),
         summary_row("0.014 in held out", &rows2.iter().collect::<Vec<_>>())
     );
@@ -230,12 +230,14 @@ fn write(
         "**Calibration.** Healthy machine: {} (the closed loop's machine model: structural path of \
          order {}, {} lines, speed ratio {:.5}; its tones — the measurement chain's interference — \
          rescaled to the training records' chain; the 97 row keeps 97's own levels; what its named effects leave of 97's PSD is added as shaped noise, a {}-tap FIR). Sensor: horizontal sensitivity {:.3} of the vertical. Contact load: radial preload {:.1} µm per ball (chosen \
-         from {:?} µm by the training records' kurtosis). One impact path per fault location and size ({} paths, AR \
+         from {:?} µm by the training records' kurtosis, each record's impacts gated at the strike fraction its fault line calls for). One impact path per fault location and size ({} paths, AR \
          order {}; a size without one uses the nearest calibrated size's) and one severity gain per record fitted on: {} ({} records: {}). Everything else is held out: the 1–3 hp records, the \
          outer race at 12 o'clock at every load (the 5-DOF model's spall moved there, severity of the \
          6 o'clock spall of that size) and the 48 kHz drive-end records (decimated to 12 kHz). Only the training \
-         records' PSDs, mean squares and kurtosis are fitted (the severity's random fraction matches \
-         the kurtosis; the measurement chain's roll-off, a {}-tap zero-phase FIR, is the median \
+         records' PSDs, mean squares, kurtosis and fault-line prominence are fitted (the severity's \
+         strike fraction — the share of the time the defect strikes, in bursts of {} fault periods — \
+         matches the prominence of the fault line in the envelope spectrum, chosen from {:?}; its \
+         random fraction matches the kurtosis; the measurement chain's roll-off, a {}-tap zero-phase FIR, is the median \
          measured/simulated PSD ratio); no label beyond the catalogued location and size, and no \
          accuracy. \
          Between calibrated sizes the gain is interpolated log-log; beyond them the nearest \
@@ -255,18 +257,21 @@ fn write(
         model.provenance.training_rule,
         model.provenance.training_records.len(),
         model.provenance.training_records.join(", "),
+        rig::BURST_PERIODS,
+        rig::STRIKE_FRACTIONS,
         model.chain_fir.len(),
     ));
     md.push_str(
-        "| severity | size (mm) | gain | random fraction | record |\n|---|---|---|---|---|\n",
+        "| severity | size (mm) | gain | random fraction | strike fraction | record |\n|---|---|---|---|---|---|\n",
     );
     for s in &model.severities {
         md.push_str(&format!(
-            "| {} | {:.3} | {:.4e} | {:.3} | {} |\n",
+            "| {} | {:.3} | {:.4e} | {:.3} | {:.2} | {} |\n",
             s.location.name(),
             s.size_mm,
             s.gain,
             s.random_fraction,
+            s.strike_fraction,
             s.record
         ));
     }
@@ -276,7 +281,7 @@ fn write(
         summary.push_str(&summary_row(role, &set));
     }
     md.push_str(
-        "\n## Summary\n\n| records | n | RMS within ×1.5 | all four bands within ×1.5 (per band: 0–1 / 1–2 / 2–4 / 4–6 kHz) | kurtosis within 30 % | median RMS sim/meas | median |kurtosis error| |\n|---|---|---|---|---|---|---|\n",
+        "\n## Summary\n\n| records | n | RMS within ×1.5 | all four bands within ×1.5 (per band: 0–1 / 1–2 / 2–4 / 4–6 kHz) | kurtosis within 30 % | median RMS sim/meas | median |kurtosis error| | median |fault-line prominence error| (dB) |\n|---|---|---|---|---|---|---|---|\n",
     );
     md.push_str(&summary);
     md.push_str(extra);
@@ -377,8 +382,19 @@ fn summary_row(role: &str, set: &[&Row]) -> String {
         v.sort_by(f64::total_cmp);
         v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
     };
+    let line_errors: Vec<f64> = set
+        .iter()
+        .filter_map(|r| {
+            Some((r.cmp.simulated.line_prominence_db? - r.cmp.measured.line_prominence_db?).abs())
+        })
+        .collect();
+    let line = if line_errors.is_empty() {
+        "–".to_string()
+    } else {
+        format!("{:.1}", med(line_errors))
+    };
     format!(
-        "| {role} | {n} | {a} | {b} ({}) | {c} | {:.2} | {:.0} % |\n",
+        "| {role} | {n} | {a} | {b} ({}) | {c} | {:.2} | {:.0} % | {line} |\n",
         per_band.map(|v| v.to_string()).join(" / "),
         med(set.iter().map(|r| r.cmp.rms_ratio()).collect()),
         100.0 * med(set.iter().map(|r| r.cmp.kurtosis_error().abs()).collect()),

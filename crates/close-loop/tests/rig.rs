@@ -36,6 +36,65 @@ fn committed_rig_loads_round_trips_and_rejects_bad_files() {
     assert!(RigModel::from_json(&bad.to_json().unwrap()).is_err());
     assert!(r.check_compatible(48_000.0, "6205").is_err());
     assert!(r.check_compatible(12_000.0, "6203").is_err());
+    // a rig file written before the strike gate: every impact strikes
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    for s in v["severities"].as_array_mut().unwrap() {
+        s.as_object_mut().unwrap().remove("strike_fraction");
+    }
+    let old = RigModel::from_json(&v.to_string()).unwrap();
+    assert!(old.severities.iter().all(|s| s.strike_fraction == 1.0));
+}
+
+/// The strike gate is on the asked fraction of the time, in bursts of the asked mean length, with
+/// mean square 1; it is seeded; a fraction of 1 is no gate.
+#[test]
+fn strike_gate_has_the_asked_fraction_bursts_and_power() {
+    let (n, p, burst) = (400_000, 0.2, 50.0);
+    let g = rig::strike_gate(n, p, burst, 7);
+    let on = g.iter().filter(|v| **v > 0.0).count() as f64 / n as f64;
+    assert!((on / p - 1.0).abs() < 0.1, "on {on}");
+    let ms = g.iter().map(|v| v * v).sum::<f64>() / n as f64;
+    assert!((ms - 1.0).abs() < 0.1, "mean square {ms}");
+    let starts = g.windows(2).filter(|w| w[0] == 0.0 && w[1] > 0.0).count() as f64;
+    let mean_burst = on * n as f64 / starts;
+    assert!(
+        (mean_burst / burst - 1.0).abs() < 0.15,
+        "burst {mean_burst}"
+    );
+    assert_eq!(g, rig::strike_gate(n, p, burst, 7));
+    assert_ne!(g, rig::strike_gate(n, p, burst, 8));
+    assert!(
+        rig::strike_gate(100, 1.0, burst, 7)
+            .iter()
+            .all(|v| *v == 1.0)
+    );
+}
+
+/// Gating an impact train lowers its fault line's prominence in the envelope spectrum by far
+/// more than the periodic power it removes would alone, and keeps its mean square.
+#[test]
+fn gated_impacts_stand_lower_in_the_envelope_spectrum() {
+    let (fs, f0, n) = (12_000.0, 97.0, 600_000);
+    // decaying 3 kHz ring-downs every 1/f0 s
+    let mut x = vec![0.0; n];
+    let period = fs / f0;
+    let mut t0 = 0.0;
+    while (t0 as usize) < n {
+        for k in 0..200.min(n - t0 as usize) {
+            let t = k as f64 / fs;
+            x[t0 as usize + k] +=
+                (-t * 800.0).exp() * (2.0 * std::f64::consts::PI * 3000.0 * t).sin();
+        }
+        t0 += period;
+    }
+    let gate = rig::strike_gate(n, 0.12, rig::BURST_PERIODS * period, 3);
+    let y: Vec<f64> = x.iter().zip(&gate).map(|(a, g)| a * g).collect();
+    let line = |v: &[f64]| rig::line_prominence_db(v, fs, f0).unwrap().unwrap();
+    let (plain, gated) = (line(&x), line(&y));
+    assert!(plain - gated > 15.0, "{plain:.1} dB -> {gated:.1} dB");
+    assert!(gated > 3.0, "the line is still there: {gated:.1} dB");
+    let ms = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>() / v.len() as f64;
+    assert!((ms(&y) / ms(&x) - 1.0).abs() < 0.3);
 }
 
 #[test]
@@ -53,6 +112,12 @@ fn severity_interpolates_in_log_size_and_holds_outside() {
     let (g, q) = r.severity(Location::Inner, mid).unwrap();
     assert!((g - (lo.gain * hi.gain).sqrt()).abs() < 1e-9 * g);
     assert!((q - 0.5 * (lo.random_fraction + hi.random_fraction)).abs() < 1e-12);
+    let p = r.strike_fraction(Location::Inner, mid).unwrap();
+    assert!((p - 0.5 * (lo.strike_fraction + hi.strike_fraction)).abs() < 1e-12);
+    assert_eq!(
+        r.strike_fraction(Location::Inner, 10.0).unwrap(),
+        hi.strike_fraction
+    );
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs();
     assert!(close(
         r.severity(Location::Inner, 0.01 * lo.size_mm).unwrap().0,
@@ -108,7 +173,10 @@ fn synthesis_is_seeded_superposes_and_errors_are_typed() {
 }
 
 /// Calibrate on records simulated by a known rig: the recovered rig predicts the levels of
-/// held-out conditions (another speed, another seed) within 15 %, and its impact gains come back.
+/// held-out conditions (another speed, other seeds) within 15 %, and its strike fractions come
+/// back within one grid step. (The contact preload is weakly identified from one speed: the
+/// committed rig's 2 µm comes back as a stiffer preload, which moves the 1730 rpm levels by up to
+/// ~13 %.)
 #[test]
 fn calibration_recovers_the_rig_it_is_run_on() {
     let truth = rig::cwru_rig().unwrap();
@@ -161,17 +229,41 @@ fn calibration_recovers_the_rig_it_is_run_on() {
     )
     .unwrap();
     assert_eq!(got.severities.len(), 3);
-    for (loc, size) in specs {
-        // held out: 1730 rpm, another seed
-        let s = Synthesis::new(loc.class(), size, 1730.0, n, 99);
-        let (a, b) = (
-            rms(&truth.synthesize(&s).unwrap()),
-            rms(&got.synthesize(&s).unwrap()),
-        );
+    for s in &got.severities {
+        // the strike fraction comes back within one step of the grid it is chosen from
+        let want = truth.strike_fraction(s.location, s.size_mm).unwrap();
+        let step = |p: f64| {
+            rig::STRIKE_FRACTIONS
+                .iter()
+                .position(|g| (g - p).abs() < 1e-3)
+                .unwrap_or(usize::MAX) as i64
+        };
         assert!(
-            (b / a - 1.0).abs() < 0.15,
-            "{loc:?}: recovered rig RMS {b} vs truth {a}"
+            (step(s.strike_fraction) - step(want)).abs() <= 1,
+            "{:?}: strike fraction {} vs truth {want}",
+            s.location,
+            s.strike_fraction
         );
+    }
+    for (loc, size) in specs {
+        // held out: the training speed and 1730 rpm, other seeds; a gated train's level varies
+        // from burst pattern to burst pattern, so the levels are means over three realisations
+        for rpm in [1797.0, 1730.0] {
+            let mean = |r: &RigModel| {
+                (0..3)
+                    .map(|k| {
+                        let s = Synthesis::new(loc.class(), size, rpm, n, 90 + k);
+                        rms(&r.synthesize(&s).unwrap())
+                    })
+                    .sum::<f64>()
+                    / 3.0
+            };
+            let (a, b) = (mean(&truth), mean(&got));
+            assert!(
+                (b / a - 1.0).abs() < 0.15,
+                "{loc:?} at {rpm} rpm: recovered rig RMS {b} vs truth {a}"
+            );
+        }
     }
 }
 

@@ -235,9 +235,10 @@ pub fn simulate_rig(
         .filter(|l| l.in_class(class))
     {
         let (g, q) = rig.severity(loc, args.fault_size)?;
+        let strike = rig.strike_fraction(loc, args.fault_size)?;
         used.insert(
             loc.name().into(),
-            serde_json::json!({ "gain": g, "random_fraction": q }),
+            serde_json::json!({ "gain": g, "random_fraction": q, "strike_fraction": strike }),
         );
     }
     let info = serde_json::json!({

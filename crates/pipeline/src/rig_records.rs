@@ -32,13 +32,7 @@ pub fn outer_angle(e: &CatalogEntry) -> f64 {
 
 /// The fault frequency of `loc` at `rpm` on the rig's bearing (× the rig's speed ratio), Hz.
 pub fn fault_hz(m: &RigModel, loc: Location, rpm: f64) -> f64 {
-    let [bpfo, bpfi, _ftf, bsf] = m.healthy.bearing_orders;
-    let fr = rpm / 60.0 * m.healthy.speed_ratio;
-    fr * match loc {
-        Location::Inner => bpfi,
-        Location::Outer => bpfo,
-        Location::Ball => bsf,
-    }
+    m.fault_rate_hz(loc, rpm)
 }
 
 /// A fault record as a calibration training record (`None` for a normal record or one without

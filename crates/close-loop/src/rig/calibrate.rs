@@ -3,9 +3,10 @@
 //! the measurement chain.
 
 use super::{
-    DEPTH_M, Excitation, FORMAT, IMPACT_PATH_ORDER, ImpactPath, Location, RigModel, RigProvenance,
-    SLIP_FRACTION, SMOOTH_HZ, Severity, Synthesis, VERSION, WARMUP, apply_fir, background_of,
-    excitation, mean_square, mix, smooth,
+    BURST_PERIODS, DEPTH_M, Excitation, FORMAT, IMPACT_PATH_ORDER, ImpactPath, Location, RigModel,
+    RigProvenance, SLIP_FRACTION, SMOOTH_HZ, STRIKE_FRACTIONS, Severity, Synthesis, VERSION,
+    WARMUP, apply_fir, background_of, excitation, fault_rate_of, gated, line_prominence_db,
+    mean_square, mix, smooth,
 };
 use crate::CloseLoopError;
 use crate::machine::{MachineLine, MachineModel};
@@ -413,18 +414,35 @@ pub fn calibrate_rig(
         let mut err = 0.0;
         for (i, t) in training.iter().enumerate() {
             let (g, path) = (&fit.gains[i], fit.path_of(t.location, t.size_mm));
-            let through = path.path.filter(
-                &fit.sims[i]
-                    .vertical
-                    .iter()
-                    .map(|v| g * v)
-                    .collect::<Vec<_>>(),
-            );
-            let bg = bg_of(t.rpm, through.len(), 7 + i as u64);
-            let y: Vec<f64> = through.iter().zip(&bg).map(|(a, b)| a + b).collect();
-            err += (kurtosis(&y[WARMUP.min(y.len() / 2)..]) / kurt[i])
-                .ln()
-                .abs();
+            let rate = fault_rate_of(&machine, t.location, t.rpm);
+            let tau = BURST_PERIODS * fs / rate.max(1e-9);
+            let impacts: Vec<f64> = fit.sims[i].vertical.iter().map(|v| g * v).collect();
+            // the impacts as often as the record's fault line says they strike (the strike
+            // fraction whose simulated line prominence is nearest the measured one), since
+            // striking in bursts raises the kurtosis as a stiffer contact does
+            let mut chosen: Option<(f64, Vec<f64>)> = None;
+            for &strike in &STRIKE_FRACTIONS {
+                let through = path
+                    .path
+                    .filter(&gated(&impacts, strike, tau, 17 + i as u64));
+                let bg = bg_of(t.rpm, through.len(), 7 + i as u64);
+                let y: Vec<f64> = through.iter().zip(&bg).map(|(a, b)| a + b).collect();
+                let y = y[WARMUP.min(y.len() / 2)..].to_vec();
+                let m = y.len().min(t.y.len());
+                let miss = match (
+                    line_prominence_db(&y, fs, rate),
+                    line_prominence_db(&t.y[..m], fs, rate),
+                ) {
+                    (Ok(Some(a)), Ok(Some(b))) => (a - b).abs(),
+                    _ => f64::INFINITY,
+                };
+                if chosen.as_ref().is_none_or(|c| miss < c.0 - 1e-9) {
+                    chosen = Some((miss, y));
+                }
+            }
+            if let Some((_, y)) = chosen {
+                err += (kurtosis(&y) / kurt[i]).ln().abs();
+            }
         }
         let err = err / training.len() as f64;
         if best.is_none_or(|b| err < b.1) {
@@ -434,8 +452,12 @@ pub fn calibrate_rig(
     let preload_m = best.map_or(0.0, |b| b.0);
     let long = (4.0 * fs) as usize;
     let fit = fit_at(preload_m, long)?;
-    // severities (gain, random fraction) of every training record for a sensor κ
-    let severities_for = |fit: &PathFit, kappa: f64, chain: &[f64]| {
+    // severities (gain, random fraction, strike fraction) of every training record for a sensor
+    // κ: for each strike fraction of the grid (or the one already chosen, `strikes`), the random
+    // fraction that matches the record's kurtosis and the gain that matches its excess mean
+    // square; the strike fraction whose simulated fault line stands as far over its envelope-spectrum neighbours
+    // as the measured one (the record's first samples, as many as simulated) wins
+    let severities_for = |fit: &PathFit, kappa: f64, chain: &[f64], strikes: Option<&[f64]>| {
         let mut out = Vec::with_capacity(training.len());
         for (i, t) in training.iter().enumerate() {
             let path = fit.path_of(t.location, t.size_mm);
@@ -446,45 +468,99 @@ pub fn calibrate_rig(
             );
             let skip = WARMUP.min(bg.len() / 2);
             let excess = (measured[i].1 - variance(&bg[skip..])).max(0.0);
-            // gain and kurtosis of the simulated record for a random fraction q
-            let at = |q: f64| {
-                let through = apply_fir(chain, &path.path.filter(&mix(&seen, q, 11 + i as u64)));
-                let skip = WARMUP.min(through.len() / 2);
-                let g = (excess / mean_square(&through[skip..]).max(1e-300)).sqrt();
-                let y: Vec<f64> = through[skip..]
+            let rate = fault_rate_of(&machine, t.location, t.rpm);
+            let tau = BURST_PERIODS * fs / rate.max(1e-9);
+            // (gain, random fraction, simulated record) for a strike fraction, the gain and the
+            // kurtosis averaged over the gate realisations of `seeds` (a gated train's kurtosis
+            // varies from burst pattern to burst pattern)
+            let fit_strike = |strike: f64, seeds: &[u64]| {
+                let trains: Vec<Vec<f64>> = seeds
                     .iter()
-                    .zip(&bg[skip..])
-                    .map(|(a, b)| g * a + b)
+                    .map(|s| gated(&seen, strike, tau, s + i as u64))
                     .collect();
-                (g, kurtosis(&y))
-            };
-            let (mut lo, mut hi) = (0.0, 0.99);
-            let q = if at(lo).1 <= kurt[i] {
-                0.0
-            } else if at(hi).1 >= kurt[i] {
-                hi
-            } else {
-                for _ in 0..14 {
-                    let mid = 0.5 * (lo + hi);
-                    if at(mid).1 > kurt[i] {
-                        lo = mid;
-                    } else {
-                        hi = mid;
+                // gain and simulated records for a random fraction q
+                let at = |q: f64| {
+                    let through: Vec<Vec<f64>> = trains
+                        .iter()
+                        .map(|x| apply_fir(chain, &path.path.filter(&mix(x, q, 11 + i as u64))))
+                        .collect();
+                    let skip = WARMUP.min(through[0].len() / 2);
+                    let ms = through.iter().map(|x| mean_square(&x[skip..])).sum::<f64>()
+                        / through.len() as f64;
+                    let g = (excess / ms.max(1e-300)).sqrt();
+                    let ys: Vec<Vec<f64>> = through
+                        .iter()
+                        .map(|x| {
+                            x[skip..]
+                                .iter()
+                                .zip(&bg[skip..])
+                                .map(|(a, b)| g * a + b)
+                                .collect()
+                        })
+                        .collect();
+                    (g, ys)
+                };
+                let kurt_at = |q: f64| {
+                    let ys = at(q).1;
+                    ys.iter().map(|y| kurtosis(y)).sum::<f64>() / ys.len() as f64
+                };
+                let (mut lo, mut hi) = (0.0, 0.99);
+                let q = if kurt_at(lo) <= kurt[i] {
+                    0.0
+                } else if kurt_at(hi) >= kurt[i] {
+                    hi
+                } else {
+                    for _ in 0..14 {
+                        let mid = 0.5 * (lo + hi);
+                        if kurt_at(mid) > kurt[i] {
+                            lo = mid;
+                        } else {
+                            hi = mid;
+                        }
                     }
+                    0.5 * (lo + hi)
+                };
+                let (g, mut ys) = at(q);
+                (g, q, ys.swap_remove(0))
+            };
+            // one gate realisation while the strike fraction is searched, three for the fit
+            let search = [17];
+            let fit_seeds: &[u64] = &[17, 1017, 2017];
+            let (strike, (g, q, _)) = match strikes {
+                Some(b) => (b[i], fit_strike(b[i], fit_seeds)),
+                None => {
+                    let mut best: Option<(f64, f64)> = None;
+                    for &strike in &STRIKE_FRACTIONS {
+                        let r = fit_strike(strike, &search);
+                        let m = r.2.len().min(t.y.len());
+                        let (Ok(Some(sim)), Ok(Some(meas))) = (
+                            line_prominence_db(&r.2, fs, rate),
+                            line_prominence_db(&t.y[..m], fs, rate),
+                        ) else {
+                            continue;
+                        };
+                        let miss = (sim - meas).abs();
+                        if best.is_none_or(|b| miss < b.1 - 1e-9) {
+                            best = Some((strike, miss));
+                        }
+                    }
+                    let strike = best.map_or(1.0, |b| b.0);
+                    (strike, fit_strike(strike, fit_seeds))
                 }
-                0.5 * (lo + hi)
             };
             out.push(Severity {
                 location: t.location,
                 size_mm: t.size_mm,
-                gain: at(q).0,
+                gain: g,
                 random_fraction: q,
+                strike_fraction: strike,
                 record: t.name.to_string(),
             });
         }
         out
     };
-    let severities = severities_for(&fit, 0.0, &[]);
+    let severities = severities_for(&fit, 0.0, &[], None);
+    let strikes: Vec<f64> = severities.iter().map(|s| s.strike_fraction).collect();
     let impact_paths = fit.paths.clone();
     let mut rig = RigModel {
         format: FORMAT.to_string(),
@@ -514,13 +590,14 @@ pub fn calibrate_rig(
     // κ from the off-axis records with the κ = 0 severities, then the severities again with κ
     rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross)?;
     if rig.sensor_horizontal > 0.0 {
-        rig.severities = severities_for(&fit, rig.sensor_horizontal, &[]);
+        rig.severities = severities_for(&fit, rig.sensor_horizontal, &[], Some(&strikes));
     }
     // the measurement chain's response (the fault records' anti-alias roll-off), then the
     // severities once more behind it
     rig.chain_fir = chain_response(&rig, training, &measured, &welch, half)?;
     if !rig.chain_fir.is_empty() {
-        rig.severities = severities_for(&fit, rig.sensor_horizontal, &rig.chain_fir);
+        rig.severities =
+            severities_for(&fit, rig.sensor_horizontal, &rig.chain_fir, Some(&strikes));
     }
     Ok(rig)
 }
@@ -548,8 +625,11 @@ fn fit_horizontal(
             2000 + i as u64,
         )?;
         let path = rig.impact_path_for(Location::Outer, t.size_mm)?;
+        let strike = rig.strike_fraction(Location::Outer, t.size_mm)?;
+        let tau = BURST_PERIODS * rig.fs_hz / rig.fault_rate_hz(Location::Outer, t.rpm).max(1e-9);
         let ms = |k: f64| {
-            let f = path.path.filter(&mix(&e.seen(k), q, 13 + i as u64));
+            let impacts = gated(&e.seen(k), strike, tau, 19 + i as u64);
+            let f = path.path.filter(&mix(&impacts, q, 13 + i as u64));
             g * g * mean_square(&f[WARMUP..])
         };
         let bg = background_of(

@@ -10,7 +10,14 @@
 //! 2. **the fault** — the 5-DOF model's (eqs. 2.12–2.25) housing acceleration with the spalls of
 //!    the class, its sprung-mass resonance moved out of band ([`EXCITATION_HOUSING_HZ`], ζ 0.7) so
 //!    that it is the bearing's local response to the contact forces, seen through the rig's
-//!    *impact path* `1/A_i(z)` and scaled by a severity gain `g(location, size)`.
+//!    *impact path* `1/A_i(z)` and scaled by a severity gain `g(location, size)`. Two calibrated
+//!    quantities make the impacts as irregular as measured ones: a *random fraction* of the
+//!    excitation's power is replaced by a phase-randomised copy (rough contact without the impact
+//!    timing), and a *strike gate* lets the impacts through only part of the time (the severity's
+//!    *strike fraction*, in bursts of [`BURST_PERIODS`] fault periods on average): the defect
+//!    does not strike every time — a spall's edges wear and clog, a ball's spin axis wanders and
+//!    carries its defect off the rolling track — so measured fault lines stand 5–50 dB over their
+//!    envelope-spectrum neighbours where a perfectly periodic train stands 30–60 dB.
 //!
 //! [`calibrate_rig`] fits the free quantities on measured records: the healthy machine on a
 //! healthy recording (the loop, [`crate::machine::calibrate`]); one impact path per fault
@@ -19,8 +26,9 @@
 //! PSD, both smoothed over ±150 Hz (each CWRU fault size is a separate bearing, seeded and
 //! mounted on its own: its path differs from the other sizes' while the load barely changes
 //! it); a spall of another size is seen through the nearest calibrated size's path; the severity gain of
-//! each training record in closed form from its excess mean square. Calibration uses signal
-//! statistics only (PSDs and RMS), never a label beyond the catalogued fault location and size,
+//! each training record in closed form from its excess mean square, its random fraction from its
+//! kurtosis and its strike fraction from its fault line's prominence in the envelope spectrum.
+//! Calibration uses signal statistics only (PSDs, RMS, kurtosis, line prominence), never a label beyond the catalogued fault location and size,
 //! and never an accuracy. Between calibrated sizes the gain is interpolated log-log; outside
 //! them the nearest calibrated gain is held (stated in every report).
 //!
@@ -40,7 +48,7 @@ mod calibrate;
 mod stats;
 
 pub use calibrate::{PRELOADS_M, TrainingRecord, calibrate_rig};
-pub use stats::{BANDS_HZ, Comparison, SignalStats, signal_stats};
+pub use stats::{BANDS_HZ, Comparison, SignalStats, line_prominence_db, signal_stats};
 
 /// The `format` string of a rig model file.
 pub const FORMAT: &str = "hybrid-fdd/rig-model";
@@ -58,6 +66,15 @@ pub const SLIP_FRACTION: f64 = 0.01;
 pub(super) const SMOOTH_HZ: f64 = 150.0;
 /// AR order of the impact path.
 pub const IMPACT_PATH_ORDER: usize = 48;
+/// Mean length of a burst of the strike gate, in fault periods (1 / fault rate): a few impacts
+/// strike in a row, then the defect is off the track for a while; the gate's on/off switching
+/// spreads the fault line's power over a few hertz around it, where the envelope spectrum's
+/// neighbours of the line are judged.
+pub const BURST_PERIODS: f64 = 4.0;
+/// Strike fractions the calibration chooses from, per training record, by the prominence of its
+/// fault line in the envelope spectrum (1 = every impact strikes). The smallest keeps a 4 s
+/// record at a dozen bursts or more, so that its mean square is reproducible from seed to seed.
+pub const STRIKE_FRACTIONS: [f64; 7] = [1.0, 0.7, 0.5, 0.35, 0.25, 0.18, 0.12];
 /// Settling samples discarded before a synthesized recording (path start-up).
 pub(super) const WARMUP: usize = 4096;
 
@@ -93,6 +110,11 @@ pub struct Severity {
     /// enough).
     #[serde(default)]
     pub random_fraction: f64,
+    /// Fraction of the time the defect strikes ([`strike_gate`]; 1 = every impact, the rig files
+    /// written before the gate existed). Chosen from [`STRIKE_FRACTIONS`] so that the record's
+    /// fault-line prominence in the envelope spectrum is matched.
+    #[serde(default = "every_impact")]
+    pub strike_fraction: f64,
     /// The training record it was fitted on.
     pub record: String,
 }
@@ -363,8 +385,30 @@ impl RigModel {
     /// # Errors
     /// [`CloseLoopError::Model`] when the rig holds no severity for `location`.
     pub fn severity(&self, location: Location, size_mm: f64) -> Result<(f64, f64), CloseLoopError> {
-        // (size, mean log gain, mean fraction) per calibrated size
-        let mut pts: Vec<(f64, f64, f64)> = Vec::new();
+        let [log_gain, fraction, _] = self.severity_point(location, size_mm)?;
+        Ok((log_gain.exp(), fraction))
+    }
+
+    /// The calibrated strike fraction ([`Severity::strike_fraction`]) at `location` for a spall
+    /// of `size_mm`, interpolated as [`RigModel::severity`] is (linear in log size; the nearest
+    /// calibrated size's value outside them).
+    ///
+    /// # Errors
+    /// [`CloseLoopError::Model`] when the rig holds no severity for `location`.
+    pub fn strike_fraction(&self, location: Location, size_mm: f64) -> Result<f64, CloseLoopError> {
+        Ok(self.severity_point(location, size_mm)?[2])
+    }
+
+    /// Fault rate of `location` at nominal speed `rpm`, Hz: BPFI, BPFO or the ball-defect rate
+    /// (CWRU's "BSF") times the shaft rate at the calibrated speed ratio.
+    pub fn fault_rate_hz(&self, location: Location, rpm: f64) -> f64 {
+        fault_rate_of(&self.healthy, location, rpm)
+    }
+
+    /// (log gain, random fraction, strike fraction) at `location` for `size_mm`: per calibrated size
+    /// the mean over its records, linear in log size between sizes, held beyond them.
+    fn severity_point(&self, location: Location, size_mm: f64) -> Result<[f64; 3], CloseLoopError> {
+        let mut pts: Vec<(f64, [f64; 3])> = Vec::new();
         for s in self.severities.iter().filter(|s| s.location == location) {
             if pts.iter().any(|p| (p.0 - s.size_mm).abs() < 1e-9) {
                 continue;
@@ -375,14 +419,17 @@ impl RigModel {
                 .filter(|t| t.location == location && (t.size_mm - s.size_mm).abs() < 1e-9)
                 .collect();
             let n = same.len() as f64;
+            let mean = |f: &dyn Fn(&Severity) -> f64| same.iter().map(|t| f(t)).sum::<f64>() / n;
             pts.push((
                 s.size_mm,
-                same.iter().map(|t| t.gain.max(1e-300).ln()).sum::<f64>() / n,
-                same.iter().map(|t| t.random_fraction).sum::<f64>() / n,
+                [
+                    mean(&|t| t.gain.max(1e-300).ln()),
+                    mean(&|t| t.random_fraction),
+                    mean(&|t| t.strike_fraction),
+                ],
             ));
         }
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let out = |p: (f64, f64, f64)| Ok((p.1.exp(), p.2));
         let (first, last) = match (pts.first(), pts.last()) {
             (Some(f), Some(l)) => (*f, *l),
             _ => {
@@ -392,16 +439,16 @@ impl RigModel {
             }
         };
         if size_mm <= first.0 {
-            return out(first);
+            return Ok(first.1);
         }
         for w in pts.windows(2) {
             let (a, b) = (w[0], w[1]);
             if size_mm <= b.0 {
                 let t = (size_mm.ln() - a.0.ln()) / (b.0.ln() - a.0.ln());
-                return out((size_mm, a.1 + t * (b.1 - a.1), a.2 + t * (b.2 - a.2)));
+                return Ok(std::array::from_fn(|i| a.1[i] + t * (b.1[i] - a.1[i])));
             }
         }
-        out(last)
+        Ok(last.1)
     }
 
     /// The healthy machine's signal: path noise, floor and lines (seeded), `n` samples at rig
@@ -467,6 +514,13 @@ impl RigModel {
                 s.seed,
             )?;
             let e = e.seen(self.sensor_horizontal);
+            let tau = BURST_PERIODS * self.fs_hz / self.fault_rate_hz(loc, s.rpm).max(1e-9);
+            let e = gated(
+                &e,
+                self.strike_fraction(loc, s.size_mm)?,
+                tau,
+                s.seed ^ 0xB0B5_7000,
+            );
             let x: Vec<f64> = mix(&e, q, s.seed ^ 0x5EED_0FF1)
                 .iter()
                 .map(|v| g * v)
@@ -612,6 +666,58 @@ impl RigModel {
     pub fn check_compatible(&self, fs: f64, bearing: &str) -> Result<(), CloseLoopError> {
         self.healthy.check_compatible(fs, bearing)
     }
+}
+
+/// Fault rate of `location` on `machine` at nominal speed `rpm`, Hz ([`RigModel::fault_rate_hz`]).
+pub(super) fn fault_rate_of(machine: &MachineModel, location: Location, rpm: f64) -> f64 {
+    let [bpfo, bpfi, _ftf, bsf] = machine.bearing_orders;
+    let fr = rpm / 60.0 * machine.speed_ratio;
+    fr * match location {
+        Location::Inner => bpfi,
+        Location::Outer => bpfo,
+        Location::Ball => bsf,
+    }
+}
+
+/// Serde default of [`Severity::strike_fraction`]: every impact strikes.
+fn every_impact() -> f64 {
+    1.0
+}
+
+/// The strike gate: `n` samples of a two-state Markov chain (seeded, started in its stationary
+/// law) that is on a fraction `p` of the time, in bursts of `burst_samples` on average, and
+/// off in between; on = 1/√p, off = 0, so the gate's mean square is 1 and its mean √p (the
+/// periodic part of the impacts keeps a fraction p of their power). `p` ≥ 1 gives ones.
+pub fn strike_gate(n: usize, p: f64, burst_samples: f64, seed: u64) -> Vec<f64> {
+    if !(p.is_finite() && p > 0.0 && p < 1.0) {
+        return vec![1.0; n];
+    }
+    let on_len = burst_samples.max(1.0);
+    let off_len = (on_len * (1.0 - p) / p).max(1.0);
+    let (leave_on, leave_off) = (1.0 / on_len, 1.0 / off_len);
+    let level = 1.0 / p.sqrt();
+    let mut g = Gaussian::new(seed);
+    let mut on = g.uniform() < p;
+    (0..n)
+        .map(|_| {
+            let v = if on { level } else { 0.0 };
+            let u = g.uniform();
+            on = if on { u >= leave_on } else { u < leave_off };
+            v
+        })
+        .collect()
+}
+
+/// `x` times the strike gate of fraction `p` ([`strike_gate`]); `x` itself for p ≥ 1.
+pub(super) fn gated(x: &[f64], p: f64, burst_samples: f64, seed: u64) -> Vec<f64> {
+    if !(p.is_finite() && p > 0.0 && p < 1.0) {
+        return x.to_vec();
+    }
+    strike_gate(x.len(), p, burst_samples, seed)
+        .iter()
+        .zip(x)
+        .map(|(g, v)| g * v)
+        .collect()
 }
 
 /// `x` plus a random part carrying the fraction `q` of the sum's power:

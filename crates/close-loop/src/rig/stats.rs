@@ -63,18 +63,8 @@ pub fn signal_stats(
         band[b] += v * welch.df();
     }
     let line_prominence_db = match fault_hz {
-        Some(f0) if f0 > 0.0 && 1.2 * f0 < 0.5 * fs => {
-            let (e, de) = crate::spectrum::envelope_periodogram(y, fs)?;
-            let idx = |f: f64| ((f / de).round() as usize).min(e.len() - 1);
-            let peak = e[idx(0.985 * f0)..=idx(1.015 * f0)]
-                .iter()
-                .copied()
-                .fold(0.0, f64::max);
-            let around: Vec<f64> = e[idx(0.8 * f0)..=idx(1.2 * f0)].to_vec();
-            let med = crate::spectrum::median(&around);
-            Some(10.0 * (peak / med.max(1e-300)).log10())
-        }
-        _ => None,
+        Some(f0) => line_prominence_db(y, fs, f0)?,
+        None => None,
     };
     Ok(SignalStats {
         rms,
@@ -83,6 +73,27 @@ pub fn signal_stats(
         band_energy: band,
         line_prominence_db,
     })
+}
+
+/// Prominence of the line at `f0` in the full-band envelope spectrum of `y`, dB: the largest
+/// value within ±1.5 % of `f0` over the median of ±20 % around it ([`SignalStats`]); `None` when
+/// `1.2·f0` is not below Nyquist.
+///
+/// # Errors
+/// The envelope spectrum's errors (a record too short or not finite).
+pub fn line_prominence_db(y: &[f64], fs: f64, f0: f64) -> Result<Option<f64>, CloseLoopError> {
+    if !(f0 > 0.0 && 1.2 * f0 < 0.5 * fs) {
+        return Ok(None);
+    }
+    let (e, de) = crate::spectrum::envelope_periodogram(y, fs)?;
+    let idx = |f: f64| ((f / de).round() as usize).min(e.len() - 1);
+    let peak = e[idx(0.985 * f0)..=idx(1.015 * f0)]
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    let around: Vec<f64> = e[idx(0.8 * f0)..=idx(1.2 * f0)].to_vec();
+    let med = crate::spectrum::median(&around);
+    Ok(Some(10.0 * (peak / med.max(1e-300)).log10()))
 }
 
 /// Simulated against measured statistics of one condition, and the calibration targets of
