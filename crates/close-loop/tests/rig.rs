@@ -181,7 +181,6 @@ fn synthesis_is_seeded_superposes_and_errors_are_typed() {
 fn calibration_recovers_the_rig_it_is_run_on() {
     let truth = rig::cwru_rig().unwrap();
     let fs = truth.fs_hz;
-    let n = (4.0 * fs) as usize;
     let healthy = truth.background_as_calibrated(1797.0, (6.0 * fs) as usize, 1);
     let specs = [
         (Location::Inner, 0.178),
@@ -197,7 +196,9 @@ fn calibration_recovers_the_rig_it_is_run_on() {
                     loc.class(),
                     *size,
                     1797.0,
-                    n,
+                    // as long as a CWRU record: a ball spall strikes in bursts, and a 4 s record
+                    // holds too few of them to fix its level within 15 %
+                    (10.0 * fs) as usize,
                     10 + i as u64,
                 ))
                 .unwrap()
@@ -233,10 +234,12 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         // the strike fraction comes back within one step of the grid it is chosen from
         let want = truth.strike_fraction(s.location, s.size_mm).unwrap();
         let step = |p: f64| {
-            rig::STRIKE_FRACTIONS
-                .iter()
-                .position(|g| (g - p).abs() < 1e-3)
-                .unwrap_or(usize::MAX) as i64
+            (0..rig::STRIKE_FRACTIONS.len())
+                .min_by(|&a, &b| {
+                    let d = |i: usize| (rig::STRIKE_FRACTIONS[i] - p).abs();
+                    d(a).total_cmp(&d(b))
+                })
+                .unwrap_or(0) as i64
         };
         assert!(
             (step(s.strike_fraction) - step(want)).abs() <= 1,
@@ -247,12 +250,14 @@ fn calibration_recovers_the_rig_it_is_run_on() {
     }
     for (loc, size) in specs {
         // held out: the training speed and 1730 rpm, other seeds; a gated train's level varies
-        // from burst pattern to burst pattern, so the levels are means over three realisations
+        // from burst pattern to burst pattern, so the levels are means over three 10 s
+        // realisations
         for rpm in [1797.0, 1730.0] {
             let mean = |r: &RigModel| {
                 (0..3)
                     .map(|k| {
-                        let s = Synthesis::new(loc.class(), size, rpm, n, 90 + k);
+                        let s =
+                            Synthesis::new(loc.class(), size, rpm, (10.0 * fs) as usize, 90 + k);
                         rms(&r.synthesize(&s).unwrap())
                     })
                     .sum::<f64>()

@@ -147,7 +147,7 @@ pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
     };
     let (o, _, _) = run_one(&args, None)?;
     write_machine(&o, &a.out)?;
-    println!(
+    crate::say!(
         "{}: machine model with {} structural mode(s), {} line(s), speed ratio {:.5}; held-out {} {:.3} -> {:.3} dB; {:.2} s -> {}",
         a.input.display(),
         o.machine
@@ -198,7 +198,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let prior = args.machine.as_deref().map(load_machine).transpose()?;
     let t = Instant::now();
     let (o, _, _) = run_one(&args, prior.as_ref())?;
-    println!(
+    crate::say!(
         "{}: {} {:.3} dB -> {:.3} dB, {} effect(s): {}; {:.2} s",
         args.input
             .as_deref()

@@ -1153,7 +1153,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         for n in notes {
             eprintln!("note: {n}");
         }
-        println!(
+        crate::say!(
             "{}: {} ({} reference){} -> {}",
             input.display(),
             o.diagnosis.verdict,
@@ -1201,7 +1201,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                     eprintln!("note: {n}");
                 }
                 let d = &o.diagnosis;
-                println!("{name}: {} -> {json}", d.verdict);
+                crate::say!("{name}: {} -> {json}", d.verdict);
                 csv += &format!(
                     "{name},{json},{},{},{:.2},{:.2},{:.2},{:.0},{:.0},\n",
                     d.verdict,
@@ -1226,7 +1226,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
     }
     std::fs::write(report.join("summary.csv"), csv)?;
-    println!(
+    crate::say!(
         "{} recordings, {failed} failed; reports in {}",
         results.len(),
         report.display()

@@ -213,8 +213,9 @@ pub fn simulate_rig(
     let bare = bare_only_flags(args);
     anyhow::ensure!(
         bare.is_empty(),
-        "{} only apply to the bare 5-DOF sets (--params cwru|table2.1), not to the calibrated rig",
-        bare.join(", ")
+        "{} only {} to the bare 5-DOF sets (--params cwru|table2.1), not to the calibrated rig",
+        bare.join(", "),
+        if bare.len() == 1 { "applies" } else { "apply" }
     );
     let class: FaultClass = args.fault.parse()?;
     check_rpm(args.rpm)?;
@@ -224,6 +225,13 @@ pub fn simulate_rig(
         args.duration
     );
     let n = (args.duration * args.fs).round() as usize;
+    anyhow::ensure!(
+        n >= 1024,
+        "--duration {} s is {n} samples at {} Hz; the calibrated rig needs at least 1024 (--duration {:.3} s or more)",
+        args.duration,
+        args.fs,
+        1024.0 / args.fs
+    );
     let mut syn = close_loop::rig::Synthesis::new(class, args.fault_size, args.rpm, n, args.seed);
     syn.outer_angle_rad = outer_angle(args.outer_clock)?;
     let y = rig
@@ -236,9 +244,23 @@ pub fn simulate_rig(
     {
         let (g, q) = rig.severity(loc, args.fault_size)?;
         let strike = rig.strike_fraction(loc, args.fault_size)?;
+        let sizes = rig
+            .severities
+            .iter()
+            .filter(|s| s.location == loc)
+            .map(|s| s.size_mm);
+        let (lo, hi) = sizes.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        let extrapolated =
+            args.fault_size < lo * (1.0 - 1e-9) || args.fault_size > hi * (1.0 + 1e-9);
         used.insert(
             loc.name().into(),
-            serde_json::json!({ "gain": g, "random_fraction": q, "strike_fraction": strike }),
+            serde_json::json!({
+                "gain": g,
+                "random_fraction": q,
+                "strike_fraction": strike,
+                "calibrated_range_mm": [lo, hi],
+                "extrapolated": extrapolated,
+            }),
         );
     }
     let info = serde_json::json!({
@@ -279,16 +301,67 @@ pub fn write_csv(path: &Path, rec: &bearing_model::Recording) -> anyhow::Result<
     Ok(())
 }
 
+/// Notes on stderr for what the simulation cannot stand for: fault rates at or above Nyquist (no
+/// envelope line can show them) and, on the calibrated rig, spall sizes outside the calibrated
+/// ones (the nearest calibrated severity is held).
+fn warn_limits(
+    args: &Args,
+    class: FaultClass,
+    orders: &bearing_model::FaultOrders,
+    shaft_hz: f64,
+    rig_info: Option<&serde_json::Value>,
+) {
+    for loc in close_loop::rig::Location::ALL
+        .into_iter()
+        .filter(|l| l.in_class(class))
+    {
+        let rate = shaft_hz
+            * match loc {
+                close_loop::rig::Location::Inner => orders.bpfi,
+                close_loop::rig::Location::Outer => orders.bpfo,
+                close_loop::rig::Location::Ball => orders.ball_defect,
+            };
+        if rate >= 0.5 * args.fs {
+            eprintln!(
+                "note: the {} fault rate, {rate:.1} Hz, is at or above Nyquist ({:.0} Hz): its lines cannot be seen in this recording",
+                loc.name(),
+                0.5 * args.fs
+            );
+        }
+        let used = rig_info.and_then(|i| i["severity_used"].get(loc.name()));
+        if let Some(u) = used.filter(|u| u["extrapolated"] == true) {
+            let r = &u["calibrated_range_mm"];
+            eprintln!(
+                "note: a {} mm {} spall is outside the calibrated sizes ({:.3}–{:.3} mm): the nearest calibrated severity is held, so its level and impulsiveness are not calibrated",
+                args.fault_size,
+                loc.name(),
+                r[0].as_f64().unwrap_or(f64::NAN),
+                r[1].as_f64().unwrap_or(f64::NAN)
+            );
+        }
+    }
+}
+
 /// Run the task.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let is_json = args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    anyhow::ensure!(
+        !is_json,
+        "--out {} would be overwritten by its own JSON sidecar (written beside the CSV with the extension .json): name the recording .csv",
+        args.out.display()
+    );
     let rig = close_loop::rig::cwru_rig().context("loading the calibrated CWRU rig")?;
     if wants_rig(&args, &rig)? {
         return run_rig(&args, &rig);
     }
     if args.params.eq_ignore_ascii_case("auto") {
-        println!(
+        crate::say!(
             "note: the bare 5-DOF model (m/s^2): the calibrated rig exists for the {} at {} Hz only",
-            rig.bearing, rig.fs_hz
+            rig.bearing,
+            rig.fs_hz
         );
     }
     let sc = scenario(&args)?;
@@ -311,6 +384,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "noise_std_m_s2": rec.noise_std,
         "fault": args.fault,
         "params": args.params,
+        "seed": args.seed,
+        "duration_s": args.duration,
         "fault_orders": sc.spec.geometry.orders(),
         "shaft_hz": sc.spec.speed.hz(),
         "spec": sc.spec,
@@ -319,8 +394,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let side = args.out.with_extension("json");
     std::fs::write(&side, serde_json::to_string_pretty(&meta)?)
         .with_context(|| format!("writing {}", side.display()))?;
+    if let Ok(class) = args.fault.parse::<FaultClass>() {
+        warn_limits(
+            &args,
+            class,
+            &sc.spec.geometry.orders(),
+            sc.spec.speed.hz(),
+            None,
+        );
+    }
     let o = sc.spec.geometry.orders().at(sc.spec.speed.hz());
-    println!(
+    crate::say!(
         "wrote {} ({} samples at {} Hz, accel in m/s^2; step {:.3e} s; {:.1} simulated s per wall s)",
         args.out.display(),
         rec.accel.len(),
@@ -334,7 +418,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// The kinematic lines of the simulated speed and where the metadata went.
 fn print_lines(fr: f64, o: &bearing_model::FaultOrders, side: &Path) {
-    println!(
+    crate::say!(
         "lines: fr {fr:.2} Hz, FTF {:.2}, BPFO {:.2}, BPFI {:.2}, ball defect (2xBSF) {:.2} Hz; metadata {}",
         o.ftf,
         o.bpfo,
@@ -376,6 +460,8 @@ fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
         "fault_size_mm": args.fault_size,
         "outer_clock": args.outer_clock,
         "params": "calibrated",
+        "seed": args.seed,
+        "duration_s": args.duration,
         "fault_orders": geometry.orders(),
         "shaft_hz": shaft_hz,
         "spec": null,
@@ -385,7 +471,7 @@ fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
     let side = args.out.with_extension("json");
     std::fs::write(&side, serde_json::to_string_pretty(&meta)?)
         .with_context(|| format!("writing {}", side.display()))?;
-    println!(
+    crate::say!(
         "wrote {} ({} samples at {} Hz, accel in {}; calibrated CWRU rig; {:.1} simulated s per wall s)",
         args.out.display(),
         rec.accel.len(),
@@ -393,6 +479,9 @@ fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
         rig.units,
         args.duration / wall.max(1e-9)
     );
+    if let Ok(class) = args.fault.parse::<FaultClass>() {
+        warn_limits(args, class, &geometry.orders(), shaft_hz, meta.get("rig"));
+    }
     let o = geometry.orders().at(shaft_hz);
     print_lines(shaft_hz, &o, &side);
     Ok(())
@@ -460,7 +549,34 @@ mod tests {
         assert!(wants_rig(&args, &rig).unwrap());
         let (y, info) = simulate_rig(&args, &rig).unwrap();
         assert_eq!(y.len(), 6000);
-        assert!(info["severity_used"]["outer"]["gain"].as_f64().unwrap() > 0.0);
+        let used = &info["severity_used"]["outer"];
+        assert!(used["gain"].as_f64().unwrap() > 0.0);
+        let p = used["strike_fraction"].as_f64().unwrap();
+        assert!(p > 0.0 && p <= 1.0);
+        assert_eq!(used["extrapolated"], false);
+        // a spall wider than every calibrated one holds the nearest severity and says so
+        let wide = parse(&[
+            "--fault",
+            "inner",
+            "--fault-size",
+            "3",
+            "--duration",
+            "0.5",
+            "--out",
+            "/tmp/x.csv",
+        ]);
+        let (_, info) = simulate_rig(&wide, &rig).unwrap();
+        assert_eq!(info["severity_used"]["inner"]["extrapolated"], true);
+        // the recording may not take its own sidecar's name
+        let clash = parse(&[
+            "--fault",
+            "inner",
+            "--duration",
+            "0.5",
+            "--out",
+            "/tmp/x.JSON",
+        ]);
+        assert!(run(clash).is_err());
         // other conditions or explicit sets: the bare 5-DOF model
         let bare = parse(&["--fs", "48000", "--out", "/tmp/x.csv"]);
         assert!(!wants_rig(&bare, &rig).unwrap());

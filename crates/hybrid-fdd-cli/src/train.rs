@@ -273,7 +273,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     };
     let t = TrainedDiagnoser::train(&all, reference, fs, args.segment_seconds, &spec)?;
     if decimated > 0 {
-        println!("{decimated} recordings decimated to {fs} Hz (bearing-data anti-aliasing FIR)");
+        crate::say!("{decimated} recordings decimated to {fs} Hz (bearing-data anti-aliasing FIR)");
     }
     if let Some(parent) = out.parent()
         && !parent.as_os_str().is_empty()
@@ -281,7 +281,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         std::fs::create_dir_all(parent)?;
     }
     std::fs::write(out, t.to_json()? + "\n")?;
-    println!(
+    crate::say!(
         "{}: {} on {} examples ({} s each) from {} recordings, classes {}",
         out.display(),
         t.classifier,
@@ -292,8 +292,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     );
     for (name, r) in cross_validate(&all, &spec) {
         match r {
-            Ok((avg, per)) => println!("  {name}: accuracy {avg:.1} % of test examples ({per})"),
-            Err(e) => println!("  {name}: not evaluated ({e})"),
+            Ok((avg, per)) => crate::say!("  {name}: accuracy {avg:.1} % of test examples ({per})"),
+            Err(e) => crate::say!("  {name}: not evaluated ({e})"),
         }
     }
     Ok(())
