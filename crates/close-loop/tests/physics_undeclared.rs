@@ -179,3 +179,33 @@ fn physics_modulation() {
     assert!((e.frequency_hz.unwrap() / fr - 1.0).abs() < 0.01);
     assert!(o.ledger.error_after < o.ledger.error_before);
 }
+
+/// Slip four times the declared one: the loop sets the slip once, from the whole range of
+/// fractions, instead of doubling it step after step (one slip effect, the true fraction).
+#[test]
+fn physics_slip_is_set_once() {
+    let truth = PhysicsModel {
+        slip_fraction: 4.0 * PhysicsModel::default().slip_fraction,
+        ..PhysicsModel::default()
+    };
+    let y = recording(&truth, RPM, |x| x);
+    let o = run(&y);
+    let slips: Vec<&close_loop::EffectEntry> = o
+        .ledger
+        .effects
+        .iter()
+        .filter(|e| e.kind == EffectKind::Slip)
+        .collect();
+    assert_eq!(
+        slips.len(),
+        1,
+        "{:?}",
+        o.ledger.effects.iter().map(|e| e.kind).collect::<Vec<_>>()
+    );
+    let f = slips[0].parameters["fraction"];
+    assert!((f / truth.slip_fraction - 1.0).abs() < 1e-9, "slip {f}");
+    assert_eq!(
+        slips[0].parameters["declared_fraction"],
+        PhysicsModel::default().slip_fraction
+    );
+}

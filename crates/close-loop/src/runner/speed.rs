@@ -104,22 +104,32 @@ pub(super) fn speed_candidates(
     Ok(out)
 }
 
-/// Slip fractions tried, relative to the model's current one.
-pub(super) const SLIP_FACTORS: [f64; 4] = [0.0, 0.25, 0.5, 2.0];
+/// Slip fractions tried, relative to the declared model's: the whole range at every step, so
+/// that the loop takes the best slip at once (each candidate sets the slip, it does not scale the
+/// one already taken) and a second acceptance can only correct the first.
+pub(super) const SLIP_FACTORS: [f64; 6] = [0.0, 0.25, 0.5, 2.0, 4.0, 8.0];
 
-/// Random ball slip (the spread of the impact times, which smears the fault lines): the declared
-/// physics re-simulated at slip fractions [`SLIP_FACTORS`] × the current one, the best on the
-/// fitting segment kept. Only with a declared fault and a model that has slip.
+/// Random ball slip (the spread of the impact times, which smears the fault lines): the model
+/// re-simulated at slip fractions [`SLIP_FACTORS`] × the declared one (those the model accepts;
+/// the 5-DOF model takes at most 0.1), the best on the fitting segment kept. Only with a declared
+/// fault and a model that has slip; the slip already in the model is not tried again.
 pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
     if crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty() {
         return None;
     }
+    let declared = ctx.model.slip_fraction()?;
     let model = ctx.model_of(st);
     let current = model.slip_fraction()?;
-    let mut best: Option<(Evaluated, f64)> = None;
+    let mut best: Option<Evaluated> = None;
     for k in SLIP_FACTORS {
-        let frac = current * k;
-        let m: Arc<dyn DeclaredModel> = Arc::from(model.with_slip_fraction(frac)?);
+        let frac = declared * k;
+        if (frac - current).abs() <= 1e-12 * declared.max(1e-300) {
+            continue;
+        }
+        let Some(m) = model.with_slip_fraction(frac) else {
+            continue;
+        };
+        let m: Arc<dyn DeclaredModel> = Arc::from(m);
         let Ok(base) = ctx.make_base_with(m.as_ref(), st.base.ratio) else {
             continue;
         };
@@ -127,21 +137,18 @@ pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
         s2.model = Some(ModelRef(m));
         ctx.rebase(&mut s2, base);
         let (s2, lsd) = ctx.calibrate(s2, false);
-        if best.as_ref().is_none_or(|b| lsd < b.0.fit_lsd) {
-            best = Some((
-                Evaluated {
-                    effect: Effect::Slip {
-                        fraction: frac,
-                        declared: current,
-                    },
-                    state: s2,
-                    fit_lsd: lsd,
+        if best.as_ref().is_none_or(|b| lsd < b.fit_lsd) {
+            best = Some(Evaluated {
+                effect: Effect::Slip {
+                    fraction: frac,
+                    declared,
                 },
-                frac,
-            ));
+                state: s2,
+                fit_lsd: lsd,
+            });
         }
     }
-    best.map(|b| b.0)
+    best
 }
 
 /// Speed step from the line pattern: the stretch s of the model's line-emphasised log spectrum
