@@ -223,6 +223,16 @@ impl FaultOrders {
         })
     }
 
+    /// The impact rate of a spall at `location`: BPFI (inner race), BPFO (outer race) or the
+    /// ball-defect rate (ball), in the units of `self` (orders, or Hz after [`FaultOrders::at`]).
+    pub fn of(&self, location: crate::FaultLocation) -> f64 {
+        match location {
+            crate::FaultLocation::Inner => self.bpfi,
+            crate::FaultLocation::Outer => self.bpfo,
+            crate::FaultLocation::Ball => self.ball_defect,
+        }
+    }
+
     /// The same frequencies in Hz at shaft frequency `fr_hz`.
     pub fn at(&self, fr_hz: f64) -> FaultOrders {
         FaultOrders {

@@ -362,10 +362,6 @@ fn baseline_from_a_model_matches_the_prepared_one() {
     ));
 }
 
-/// Dense outer-race impacts (another rig: 12 balls, 3600 rpm, 8 kHz, BPFO ≈ 286 Hz against a
-/// 3 kHz ring-down of ~2.5 ms) overlap into a band of low spectral kurtosis, yet their envelope
-/// holds BPFO and its harmonics far above the background: the band is read on periodicity and
-/// the verdict is `outer`, with and without a baseline; the healthy record stays `normal`.
 /// Adds a train of decaying ring-downs to `x` (one fault's impacts seen through a resonance):
 /// impacts at `rate_hz`, each interval scaled by (1 + `jitter`·z), z standard normal from `rng`
 /// (no draw when `jitter` is 0), each impact a `resonance_hz` sine decaying with damping `zeta`
@@ -406,19 +402,47 @@ fn ring_downs(
     }
 }
 
+/// `n` samples of white Gaussian noise of standard deviation `sigma`, drawn from `rng`.
+fn white(n: usize, sigma: f64, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
+    use rand::Rng;
+    use rand_distr::StandardNormal;
+    (0..n)
+        .map(|_| sigma * rng.sample::<f64, _>(StandardNormal))
+        .collect()
+}
+
+/// Adds harmonics h = 1..=`count` of `f0` to `x`, of amplitude `amp(h)` and phase `phase(h)`.
+fn add_comb(
+    x: &mut [f64],
+    fs: f64,
+    f0: f64,
+    count: usize,
+    amp: impl Fn(f64) -> f64,
+    phase: impl Fn(f64) -> f64,
+) {
+    for (k, v) in x.iter_mut().enumerate() {
+        let t = k as f64 / fs;
+        for h in 1..=count {
+            let h = h as f64;
+            *v += amp(h) * (2.0 * std::f64::consts::PI * h * f0 * t + phase(h)).cos();
+        }
+    }
+}
+
+/// Dense outer-race impacts (another rig: 12 balls, 3600 rpm, 8 kHz, BPFO ≈ 286 Hz against a
+/// 3 kHz ring-down of ~2.5 ms) overlap into a band of low spectral kurtosis, yet their envelope
+/// holds BPFO and its harmonics far above the background: the band is read on periodicity and
+/// the verdict is `outer`, with and without a baseline; the healthy record stays `normal`.
 #[test]
 fn dense_impacts_of_low_kurtosis_are_read_on_periodicity() {
-    use rand::{Rng, SeedableRng};
-    use rand_distr::StandardNormal;
+    use rand::SeedableRng;
     let (fs, rpm) = (8000.0, 3600.0);
     let spec = BearingSpec::parse("n=12,d=7.94mm,D=38.5mm,angle=0deg").unwrap();
     let bpfo = spec.orders.bpfo * rpm / 60.0;
     let n = (4.0 * fs) as usize;
     let record = |fault: bool, seed: u64| -> Vec<f64> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-        let mut x: Vec<f64> = (0..n)
-            .map(|_| 0.35 * rng.sample::<f64, _>(StandardNormal))
-            .collect();
+        let mut x = white(n, 0.35, &mut rng);
         if fault {
             ring_downs(
                 &mut x,
@@ -457,24 +481,15 @@ fn dense_impacts_of_low_kurtosis_are_read_on_periodicity() {
 /// to trust and keeps the declared speed.
 #[test]
 fn speed_is_measured_from_the_shaft_comb_when_the_declared_one_is_off() {
-    use rand::{Rng, SeedableRng};
-    use rand_distr::StandardNormal;
+    use rand::SeedableRng;
     let (fs, rpm) = (12_000.0, 1480.0);
     let spec = BearingSpec::parse("6205").unwrap();
     let fr = rpm / 60.0;
     let bpfo = spec.orders.bpfo * fr;
     let n = (8.0 * fs) as usize;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-    let mut x: Vec<f64> = (0..n)
-        .map(|_| 0.3 * rng.sample::<f64, _>(StandardNormal))
-        .collect();
-    for (k, v) in x.iter_mut().enumerate() {
-        let t = k as f64 / fs;
-        for h in 1..=6 {
-            let a = 0.05 / h as f64;
-            *v += a * (2.0 * std::f64::consts::PI * h as f64 * fr * t + 0.3 * h as f64).cos();
-        }
-    }
+    let mut x = white(n, 0.3, &mut rng);
+    add_comb(&mut x, fs, fr, 6, |h| 0.05 / h, |h| 0.3 * h);
     ring_downs(
         &mut x,
         fs,
@@ -495,9 +510,7 @@ fn speed_is_measured_from_the_shaft_comb_when_the_declared_one_is_off() {
         "{m:?}"
     );
     assert_eq!(d.verdict, "outer", "{:?}", d.scores);
-    let noise: Vec<f64> = (0..n)
-        .map(|_| rng.sample::<f64, _>(StandardNormal))
-        .collect();
+    let noise = white(n, 1.0, &mut rng);
     let d = diagnose(&noise, fs, declared, &spec, None).unwrap();
     assert_eq!(d.operating_point.rpm_used, declared);
     assert!(!d.operating_point.measured_speed.unwrap().accepted);
@@ -509,8 +522,7 @@ fn speed_is_measured_from_the_shaft_comb_when_the_declared_one_is_off() {
 /// rate (3.988 fr) next to a pure 4×-order comb (a four-blade fan) is not a ball fault.
 #[test]
 fn mains_combs_and_shaft_orders_are_not_taken_for_the_shaft_or_a_fault() {
-    use rand::{Rng, SeedableRng};
-    use rand_distr::StandardNormal;
+    use rand::SeedableRng;
     let two_pi = 2.0 * std::f64::consts::PI;
     let (fs, rpm) = (20_000.0, 1480.0);
     let spec = BearingSpec::parse("n=12,d=7.94mm,D=38.5mm,angle=0deg").unwrap();
@@ -518,15 +530,8 @@ fn mains_combs_and_shaft_orders_are_not_taken_for_the_shaft_or_a_fault() {
     let bpfi = spec.orders.bpfi * fr;
     let n = (4.0 * fs) as usize;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(21);
-    let mut x: Vec<f64> = (0..n)
-        .map(|_| 0.3 * rng.sample::<f64, _>(StandardNormal))
-        .collect();
-    for (k, v) in x.iter_mut().enumerate() {
-        let t = k as f64 / fs;
-        for h in 1..=6 {
-            *v += (0.6 / h as f64) * (two_pi * 50.0 * h as f64 * t + h as f64).cos();
-        }
-    }
+    let mut x = white(n, 0.3, &mut rng);
+    add_comb(&mut x, fs, 50.0, 6, |h| 0.6 / h, |h| h);
     // inner-race impacts at BPFI, amplitude modulated at fr (load zone)
     ring_downs(
         &mut x,
@@ -550,9 +555,7 @@ fn mains_combs_and_shaft_orders_are_not_taken_for_the_shaft_or_a_fault() {
     let spec = BearingSpec::parse("6203").unwrap();
     let (fs, rpm) = (20_000.0, 1500.0);
     let fr = rpm / 60.0;
-    let mut y: Vec<f64> = (0..n)
-        .map(|_| rng.sample::<f64, _>(StandardNormal))
-        .collect();
+    let mut y = white(n, 1.0, &mut rng);
     // a four-blade fan: pressure pulses at 4 fr ringing a 2.5 kHz mode
     ring_downs(
         &mut y,

@@ -244,12 +244,10 @@ pub fn simulate_rig(
     {
         let (g, q) = rig.severity(loc, args.fault_size)?;
         let strike = rig.strike_fraction(loc, args.fault_size)?;
-        let sizes = rig
-            .severities
-            .iter()
-            .filter(|s| s.location == loc)
-            .map(|s| s.size_mm);
-        let (lo, hi) = sizes.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        // severity() above has already failed for a location without any calibrated size
+        let (lo, hi) = rig
+            .calibrated_range_mm(loc)
+            .unwrap_or((args.fault_size, args.fault_size));
         let extrapolated =
             args.fault_size < lo * (1.0 - 1e-9) || args.fault_size > hi * (1.0 + 1e-9);
         used.insert(
@@ -315,12 +313,7 @@ fn warn_limits(
         .into_iter()
         .filter(|l| l.in_class(class))
     {
-        let rate = shaft_hz
-            * match loc {
-                close_loop::rig::Location::Inner => orders.bpfi,
-                close_loop::rig::Location::Outer => orders.bpfo,
-                close_loop::rig::Location::Ball => orders.ball_defect,
-            };
+        let rate = shaft_hz * orders.of(loc);
         if rate >= 0.5 * args.fs {
             eprintln!(
                 "note: the {} fault rate, {rate:.1} Hz, is at or above Nyquist ({:.0} Hz): its lines cannot be seen in this recording",

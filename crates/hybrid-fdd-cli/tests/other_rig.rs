@@ -105,32 +105,26 @@ fn the_speed_of_a_simulated_csv_comes_from_its_sidecar() {
             .contains("hybrid-fdd simulate")
     );
     assert_eq!(hybrid_fdd_cli::diagnose::sidecar_rpm(&csv), Some(1750.0));
+    // `diagnose --input <the simulated CSV> --bearing 6205 --report <report>`, no --rpm
+    let diagnose_to = |report: &std::path::Path| {
+        Diagnose::try_parse_from([
+            "diagnose",
+            "--input",
+            s(&csv),
+            "--bearing",
+            "6205",
+            "--report",
+            s(report),
+        ])
+        .unwrap()
+        .a
+    };
     let report = d.join("sim-report.json");
-    let a = Diagnose::try_parse_from([
-        "diagnose",
-        "--input",
-        s(&csv),
-        "--bearing",
-        "6205",
-        "--report",
-        s(&report),
-    ])
-    .unwrap()
-    .a;
+    let a = diagnose_to(&report);
     hybrid_fdd_cli::diagnose::run(&a).expect("speed from the sidecar");
     assert_eq!(json(&report)["operating_point"]["rpm"], 1750.0);
     // a report at the sidecar's own path would overwrite it: refused, sidecar intact
-    let over = Diagnose::try_parse_from([
-        "diagnose",
-        "--input",
-        s(&csv),
-        "--bearing",
-        "6205",
-        "--report",
-        s(&csv.with_extension("json")),
-    ])
-    .unwrap()
-    .a;
+    let over = diagnose_to(&csv.with_extension("json"));
     let e = hybrid_fdd_cli::diagnose::run(&over)
         .unwrap_err()
         .to_string();

@@ -76,7 +76,7 @@ pub fn simulate_record(
         record: e.number,
         source,
     };
-    Ok((m.synthesize(&s).map_err(rig)?, fault_hz(m, loc, rpm)))
+    Ok((m.synthesize(&s).map_err(rig)?, m.fault_rate_hz(loc, rpm)))
 }
 
 /// Measured against simulated statistics of one fault record `y` (at `fs`, `rpm`), the fault

@@ -420,19 +420,23 @@ pub fn calibrate_rig(
             // the impacts as often as the record's fault line says they strike (the strike
             // fraction whose simulated line prominence is nearest the measured one), since
             // striking in bursts raises the kurtosis as a stiffer contact does
+            // the background and the measured line do not depend on the strike fraction
+            let bg = bg_of(t.rpm, impacts.len(), 7 + i as u64);
+            let skip = WARMUP.min(impacts.len() / 2);
+            let measured_line =
+                line_prominence_db(&t.y[..(impacts.len() - skip).min(t.y.len())], fs, rate);
             let mut chosen: Option<(f64, Vec<f64>)> = None;
             for &strike in &STRIKE_FRACTIONS {
                 let through = path
                     .path
                     .filter(&gated(&impacts, strike, tau, 17 + i as u64));
-                let bg = bg_of(t.rpm, through.len(), 7 + i as u64);
-                let y: Vec<f64> = through.iter().zip(&bg).map(|(a, b)| a + b).collect();
-                let y = y[WARMUP.min(y.len() / 2)..].to_vec();
-                let m = y.len().min(t.y.len());
-                let miss = match (
-                    line_prominence_db(&y, fs, rate),
-                    line_prominence_db(&t.y[..m], fs, rate),
-                ) {
+                let y: Vec<f64> = through
+                    .iter()
+                    .zip(&bg)
+                    .skip(skip)
+                    .map(|(a, b)| a + b)
+                    .collect();
+                let miss = match (line_prominence_db(&y, fs, rate), &measured_line) {
                     (Ok(Some(a)), Ok(Some(b))) => (a - b).abs(),
                     _ => f64::INFINITY,
                 };
@@ -530,15 +534,20 @@ pub fn calibrate_rig(
                 Some(b) => (b[i], fit_strike(b[i], fit_seeds)),
                 None => {
                     let mut best: Option<(f64, f64)> = None;
+                    // the measured line, on as many samples as simulated (the same for every
+                    // strike fraction): computed once
+                    let mut measured_line = None;
                     for &strike in &STRIKE_FRACTIONS {
                         let r = fit_strike(strike, &search);
                         let m = r.2.len().min(t.y.len());
-                        let (Ok(Some(sim)), Ok(Some(meas))) = (
-                            line_prominence_db(&r.2, fs, rate),
-                            line_prominence_db(&t.y[..m], fs, rate),
-                        ) else {
+                        let meas = measured_line
+                            .get_or_insert_with(|| line_prominence_db(&t.y[..m], fs, rate));
+                        let (Ok(Some(sim)), Ok(Some(meas))) =
+                            (line_prominence_db(&r.2, fs, rate), meas)
+                        else {
                             continue;
                         };
+                        let meas = *meas;
                         let miss = (sim - meas).abs();
                         if best.is_none_or(|b| miss < b.1 - 1e-9) {
                             best = Some((strike, miss));

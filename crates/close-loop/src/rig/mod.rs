@@ -401,6 +401,16 @@ impl RigModel {
         Ok(self.severity_point(location, size_mm)?[2])
     }
 
+    /// The smallest and largest calibrated spall width at `location`, mm (`None` without any):
+    /// outside them the nearest calibrated severity is held.
+    pub fn calibrated_range_mm(&self, location: Location) -> Option<(f64, f64)> {
+        self.severities
+            .iter()
+            .filter(|s| s.location == location)
+            .map(|s| (s.size_mm, s.size_mm))
+            .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    }
+
     /// Fault rate of `location` at nominal speed `rpm`, Hz: BPFI, BPFO or the ball-defect rate
     /// (CWRU's "BSF") times the shaft rate at the calibrated speed ratio.
     pub fn fault_rate_hz(&self, location: Location, rpm: f64) -> f64 {
