@@ -74,6 +74,14 @@ borderline verdicts: grade-Y right went 38/40/40 → 38/41/39 (baseline / self /
 `outer+ball` with the baseline and 3008 with the machine model; 97 reads `normal` against the
 machine model too). That jitter — one or two Y records under a 2 % change of an analysis length —
 is the method's resolution on these records.
+
+2026-11-25 (later): a fault not detected in the common band is added from a band of its own where
+it is the strongest signature with ≥ 2 harmonics at ≥ 10 dB that no fault of the common band
+explains (made for simulated combinations whose second fault rings another resonance or is
+masked in the first's band; docs/equations/diagnosis.md). A probe run over these records was seen
+before the 10 dB level was fixed. Grade-Y right unchanged (39 / 42 / 40); 97 stays `normal`;
+3003 self-referenced `normal` → `inner`; 222 self-referenced `inner` → `inner+ball`, 224
+`inner` → `inner+outer`, 122 self-referenced `outer` → `inner+outer` (wrong before and after).
 ";
 
 /// Records whose figure goes into `results/diagnosis/figures/`.

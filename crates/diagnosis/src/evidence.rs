@@ -422,6 +422,34 @@ pub(crate) fn evaluate(
     ev
 }
 
+/// Mark the lines of `ev` that the family `fam` of hypothesis `by` explains: within
+/// `max(1 bin, 0.1 %)` of one of its frequencies (unresolvable from it).
+fn mark_explained(ev: &mut HypothesisEvidence, by: Hypothesis, fam: &[f64], df: f64) {
+    for l in ev.harmonics.iter_mut().chain(ev.sidebands.iter_mut()) {
+        if l.explained_by.is_none()
+            && fam
+                .iter()
+                .any(|g| (l.found_hz - g).abs() <= df.max(0.001 * l.found_hz))
+        {
+            l.explained_by = Some(by);
+        }
+    }
+}
+
+/// Mark the lines of `ev` that the families `by` (faults detected in another band, with their
+/// family frequencies) explain, as [`cross_explain`] does within a band, and re-decide.
+pub(crate) fn explain_by(
+    ev: &mut HypothesisEvidence,
+    by: &[(Hypothesis, Vec<f64>)],
+    fr: f64,
+    df: f64,
+) {
+    for (h, fam) in by {
+        mark_explained(ev, *h, fam, df);
+    }
+    ev.decide(df, fr);
+}
+
 /// Mark lines of weaker hypotheses that a stronger detected hypothesis's family explains, in
 /// order of decreasing score, and re-decide. A line at `f` is explained by a family frequency
 /// `g` when `|f − g| ≤ max(1 bin, 0.1 % of f)` (unresolvable from it). Families: outer `k f₁ + j fr`; inner
@@ -435,16 +463,7 @@ pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64,
         for &c in &confirmed {
             let fam = ev[c].family(fr, ftf_hz);
             let by = ev[c].hypothesis;
-            let tol_bins = df;
-            for l in ev[i].harmonics.iter_mut().chain(ev[i].sidebands.iter_mut()) {
-                if l.explained_by.is_none()
-                    && fam
-                        .iter()
-                        .any(|g| (l.found_hz - g).abs() <= tol_bins.max(0.001 * l.found_hz))
-                {
-                    l.explained_by = Some(by);
-                }
-            }
+            mark_explained(&mut ev[i], by, &fam, df);
         }
         ev[i].decide(df, fr);
         if ev[i].detected {

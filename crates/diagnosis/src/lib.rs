@@ -36,6 +36,10 @@
 //!    train, one fault frequency), and lines of a weaker hypothesis that a stronger detected
 //!    one's family explains (e.g. BPFO + fr near BSF) do not count for it, nor do harmonics found
 //!    on an integer shaft order their kinematic rate is not on ([`Line::shaft_order`]).
+//!    A fault not detected in that common band is read in each other impulsive band: where it
+//!    is the strongest signature and has [`MIN_LINES`] harmonics at ≥ [`SECOND_BAND_LINE_DB`]
+//!    that no fault of the common band explains, it is added ([`Diagnosis::secondary`]) — a
+//!    second fault ringing another resonance, or masked in the first's band.
 //! 4. **Verdict**: a hypothesis is detected when at least [`MIN_LINES`] harmonics stand
 //!    [`LINE_THRESHOLD_DB`] above the local median, or harmonic 1 does together with one of its
 //!    sidebands. See `docs/equations/diagnosis.md` for the formulas and the reasoning behind the
@@ -107,6 +111,11 @@ pub const MIN_LINES: usize = 2;
 /// Without an impulsive band, a band is still read when one hypothesis has [`MIN_LINES`] of its
 /// harmonics present at ≥ this evidence, dB (see `diagnose_with`, step 3).
 pub const PERIODIC_LINE_DB: f64 = 10.0;
+/// A fault not detected in the common band is added from a band of its own only when
+/// [`MIN_LINES`] of its harmonics stand at ≥ this evidence, dB, there (10 dB = 10× the local
+/// median): the search over the other bands is a second multiple comparison, so the single-band
+/// rule's 6 dB is raised to the level of [`PERIODIC_LINE_DB`].
+pub const SECOND_BAND_LINE_DB: f64 = 10.0;
 /// Harmonics of each fault frequency searched.
 pub const HARMONICS: usize = 3;
 /// Largest rolling-element slip allowed for (1–2 % is usual).
@@ -382,6 +391,9 @@ pub struct Thresholds {
     pub sk_sigmas: f64,
     /// [`CFAR_QUANTILE`].
     pub cfar_quantile: f64,
+    /// [`SECOND_BAND_LINE_DB`].
+    #[serde(default)]
+    pub second_band_line_db: f64,
     /// Plain-language rule.
     pub rule: String,
 }
@@ -397,11 +409,33 @@ impl Default for Thresholds {
             speed_tolerance: SPEED_TOL,
             sk_sigmas: SK_SIGMAS,
             cfar_quantile: CFAR_QUANTILE,
+            second_band_line_db: SECOND_BAND_LINE_DB,
             rule: format!(
-                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault; against a baseline recording, a line the healthy machine already holds (>= {LINE_THRESHOLD_DB} dB there) counts only by what it has grown",
+                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault; against a baseline recording, a line the healthy machine already holds (>= {LINE_THRESHOLD_DB} dB there) counts only by what it has grown; a fault not detected in that common band is added when, in another impulsive band, it scores highest and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB that no fault of the common band explains",
                 100.0 * (1.0 - CFAR_QUANTILE)
             ),
         }
+    }
+}
+
+/// A fault found in a band of its own, not in the common band (see [`diagnose`], step 3b).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SecondaryRead {
+    /// The fault.
+    pub hypothesis: Hypothesis,
+    /// The band it was read in.
+    pub band: BandChoice,
+    /// Its evidence in that band.
+    pub evidence: HypothesisEvidence,
+}
+
+fn band_choice(sp: &EnvelopeSpectrum, chosen_by: String) -> BandChoice {
+    BandChoice {
+        low_hz: sp.band_hz[0],
+        high_hz: sp.band_hz[1],
+        spectral_kurtosis: sp.spectral_kurtosis,
+        line_threshold_db: sp.line_threshold_db,
+        chosen_by,
     }
 }
 
@@ -432,6 +466,11 @@ pub struct Diagnosis {
     pub statistics: Statistics,
     /// The fixed decision constants.
     pub thresholds: Thresholds,
+    /// Faults not detected in the common band but found in a band of their own (step 3b of
+    /// [`diagnose`]); they are in `detected` and the verdict, and their scores and lines are
+    /// here (`scores` and `evidence` are the common band's).
+    #[serde(default)]
+    pub secondary: Vec<SecondaryRead>,
     /// Squared envelope spectrum of `band` (for figures; not serialised).
     #[serde(skip)]
     pub envelope: EnvelopeSpectrum,
@@ -444,9 +483,12 @@ impl Diagnosis {
     /// line threshold, and the lines of every other fault detected. Empty when they agree.
     pub fn explain_against(&self, label: &str) -> String {
         use std::fmt::Write as _;
+        // a fault found in a band of its own is explained by its lines there
         let lines = |h: &str| {
-            self.evidence
+            self.secondary
                 .iter()
+                .map(|r| &r.evidence)
+                .chain(&self.evidence)
                 .find(|e| e.hypothesis.name() == h)
                 .map_or(String::new(), |e| {
                     e.harmonics
@@ -486,7 +528,17 @@ impl Diagnosis {
                 if !s.is_empty() {
                     s += "; ";
                 }
-                let _ = write!(s, "{} detected: {}", h.name(), lines(h.name()));
+                let own =
+                    self.secondary
+                        .iter()
+                        .find(|r| r.hypothesis == *h)
+                        .map_or(String::new(), |r| {
+                            format!(
+                                " in its own band {:.0}–{:.0} Hz",
+                                r.band.low_hz, r.band.high_hz
+                            )
+                        });
+                let _ = write!(s, "{} detected{own}: {}", h.name(), lines(h.name()));
             }
         }
         s
@@ -799,8 +851,10 @@ fn diagnose_with(
     };
     let best_score = |v: &[HypothesisEvidence]| v.iter().map(|e| e.score_db).fold(0.0, f64::max);
     let mut chosen: Option<(usize, Vec<HypothesisEvidence>)> = None;
-    for &i in &eligible {
-        let ev = eval_all(i);
+    let eligible_evidence: Vec<Vec<HypothesisEvidence>> =
+        eligible.iter().map(|&i| eval_all(i)).collect();
+    for (&i, ev) in eligible.iter().zip(&eligible_evidence) {
+        let ev = ev.clone();
         let better = match &chosen {
             None => true,
             Some((j, b)) => {
@@ -846,11 +900,73 @@ fn diagnose_with(
         }
     }
 
+    // 3b. a fault in a band of its own. The common band is the best one for the strongest
+    //     signature; a second fault whose impacts ring a different resonance, or are masked
+    //     there by the first, shows in another band. Each hypothesis not detected in the common
+    //     band is read in every other eligible band; it is added when, in one of them, it is
+    //     detected, scores highest of the three, has MIN_LINES harmonics at ≥ SECOND_BAND_LINE_DB
+    //     (this second search over bands is a second multiple comparison), and none of its
+    //     counting lines belongs to the family of a fault detected in the common band.
+    let mut secondary: Vec<SecondaryRead> = Vec::new();
+    if impulsive && !eligible.is_empty() {
+        let primary: Vec<(Hypothesis, Vec<f64>)> = evidence
+            .iter()
+            .filter(|e| e.detected)
+            .map(|e| (e.hypothesis, e.family(fr, o.ftf * fr)))
+            .collect();
+        for (hi, &h) in Hypothesis::ALL.iter().enumerate() {
+            if evidence[hi].detected {
+                continue;
+            }
+            let mut best: Option<(usize, HypothesisEvidence)> = None;
+            for (&i, ev) in eligible.iter().zip(&eligible_evidence) {
+                if i == bi {
+                    continue;
+                }
+                let dfi = spectra[i].resolution_hz;
+                let mut ev = ev.clone();
+                evidence::cross_explain(&mut ev, fr, o.ftf * fr, dfi);
+                if ev.iter().any(|e| e.score_db > ev[hi].score_db) {
+                    continue;
+                }
+                let mut e = ev.swap_remove(hi);
+                evidence::explain_by(&mut e, &primary, fr, dfi);
+                let strong = e
+                    .harmonics
+                    .iter()
+                    .filter(|l| l.counts() && l.evidence_db >= SECOND_BAND_LINE_DB)
+                    .count();
+                if e.detected
+                    && strong >= MIN_LINES
+                    && best.as_ref().is_none_or(|(_, b)| e.score_db > b.score_db)
+                {
+                    best = Some((i, e));
+                }
+            }
+            if let Some((i, e)) = best {
+                secondary.push(SecondaryRead {
+                    hypothesis: h,
+                    band: band_choice(
+                        &spectra[i],
+                        format!(
+                            "{} is the strongest signature in this band and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB no fault of the common band explains",
+                            h.name()
+                        ),
+                    ),
+                    evidence: e,
+                });
+            }
+        }
+    }
+
     // 4. verdict
-    let detected: Vec<Hypothesis> = evidence
+    let detected: Vec<Hypothesis> = Hypothesis::ALL
         .iter()
-        .filter(|e| e.detected)
-        .map(|e| e.hypothesis)
+        .copied()
+        .filter(|&h| {
+            evidence.iter().any(|e| e.hypothesis == h && e.detected)
+                || secondary.iter().any(|r| r.hypothesis == h)
+        })
         .collect();
     let verdict = if detected.is_empty() {
         "normal".to_string()
@@ -877,13 +993,7 @@ fn diagnose_with(
         "no band has significant spectral kurtosis (no impulsive content): evidence shown in the maximum-SK band, not used".to_string()
     };
     let sp = &spectra[bi];
-    let choice = |i: usize, by: String| BandChoice {
-        low_hz: spectra[i].band_hz[0],
-        high_hz: spectra[i].band_hz[1],
-        spectral_kurtosis: spectra[i].spectral_kurtosis,
-        line_threshold_db: spectra[i].line_threshold_db,
-        chosen_by: by,
-    };
+    let choice = |i: usize, by: String| band_choice(&spectra[i], by);
     let shaft_harmonics = (1..=HARMONICS)
         .map(|k| {
             let f = k as f64 * fr;
@@ -932,6 +1042,7 @@ fn diagnose_with(
         statistics,
         thresholds: Thresholds::default(),
         envelope: sp.clone(),
+        secondary,
     })
 }
 

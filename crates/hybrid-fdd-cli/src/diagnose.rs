@@ -986,13 +986,29 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         d.kurtogram_band.high_hz,
         d.kurtogram_band.spectral_kurtosis
     );
+    for r in &d.secondary {
+        m += &format!(
+            "- {} found in a band of its own (Hz): {:.0}–{:.0} (SK {:.2}, line threshold {:.1} dB, score {:.1} dB): {}\n",
+            r.hypothesis.name(),
+            r.band.low_hz,
+            r.band.high_hz,
+            r.band.spectral_kurtosis,
+            r.band.line_threshold_db,
+            r.evidence.score_db,
+            r.band.chosen_by
+        );
+    }
+    if !d.secondary.is_empty() {
+        m += "\n";
+    }
     m += &format!("Rule: {}.\n\n", d.thresholds.rule);
     m += "| hypothesis | score (dB) | detected | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | in baseline (dB) | evidence (dB) | counts |\n|---|---:|---|---|---|---:|---:|---:|---:|---:|---|\n";
-    for e in &d.evidence {
+    let own_band = d.secondary.iter().map(|r| (&r.evidence, " (own band)"));
+    for (e, tag) in d.evidence.iter().map(|e| (e, "")).chain(own_band) {
         for (i, l) in e.harmonics.iter().chain(&e.sidebands).enumerate() {
             let head = if i == 0 {
                 format!(
-                    "{} | {:.1} | {} | {:.0}–{:.0}",
+                    "{}{tag} | {:.1} | {} | {:.0}–{:.0}",
                     e.hypothesis.name(),
                     e.score_db,
                     if e.detected { "**yes**" } else { "no" },
