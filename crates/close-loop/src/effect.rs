@@ -31,6 +31,12 @@ pub enum EffectKind {
 }
 
 impl EffectKind {
+    /// A setting of the model (the speed ratio, the slip, the structural path): taking it again
+    /// replaces its value rather than adding a term.
+    pub fn is_setting(self) -> bool {
+        matches!(self, Self::SpeedOffset | Self::Slip | Self::StructuralPath)
+    }
+
     /// The JSON spelling ("tone", "shaft_harmonic", …).
     pub fn as_str(self) -> &'static str {
         match self {

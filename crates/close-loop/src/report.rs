@@ -39,6 +39,10 @@ pub struct EffectEntry {
     pub residual_rms_before: Option<f64>,
     /// Held-out RMS of the observer residual after this effect.
     pub residual_rms_after: Option<f64>,
+    /// For a setting of the model (speed ratio, slip, structural path) taken again: the 1-based
+    /// step whose value this one replaces (`null` otherwise).
+    #[serde(default)]
+    pub replaces_step: Option<usize>,
 }
 
 /// A candidate that was evaluated in the last round and not kept.

@@ -47,6 +47,13 @@ fn run_fault(y: &[f64], fault: DeclaredFault) -> Outcome {
     let cfg = LoopConfig::default().check().unwrap();
     let out = close_loop(&PhysicsModel::default(), y, FS, &op_fault(RPM, fault), &cfg).unwrap();
     eprintln!("{}", out.ledger.to_markdown("physics"));
+    // a setting (speed ratio, slip, structural path) taken again names the step it replaces
+    let e = &out.ledger.effects;
+    for (i, x) in e.iter().enumerate() {
+        let earlier = e[..i].iter().rposition(|p| p.kind == x.kind).map(|j| j + 1);
+        let want = if x.kind.is_setting() { earlier } else { None };
+        assert_eq!(x.replaces_step, want, "step {}: {}", i + 1, x.description);
+    }
     out
 }
 

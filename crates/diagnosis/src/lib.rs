@@ -427,6 +427,9 @@ pub struct SecondaryRead {
     pub band: BandChoice,
     /// Its evidence in that band.
     pub evidence: HypothesisEvidence,
+    /// Squared envelope spectrum of that band (for figures; not serialised).
+    #[serde(skip)]
+    pub envelope: EnvelopeSpectrum,
 }
 
 fn band_choice(sp: &EnvelopeSpectrum, chosen_by: String) -> BandChoice {
@@ -954,6 +957,7 @@ fn diagnose_with(
                         ),
                     ),
                     evidence: e,
+                    envelope: spectra[i].clone(),
                 });
             }
         }

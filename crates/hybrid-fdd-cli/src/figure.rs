@@ -89,8 +89,51 @@ pub fn render_png(
 /// # Errors
 /// Drawing or file errors.
 pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Result<()> {
+    let panels = 1 + d.secondary.len();
+    let root = BitMapBackend::new(path, (W, H * panels as u32)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let areas = root.split_evenly((panels, 1));
+    let reference = match d.reference {
+        diagnosis::Reference::Baseline => "baseline",
+        diagnosis::Reference::SelfReference => "self",
+    };
+    envelope_panel(
+        &areas[0],
+        d,
+        &d.envelope,
+        &d.evidence,
+        format!(
+            "{title}: {} — squared envelope spectrum of the residual, band {:.0}–{:.0} Hz ({reference} reference)",
+            d.verdict, d.band.low_hz, d.band.high_hz,
+        ),
+    )?;
+    for (r, area) in d.secondary.iter().zip(&areas[1..]) {
+        envelope_panel(
+            area,
+            d,
+            &r.envelope,
+            std::slice::from_ref(&r.evidence),
+            format!(
+                "{title}: {} in a band of its own, {:.0}–{:.0} Hz ({reference} reference)",
+                r.hypothesis.name(),
+                r.band.low_hz,
+                r.band.high_hz,
+            ),
+        )?;
+    }
+    Ok(())
+}
+
+/// One panel: the squared envelope spectrum `env` (dB over its median) with the kinematic
+/// markers of `d`'s operating point and, as dots, the counting lines of `evidence` in that band.
+fn envelope_panel(
+    root: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    d: &Diagnosis,
+    env: &diagnosis::EnvelopeSpectrum,
+    evidence: &[diagnosis::HypothesisEvidence],
+    caption: String,
+) -> anyhow::Result<()> {
     let text = font_available();
-    let env = &d.envelope;
     let f = &d.operating_point.frequencies_hz;
     let fr = d.operating_point.shaft_hz;
     let top = 3.4 * f.bpfo.max(f.bpfi).max(f.ball_defect) + fr;
@@ -116,26 +159,12 @@ pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Resul
     let ymax = db.iter().map(|p| p.1).fold(10.0f64, f64::max) + 8.0;
     let ymin = db.iter().map(|p| p.1).fold(0.0f64, f64::min).max(-20.0);
 
-    let root = BitMapBackend::new(path, (W, H)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut b = ChartBuilder::on(&root);
+    let mut b = ChartBuilder::on(root);
     b.margin(12);
     if text {
-        b.caption(
-            format!(
-                "{title}: {} — squared envelope spectrum of the residual, band {:.0}–{:.0} Hz ({} reference)",
-                d.verdict,
-                d.band.low_hz,
-                d.band.high_hz,
-                match d.reference {
-                    diagnosis::Reference::Baseline => "baseline",
-                    diagnosis::Reference::SelfReference => "self",
-                }
-            ),
-            ("sans-serif", 14),
-        )
-        .x_label_area_size(40)
-        .y_label_area_size(55);
+        b.caption(caption, ("sans-serif", 14))
+            .x_label_area_size(40)
+            .y_label_area_size(55);
     }
     let mut c = b.build_cartesian_2d(0.0..top, ymin..ymax)?;
     let mut mesh = c.configure_mesh();
@@ -215,7 +244,7 @@ pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Resul
     }
     c.draw_series(LineSeries::new(db, &BLACK))?;
     // found lines of each hypothesis, as dots where they count
-    for e in &d.evidence {
+    for e in evidence {
         let col = match e.hypothesis {
             diagnosis::Hypothesis::Inner => red,
             diagnosis::Hypothesis::Outer => blue,
@@ -241,7 +270,6 @@ pub fn envelope_figure(d: &Diagnosis, path: &Path, title: &str) -> anyhow::Resul
             }
         }
     }
-    root.present()?;
     Ok(())
 }
 

@@ -259,12 +259,25 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             };
             break;
         };
+        // a speed ratio, a slip or a structural path is a setting of the model, not an added
+        // term: taken again, it corrects the earlier value, and the ledger says which step
+        let kind = cand.effect.kind();
+        let replaces_step = kind
+            .is_setting()
+            .then(|| effects.iter().rposition(|e: &EffectEntry| e.kind == kind))
+            .flatten()
+            .map(|i| i + 1);
+        let mut description = cand.effect.describe();
+        if let Some(k) = replaces_step {
+            description += &format!("; replaces step {k}'s value (a setting, not an added term)");
+        }
         effects.push(EffectEntry {
-            kind: cand.effect.kind(),
+            kind,
             frequency_hz: cand.effect.frequency_hz(),
             parameters: cand.effect.parameters(),
             placement: cand.effect.placement(),
-            description: cand.effect.describe(),
+            description,
+            replaces_step,
             error_before: held.lsd,
             error_after: h.lsd,
             secondary_before: held.rms,
