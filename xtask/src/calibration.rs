@@ -4,7 +4,7 @@
 //! `crates/close-loop/rig/cwru-12k.json`, the default of `simulate` at CWRU conditions.
 
 use anyhow::Context as _;
-use bearing_data::{CatalogEntry, LoadOptions, OuterPosition, SensorEnd};
+use bearing_data::{CatalogEntry, LoadOptions, SensorEnd};
 use close_loop::rig::{self, Comparison, RigModel, TrainingRecord};
 use pipeline::rig_records::{compare_record, simulate_record, training_record};
 
@@ -19,9 +19,10 @@ pub struct Args {
 }
 
 const FS: f64 = 12_000.0;
-/// Training rule: the 0 hp, 12 kHz drive-end records with the outer race at 6 o'clock.
+/// Training rule: the 0 hp, 12 kHz drive-end records.
 const RULE: &str = "12 kHz drive-end fault records at 0 hp (1797 rpm); outer race at 6 o'clock for \
-     the paths and severities, at 3 o'clock for the sensor's horizontal sensitivity";
+     the paths and severities, at 3 o'clock for the sensor's horizontal sensitivity, at 12 o'clock \
+     for the radial load";
 
 struct Row {
     number: u32,
@@ -52,9 +53,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         .filter(|e| e.number != 97 && e.fault_end() == Some(SensorEnd::DriveEnd))
         .filter(|e| bearing_data::record_path(dir, e.number).is_ok_and(|p| p.exists()))
         .collect();
-    let is_training = |e: &CatalogEntry| {
-        e.fs_hz == 12_000 && e.load_hp == 0 && e.outer_position != Some(OuterPosition::Opposite12)
-    };
+    let is_training = |e: &CatalogEntry| e.fs_hz == 12_000 && e.load_hp == 0;
     let mut loaded = Vec::new();
     for e in &entries {
         let (y, rpm) = load(e.number)?;
@@ -230,9 +229,9 @@ fn write(
         "**Calibration.** Healthy machine: {} (the closed loop's machine model: structural path of \
          order {}, {} lines, speed ratio {:.5}; its tones — the measurement chain's interference — \
          rescaled to the training records' chain; the 97 row keeps 97's own levels; what its named effects leave of 97's PSD is added as shaped noise, a {}-tap FIR). Sensor: horizontal sensitivity {:.3} of the vertical. Contact load: radial preload {:.1} µm per ball (chosen \
-         from {:?} µm by the training records' kurtosis, each record's impacts gated at the strike fraction its fault line calls for). One impact path per fault location and size ({} paths, AR \
-         order {}; a size without one uses the nearest calibrated size's) and one severity gain per record fitted on: {} ({} records: {}). Everything else is held out: the 1–3 hp records, the \
-         outer race at 12 o'clock at every load (the 5-DOF model's spall moved there, severity of the \
+         from {:?} µm by the training records' kurtosis, each record's impacts gated at the strike fraction its fault line calls for) and a radial load of {:.0} N on the shaft (chosen from {:?} N by the 12 o'clock training records' fault power relative to the 6 o'clock record of the same size: a load zone at 6 o'clock makes a spall at the top strike lighter). One impact path per fault location and size ({} paths, AR \
+         order {}; a size without one uses the nearest calibrated size's) and one severity gain per record fitted on: {} ({} records: {}). Everything else is held out: the 1–3 hp records (the \
+         outer race at 3 and 12 o'clock: the 5-DOF model's spall moved there, severity of the \
          6 o'clock spall of that size) and the 48 kHz drive-end records (decimated to 12 kHz). Only the training \
          records' PSDs, mean squares, kurtosis and fault-line prominence are fitted (the severity's \
          strike fraction — the share of the time the defect strikes, in bursts of {} fault periods — \
@@ -252,6 +251,8 @@ fn write(
         model.sensor_horizontal,
         model.preload_m * 1e6,
         rig::PRELOADS_M.iter().map(|p| p * 1e6).collect::<Vec<_>>(),
+        model.radial_load_n,
+        rig::RADIAL_LOADS_N,
         model.impact_paths.len(),
         rig::IMPACT_PATH_ORDER,
         model.provenance.training_rule,

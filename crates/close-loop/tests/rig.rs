@@ -205,7 +205,7 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         })
         .collect();
     let names = ["a", "b", "c"];
-    let training: Vec<TrainingRecord<'_>> = specs
+    let mut training: Vec<TrainingRecord<'_>> = specs
         .iter()
         .zip(&ys)
         .zip(names)
@@ -218,6 +218,27 @@ fn calibration_recovers_the_rig_it_is_run_on() {
             y,
         })
         .collect();
+    // the outer-race spall at 12 o'clock, opposite the load zone: it fixes the radial load
+    let top = truth
+        .synthesize(&Synthesis {
+            outer_angle_rad: std::f64::consts::FRAC_PI_2,
+            ..Synthesis::new(
+                Location::Outer.class(),
+                0.533,
+                1797.0,
+                (10.0 * fs) as usize,
+                13,
+            )
+        })
+        .unwrap();
+    training.push(TrainingRecord {
+        name: "d",
+        location: Location::Outer,
+        size_mm: 0.533,
+        outer_angle_rad: std::f64::consts::FRAC_PI_2,
+        rpm: 1797.0,
+        y: &top,
+    });
     let cfg = LoopConfig::default().check().unwrap();
     let got = rig::calibrate_rig(
         &healthy,
@@ -248,6 +269,33 @@ fn calibration_recovers_the_rig_it_is_run_on() {
             s.strike_fraction
         );
     }
+    // the 12 o'clock spall's level: the radial load (with the preload it is fitted at; the two
+    // trade off, so the level, not the load, is what must come back)
+    let top_rms = |r: &RigModel| {
+        (0..3)
+            .map(|k| {
+                let s = Synthesis {
+                    outer_angle_rad: std::f64::consts::FRAC_PI_2,
+                    ..Synthesis::new(
+                        Location::Outer.class(),
+                        0.533,
+                        1730.0,
+                        (10.0 * fs) as usize,
+                        70 + k,
+                    )
+                };
+                rms(&r.synthesize(&s).unwrap())
+            })
+            .sum::<f64>()
+            / 3.0
+    };
+    let (a, b) = (top_rms(&truth), top_rms(&got));
+    assert!(
+        (b / a - 1.0).abs() < 0.15,
+        "outer at 12 o'clock: recovered rig RMS {b} vs truth {a} (radial load {} N vs {} N)",
+        got.radial_load_n,
+        truth.radial_load_n
+    );
     for (loc, size) in specs {
         // held out: the training speed and 1730 rpm, other seeds; a gated train's level varies
         // from burst pattern to burst pattern, so the levels are means over three 10 s

@@ -267,6 +267,7 @@ pub fn simulate_rig(
         "units": rig.units,
         "provenance": rig.provenance,
         "preload_m": rig.preload_m,
+        "radial_load_n": rig.radial_load_n,
         "sensor_horizontal": rig.sensor_horizontal,
         "speed_ratio": rig.healthy.speed_ratio,
         "severity_used": used,

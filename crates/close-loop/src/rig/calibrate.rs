@@ -18,6 +18,10 @@ use std::f64::consts::PI;
 /// Preloads the calibration tries, m.
 pub const PRELOADS_M: &[f64] = &[0.0, 0.5e-6, 1e-6, 2e-6, 4e-6, 8e-6];
 
+/// Radial loads on the shaft the calibration tries, N (0 up to about the static rating of a
+/// 6205's most loaded ball at the calibrated preloads).
+pub const RADIAL_LOADS_N: &[f64] = &[0.0, 50.0, 100.0, 200.0, 400.0, 800.0, 1600.0, 3200.0];
+
 fn variance(y: &[f64]) -> f64 {
     let m = y.iter().sum::<f64>() / y.len().max(1) as f64;
     y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / y.len().max(1) as f64
@@ -222,6 +226,7 @@ impl PathFit {
 fn fit_paths(
     bearing: Bearing,
     preload_m: f64,
+    radial_load_n: f64,
     fs: f64,
     machine: &MachineModel,
     training: &[TrainingRecord<'_>],
@@ -238,6 +243,7 @@ fn fit_paths(
         let x = excitation(
             bearing,
             preload_m,
+            radial_load_n,
             t.location.class(),
             t.size_mm,
             t.rpm * machine.speed_ratio,
@@ -356,9 +362,16 @@ pub fn calibrate_rig(
     let off_axis = |t: &TrainingRecord<'_>| {
         t.location == Location::Outer && t.outer_angle_rad.sin().abs() < 0.5
     };
+    // and those with the spall at the top, opposite the load zone, the radial load
+    let opposite =
+        |t: &TrainingRecord<'_>| t.location == Location::Outer && t.outer_angle_rad.sin() > 0.5;
     let cross: Vec<TrainingRecord<'_>> = training.iter().copied().filter(off_axis).collect();
-    let training: Vec<TrainingRecord<'_>> =
-        training.iter().copied().filter(|t| !off_axis(t)).collect();
+    let top: Vec<TrainingRecord<'_>> = training.iter().copied().filter(opposite).collect();
+    let training: Vec<TrainingRecord<'_>> = training
+        .iter()
+        .copied()
+        .filter(|t| !off_axis(t) && !opposite(t))
+        .collect();
     let training = training.as_slice();
     if training.is_empty() {
         return Err(CloseLoopError::Model {
@@ -393,10 +406,11 @@ pub fn calibrate_rig(
     let kurt: Vec<f64> = training.iter().map(|t| kurtosis(t.y)).collect();
     // the contact load: the preload whose fitted rig gives the training records' kurtosis best
     // (mean |ln(simulated / measured kurtosis)|), on 2 s excitations
-    let fit_at = |preload: f64, len: usize| {
+    let fit_at = |preload: f64, radial: f64, len: usize| {
         fit_paths(
             bearing,
             preload,
+            radial,
             fs,
             &machine,
             training,
@@ -410,7 +424,7 @@ pub fn calibrate_rig(
     let short = (2.0 * fs) as usize;
     let mut best: Option<(f64, f64)> = None;
     for &preload in PRELOADS_M {
-        let fit = fit_at(preload, short)?;
+        let fit = fit_at(preload, 0.0, short)?;
         let mut err = 0.0;
         for (i, t) in training.iter().enumerate() {
             let (g, path) = (&fit.gains[i], fit.path_of(t.location, t.size_mm));
@@ -454,8 +468,27 @@ pub fn calibrate_rig(
         }
     }
     let preload_m = best.map_or(0.0, |b| b.0);
+    // the radial load, at that preload: the one whose 12-over-6 o'clock ratio of simulated
+    // impact power matches the measured ratio of fault power (module docs)
+    let radial_load_n = if top.is_empty() {
+        0.0
+    } else {
+        let fit0 = fit_at(preload_m, 0.0, short)?;
+        fit_radial_load(
+            bearing,
+            preload_m,
+            &machine,
+            training,
+            &measured,
+            &background,
+            &top,
+            &fit0,
+            &bg_of,
+            short,
+        )?
+    };
     let long = (4.0 * fs) as usize;
-    let fit = fit_at(preload_m, long)?;
+    let fit = fit_at(preload_m, radial_load_n, long)?;
     // severities (gain, random fraction, strike fraction) of every training record for a sensor
     // κ: for each strike fraction of the grid (or the one already chosen, `strikes`), the random
     // fraction that matches the record's kurtosis and the gain that matches its excess mean
@@ -581,6 +614,7 @@ pub fn calibrate_rig(
         chain_lines: chain_lines.clone(),
         impact_paths,
         preload_m,
+        radial_load_n,
         sensor_horizontal: 0.0,
         chain_fir: Vec::new(),
         background_fir: remainder.clone(),
@@ -595,7 +629,7 @@ pub fn calibrate_rig(
     };
     rig.provenance
         .training_records
-        .extend(cross.iter().map(|t| t.name.to_string()));
+        .extend(cross.iter().chain(&top).map(|t| t.name.to_string()));
     // κ from the off-axis records with the κ = 0 severities, then the severities again with κ
     rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross)?;
     if rig.sensor_horizontal > 0.0 {
@@ -609,6 +643,92 @@ pub fn calibrate_rig(
             severities_for(&fit, rig.sensor_horizontal, &rig.chain_fir, Some(&strikes));
     }
     Ok(rig)
+}
+
+/// The radial load on the shaft from the outer-race records with the spall at the top
+/// (`top`), opposite the load zone: each is paired with the on-axis (6 o'clock) training record
+/// of the same size nearest in speed; its measured ratio is the fault power (mean square over
+/// the rig's healthy background at its speed) of the top record over that of the 6 o'clock
+/// one; the simulated ratio, at each of [`RADIAL_LOADS_N`], is the mean square of the two
+/// excitations (same seed, same slip draws) through the 6 o'clock path of that size. The load
+/// with the smallest mean |ln(simulated / measured)| wins (0 when no record pairs). Gain,
+/// random fraction and strike gate are the same for the two positions and cancel in the ratio.
+#[allow(clippy::too_many_arguments)]
+fn fit_radial_load(
+    bearing: Bearing,
+    preload_m: f64,
+    machine: &MachineModel,
+    training: &[TrainingRecord<'_>],
+    measured: &[(Vec<f64>, f64)],
+    background: &[(Vec<f64>, f64)],
+    top: &[TrainingRecord<'_>],
+    fit0: &PathFit,
+    bg_of: &dyn Fn(f64, usize, u64) -> Vec<f64>,
+    len: usize,
+) -> Result<f64, CloseLoopError> {
+    let fs = machine.fs_hz;
+    let same_size = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1.0);
+    let mut pairs = Vec::new();
+    for (j, t) in top.iter().enumerate() {
+        let Some(i) = (0..training.len())
+            .filter(|&i| {
+                training[i].location == Location::Outer && same_size(training[i].size_mm, t.size_mm)
+            })
+            .min_by(|&a, &b| {
+                (training[a].rpm - t.rpm)
+                    .abs()
+                    .total_cmp(&(training[b].rpm - t.rpm).abs())
+            })
+        else {
+            continue;
+        };
+        let n = t.y.len().min(len);
+        let bg = bg_of(t.rpm, n, 300 + j as u64);
+        let top_excess = variance(&t.y[..n]) - variance(&bg);
+        let six_excess = measured[i].1 - background[i].1;
+        if top_excess > 0.0 && six_excess > 0.0 {
+            pairs.push((i, *t, top_excess / six_excess, n));
+        }
+    }
+    if pairs.is_empty() {
+        return Ok(0.0);
+    }
+    let mut best: Option<(f64, f64)> = None;
+    for &radial in RADIAL_LOADS_N {
+        let mut err = 0.0;
+        for (k, (i, t, meas, n)) in pairs.iter().enumerate() {
+            let six = &training[*i];
+            let path = &fit0.path_of(Location::Outer, t.size_mm).path;
+            let power = |angle: f64| -> Result<f64, CloseLoopError> {
+                let e = excitation(
+                    bearing,
+                    preload_m,
+                    radial,
+                    FaultClass::Outer,
+                    t.size_mm,
+                    t.rpm * machine.speed_ratio,
+                    angle,
+                    fs,
+                    n + WARMUP,
+                    3000 + k as u64,
+                )?;
+                let y = path.filter(&e.vertical);
+                Ok(mean_square(&y[WARMUP.min(y.len() / 2)..]))
+            };
+            let (p_top, p_six) = (power(t.outer_angle_rad)?, power(six.outer_angle_rad)?);
+            let sim = if p_six > 0.0 { p_top / p_six } else { 0.0 };
+            err += if sim > 0.0 {
+                (sim / meas).ln().abs()
+            } else {
+                f64::INFINITY
+            };
+        }
+        let err = err / pairs.len() as f64;
+        if best.is_none_or(|b| err < b.1) {
+            best = Some((radial, err));
+        }
+    }
+    Ok(best.map_or(0.0, |b| b.0))
 }
 
 /// The sensor's horizontal sensitivity κ: for each off-axis outer-race record, the κ in [0, 20]
@@ -625,6 +745,7 @@ fn fit_horizontal(
         let e = excitation(
             bearing,
             rig.preload_m,
+            rig.radial_load_n,
             FaultClass::Outer,
             t.size_mm,
             t.rpm * rig.healthy.speed_ratio,

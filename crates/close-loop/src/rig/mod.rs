@@ -47,7 +47,7 @@ use std::f64::consts::PI;
 mod calibrate;
 mod stats;
 
-pub use calibrate::{PRELOADS_M, TrainingRecord, calibrate_rig};
+pub use calibrate::{PRELOADS_M, RADIAL_LOADS_N, TrainingRecord, calibrate_rig};
 pub use stats::{BANDS_HZ, Comparison, SignalStats, line_prominence_db, signal_stats};
 
 /// The `format` string of a rig model file.
@@ -194,6 +194,13 @@ pub struct RigModel {
     /// it sets how far round the bearing the balls stay loaded, hence the load-zone
     /// modulation of the impacts).
     pub preload_m: f64,
+    /// Constant radial load on the shaft in the excitation model, N, downwards (beside the
+    /// shaft's weight): it concentrates the contact load in the 6 o'clock load zone, so a
+    /// spall at 12 o'clock strikes lighter than one at 6. Calibrated on outer-race records with
+    /// the spall opposite the load zone against the 6 o'clock record of the same size (0
+    /// without any, and in rig files written before it).
+    #[serde(default)]
+    pub radial_load_n: f64,
     /// Horizontal sensitivity of the sensor relative to vertical: the fault excitation is the
     /// vertical housing acceleration plus this times the horizontal pedestal acceleration
     /// (fitted on outer-race records with the spall off the sensor axis; 0 without any).
@@ -264,7 +271,8 @@ fn bad(name: &'static str, value: f64, min: f64, max: f64) -> CloseLoopError {
 const MIN_SIZE_MM: f64 = 1e-6;
 
 /// The 5-DOF excitation of `class` (spalls of `size_mm` at depth [`DEPTH_M`], outer race at
-/// `outer_angle_rad`, slip [`SLIP_FRACTION`], every ball preloaded by `preload_m`): `n` samples of the housing acceleration (m/s²)
+/// `outer_angle_rad`, slip [`SLIP_FRACTION`], every ball preloaded by `preload_m`, the shaft
+/// loaded by `radial_load_n` downwards): `n` samples of the housing acceleration (m/s²)
 /// with the sprung-mass resonance moved to [`EXCITATION_HOUSING_HZ`], and of the horizontal
 /// pedestal acceleration, means removed. Zeros for
 /// [`FaultClass::None`] (a healthy bearing's own response is part of the healthy machine).
@@ -276,6 +284,7 @@ const MIN_SIZE_MM: f64 = 1e-6;
 pub fn excitation(
     bearing: Bearing,
     preload_m: f64,
+    radial_load_n: f64,
     class: FaultClass,
     size_mm: f64,
     rpm: f64,
@@ -303,6 +312,7 @@ pub fn excitation(
         .with_slip(Slip::Random {
             fraction: SLIP_FRACTION,
         })
+        .with_radial_load(radial_load_n)
         .with_housing(Housing {
             mass_kg: 1.0,
             resonance_hz: EXCITATION_HOUSING_HZ,
@@ -517,6 +527,7 @@ impl RigModel {
             let e = excitation(
                 bearing,
                 self.preload_m,
+                self.radial_load_n,
                 loc.class(),
                 s.size_mm,
                 s.rpm * self.healthy.speed_ratio,
@@ -658,6 +669,12 @@ impl RigModel {
             return Err(fmt(format!(
                 "`preload_m` must be in [0, 1e-4], got {}",
                 m.preload_m
+            )));
+        }
+        if !(m.radial_load_n.is_finite() && (0.0..=1e5).contains(&m.radial_load_n)) {
+            return Err(fmt(format!(
+                "`radial_load_n` must be in [0, 1e5], got {}",
+                m.radial_load_n
             )));
         }
         for s in &m.severities {
