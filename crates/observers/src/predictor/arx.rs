@@ -179,6 +179,11 @@ pub struct ArxLaguerrePredictor {
     d: f64,
     chi: f64,
     y_hat: f64,
+    /// Whether d̂ and c₁ add to the prediction directly (innovations and path predictors)
+    /// instead of entering the state along f.
+    output_fault: bool,
+    /// The injection d̂ + c₁ added to the current ŷ when `output_fault` (else 0).
+    s_out: f64,
 }
 
 impl ArxLaguerrePredictor {
@@ -260,6 +265,8 @@ impl ArxLaguerrePredictor {
             d: 0.0,
             chi: 0.0,
             y_hat: 0.0,
+            output_fault: true,
+            s_out: 0.0,
         })
     }
 
@@ -369,6 +376,8 @@ impl ArxLaguerrePredictor {
             d: 0.0,
             chi: 0.0,
             y_hat: 0.0,
+            output_fault,
+            s_out: 0.0,
         })
     }
 
@@ -414,6 +423,7 @@ impl ArxLaguerrePredictor {
         init.copy_from_slice(x);
         let (k, _, xs, _) = self.parts();
         self.y_hat = dot(k, xs);
+        self.s_out = 0.0;
         Ok(())
     }
 
@@ -425,6 +435,21 @@ impl ArxLaguerrePredictor {
     /// Current state estimate.
     pub fn state(&self) -> &[f64] {
         self.parts().2
+    }
+
+    /// Whether the fault estimate and the level-1 injection add to the prediction directly
+    /// (the innovations predictor [`ArxLaguerrePredictor::new_innovations`] and the path
+    /// predictor [`ArxLaguerrePredictor::new_path`]) rather than entering the state along f.
+    pub fn fault_enters_output(&self) -> bool {
+        self.output_fault
+    }
+
+    /// The model part of ŷ(k): KᵀX̂(k), without the injection d̂ + c₁ that an output-fault
+    /// predictor ([`ArxLaguerrePredictor::fault_enters_output`]) adds to it; for a state-injection
+    /// predictor, ŷ(k) itself. Under the innovations design this is the identified model's own
+    /// one-step prediction from the measured output.
+    pub fn model_output(&self) -> f64 {
+        self.y_hat - self.s_out
     }
 }
 
@@ -447,6 +472,9 @@ impl Predictor for ArxLaguerrePredictor {
             Kernel::Dense(k) => k.advance(yh, u, e, s),
             Kernel::Shift(k) => k.advance(yh, e, s),
         };
+        if self.output_fault {
+            self.s_out = s;
+        }
         self.d += c.c2 + self.chi;
         self.chi += c.c3;
     }
@@ -467,6 +495,7 @@ impl Predictor for ArxLaguerrePredictor {
         cur.copy_from_slice(init);
         self.d = 0.0;
         self.chi = 0.0;
+        self.s_out = 0.0;
         let (k, _, xs, _) = self.parts();
         self.y_hat = dot(k, xs);
     }

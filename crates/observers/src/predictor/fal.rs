@@ -13,6 +13,12 @@ use crate::law::Correction;
 /// where e_b = y − Kᵀ X̂ is the error of the observer's ARX-Laguerre part (eqs 5.21 and 5.25
 /// carry σ_f J_f inside the observer; AFSMO keeps it although 5.30 prints α_f in its place, see
 /// `docs/equations/observers.md`, item 18).
+///
+/// Under the innovations design ([`ArxLaguerrePredictor::new_innovations`]) the model part is
+/// eq. 5.19's own one-step predictor (`fuzzy_ts::FuzzyArxLaguerre::predict`): its bank holds
+/// the measured output and J_f is the inference on the model's error, neither of them touched by
+/// the observer's injection d̂ + c₁, which adds to the prediction only
+/// (`docs/equations/observers.md`, "The fuzzy term under the innovations design").
 #[derive(Debug, Clone)]
 pub struct FalPredictor {
     base: ArxLaguerrePredictor,
@@ -52,11 +58,20 @@ impl Predictor for FalPredictor {
     #[inline(always)]
     fn advance(&mut self, y: f64, u: f64, e: f64, c: Correction) {
         // J_f is driven by the ARX-Laguerre part's own error, the quantity the fuzzy stage was
-        // fitted to predict (fuzzy-ts, stage 2).
-        let e_base = y - self.base.output();
+        // fitted to predict (fuzzy-ts, stage 2): y − KᵀX̂, without the injection d̂ + c₁ that an
+        // output-fault (innovations) predictor adds to its prediction.
+        let e_base = y - self.base.model_output();
         let jf = self.fal.inference().infer(e_base, e_base - self.e_prev);
         self.e_prev = e_base;
-        self.base.advance(y, u, e, c);
+        if self.base.fault_enters_output() {
+            // Innovations design (K_p = b_y): b_y Ŷ_b + K_p e_b = b_y y, i.e. the Laguerre bank
+            // holds the *measured* output, only with the part's own error e_b = y − Ŷ_b. The
+            // observer's error e = e_b − λ_fᵀx_f also holds the fuzzy term, which would enter
+            // the bank as if it had been measured.
+            self.base.advance(y, u, y - self.base.output(), c);
+        } else {
+            self.base.advance(y, u, e, c);
+        }
         self.fal.fuzzy_bank().step(&mut self.xf, jf);
         self.y_hat = self.base.output() + dot(&self.kf, &self.xf);
     }
