@@ -82,6 +82,10 @@ masked in the first's band; docs/equations/diagnosis.md). A probe run over these
 before the 10 dB level was fixed. Grade-Y right unchanged (39 / 42 / 40); 97 stays `normal`;
 3003 self-referenced `normal` → `inner`; 222 self-referenced `inner` → `inner+ball`, 224
 `inner` → `inner+outer`, 122 self-referenced `outer` → `inner+outer` (wrong before and after).
+Then a ball fault's cage harmonics explain lines over the whole slip window (the cage slips on its
+own; a simulated ball fault's 9th cage harmonic, 1.5 % below BPFO, read as an outer-race fault):
+grade-Y right 39 / 42 / 40 → 41 / 42 / 41 (3006, 3008 lose their `outer`); 3001 (grade N) reads
+`inner+ball` against the machine model.
 ";
 
 /// Records whose figure goes into `results/diagnosis/figures/`.

@@ -282,20 +282,32 @@ impl HypothesisEvidence {
 
     /// Frequencies of this hypothesis's line family (for explaining other hypotheses' lines).
     pub(crate) fn family(&self, fr: f64, ftf_hz: f64) -> Vec<f64> {
+        self.family_spans(fr, ftf_hz)
+            .into_iter()
+            .map(|(f, _)| f)
+            .collect()
+    }
+
+    /// This hypothesis's line family as (frequency, half-width) pairs: the half-width is 0 where
+    /// the line is tied to the found fundamental and the shaft, and the slip window for the cage
+    /// harmonics of a ball fault — the cage slips on its own, not by the ratio the ball-spin line
+    /// shows (a simulated ball fault's 9th cage harmonic sat 1.4 % below the kinematic BPFO
+    /// while its ball line sat 0.1 % below BSF, and read as an outer-race fault).
+    pub(crate) fn family_spans(&self, fr: f64, ftf_hz: f64) -> Vec<(f64, f64)> {
         let f1 = self.harmonics.first().map_or(self.fault_hz, |l| l.found_hz);
-        let mut v = Vec::new();
+        let mut v: Vec<(f64, f64)> = Vec::new();
         match self.hypothesis {
             Hypothesis::Outer => {
                 for k in 1..=6 {
                     for j in -2i32..=2 {
-                        v.push(k as f64 * f1 + f64::from(j) * fr);
+                        v.push((k as f64 * f1 + f64::from(j) * fr, 0.0));
                     }
                 }
             }
             Hypothesis::Inner => {
                 for k in 0..=HARMONICS {
                     for j in -3i32..=3 {
-                        v.push(k as f64 * f1 + f64::from(j) * fr);
+                        v.push((k as f64 * f1 + f64::from(j) * fr, 0.0));
                     }
                 }
             }
@@ -304,21 +316,25 @@ impl HypothesisEvidence {
                 let ftf = ftf_hz * f1 / self.fault_hz.max(f64::MIN_POSITIVE);
                 for k in 1..=HARMONICS {
                     for j in -2i32..=2 {
-                        v.push(k as f64 * f1 + f64::from(j) * ftf);
-                        v.push(k as f64 * f1 + f64::from(j) * fr);
+                        v.push((k as f64 * f1 + f64::from(j) * ftf, 0.0));
+                        v.push((k as f64 * f1 + f64::from(j) * fr, 0.0));
                     }
                 }
                 // a ball defect enters and leaves the load zone once per cage turn, so its
-                // envelope holds cage harmonics; BPFO = n·FTF is one of them
+                // envelope holds cage harmonics; BPFO = n·FTF is one of them. The cage slips
+                // independently of the ball spin: each harmonic spans the slip window of the
+                // kinematic cage rate
+                let (lo, hi) = (1.0 - SLIP_MAX - SPEED_TOL, 1.0 + SPEED_OFFSET + SPEED_TOL);
                 let top = (HARMONICS as f64 + 1.0) * f1;
                 let mut j = 1.0;
-                while j * ftf <= top && ftf > 0.0 {
-                    v.push(j * ftf);
+                while j * ftf_hz * lo <= top && ftf_hz > 0.0 {
+                    let (a, b) = (j * ftf_hz * lo, j * ftf_hz * hi);
+                    v.push((0.5 * (a + b), 0.5 * (b - a)));
                     j += 1.0;
                 }
             }
         }
-        v.retain(|f| *f > 0.0);
+        v.retain(|(f, _)| *f > 0.0);
         v
     }
 }
@@ -424,12 +440,12 @@ pub(crate) fn evaluate(
 
 /// Mark the lines of `ev` that the family `fam` of hypothesis `by` explains: within
 /// `max(1 bin, 0.1 %)` of one of its frequencies (unresolvable from it).
-fn mark_explained(ev: &mut HypothesisEvidence, by: Hypothesis, fam: &[f64], df: f64) {
+fn mark_explained(ev: &mut HypothesisEvidence, by: Hypothesis, fam: &[(f64, f64)], df: f64) {
     for l in ev.harmonics.iter_mut().chain(ev.sidebands.iter_mut()) {
         if l.explained_by.is_none()
             && fam
                 .iter()
-                .any(|g| (l.found_hz - g).abs() <= df.max(0.001 * l.found_hz))
+                .any(|(g, w)| (l.found_hz - g).abs() <= df.max(0.001 * l.found_hz).max(*w))
         {
             l.explained_by = Some(by);
         }
@@ -440,7 +456,7 @@ fn mark_explained(ev: &mut HypothesisEvidence, by: Hypothesis, fam: &[f64], df: 
 /// family frequencies) explain, as [`cross_explain`] does within a band, and re-decide.
 pub(crate) fn explain_by(
     ev: &mut HypothesisEvidence,
-    by: &[(Hypothesis, Vec<f64>)],
+    by: &[(Hypothesis, Vec<(f64, f64)>)],
     fr: f64,
     df: f64,
 ) {
@@ -461,7 +477,7 @@ pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64,
     let mut confirmed: Vec<usize> = Vec::new();
     for &i in &order {
         for &c in &confirmed {
-            let fam = ev[c].family(fr, ftf_hz);
+            let fam = ev[c].family_spans(fr, ftf_hz);
             let by = ev[c].hypothesis;
             mark_explained(&mut ev[i], by, &fam, df);
         }

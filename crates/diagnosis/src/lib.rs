@@ -912,10 +912,10 @@ fn diagnose_with(
     //     counting lines belongs to the family of a fault detected in the common band.
     let mut secondary: Vec<SecondaryRead> = Vec::new();
     if impulsive && !eligible.is_empty() {
-        let primary: Vec<(Hypothesis, Vec<f64>)> = evidence
+        let primary: Vec<(Hypothesis, Vec<(f64, f64)>)> = evidence
             .iter()
             .filter(|e| e.detected)
-            .map(|e| (e.hypothesis, e.family(fr, o.ftf * fr)))
+            .map(|e| (e.hypothesis, e.family_spans(fr, o.ftf * fr)))
             .collect();
         for (hi, &h) in Hypothesis::ALL.iter().enumerate() {
             if evidence[hi].detected {

@@ -641,3 +641,36 @@ fn a_second_fault_in_a_band_of_its_own_is_joined() {
         }
     }
 }
+
+/// A ball defect strikes at the ball-defect rate and passes through the load zone once per cage
+/// turn, so its envelope holds cage harmonics; the 9th of a 6205's is at BPFO. The cage slips on
+/// its own (here 1.5 %, the ball-spin line not at all): those harmonics sit 1.5 % below the
+/// kinematic BPFO, inside the outer race's slip window. They belong to the ball fault's family
+/// and are no outer-race fault: the verdict is `ball`, with and without a baseline.
+#[test]
+fn a_slipping_cage_s_harmonics_are_not_an_outer_race_fault() {
+    use rand::SeedableRng;
+    let (fs, rpm) = (12_000.0, 1797.0);
+    let spec = BearingSpec::parse("6205").unwrap();
+    let fr = rpm / 60.0;
+    let bsf = spec.orders.ball_defect * fr;
+    let cage = 0.985 * spec.orders.ftf * fr;
+    let n = (8.0 * fs) as usize;
+    let record = |fault: bool, seed: u64| -> Vec<f64> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut x = white(n, 0.3, &mut rng);
+        if fault {
+            // strikes only in the load zone: a sharp half-wave of the cage angle
+            let w = 2.0 * std::f64::consts::PI * cage;
+            ring_downs(&mut x, fs, bsf, 3300.0, 0.03, 0.004, 0.003, &mut rng, |t| {
+                3.0 * (w * t).cos().max(0.0).powi(3)
+            });
+        }
+        x
+    };
+    let base = Baseline::prepare(&record(false, 1), fs).unwrap();
+    for b in [None, Some(&base)] {
+        let d = diagnose(&record(true, 2), fs, rpm, &spec, b).unwrap();
+        assert_eq!(d.verdict, "ball", "{:?} {:#?}", d.scores, d.evidence);
+    }
+}
