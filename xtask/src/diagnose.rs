@@ -85,7 +85,9 @@ before the 10 dB level was fixed. Grade-Y right unchanged (39 / 42 / 40); 97 sta
 Then a ball fault's cage harmonics explain lines over the whole slip window (the cage slips on its
 own; a simulated ball fault's 9th cage harmonic, 1.5 % below BPFO, read as an outer-race fault):
 grade-Y right 39 / 42 / 40 → 41 / 42 / 41 (3006, 3008 lose their `outer`); 3001 (grade N) reads
-`inner+ball` against the machine model.
+`inner+ball` against the machine model. A common-band fault's family explains lines in another
+band only where its own lines show there (else an outer race beside a ball fault, BPFO = n·FTF,
+was never found): 199 with the baseline `inner` → `inner+outer`.
 ";
 
 /// Records whose figure goes into `results/diagnosis/figures/`.

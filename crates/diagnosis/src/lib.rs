@@ -411,7 +411,7 @@ impl Default for Thresholds {
             cfar_quantile: CFAR_QUANTILE,
             second_band_line_db: SECOND_BAND_LINE_DB,
             rule: format!(
-                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's), not explained by a stronger detected fault; against a baseline recording, a line the healthy machine already holds (>= {LINE_THRESHOLD_DB} dB there) counts only by what it has grown; a fault not detected in that common band is added when, in another impulsive band, it scores highest and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB that no fault of the common band explains",
+                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's; when no band is impulsive, a band whose envelope holds {MIN_LINES} harmonics of one fault at >= {PERIODIC_LINE_DB} dB), not explained by a stronger detected fault; against a baseline recording, a line the healthy machine already holds (>= {LINE_THRESHOLD_DB} dB there) counts only by what it has grown; a fault not detected in that common band is added when, in another impulsive band, it scores highest and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB that no common-band fault present in that band explains",
                 100.0 * (1.0 - CFAR_QUANTILE)
             ),
         }
@@ -909,7 +909,8 @@ fn diagnose_with(
     //     band is read in every other eligible band; it is added when, in one of them, it is
     //     detected, scores highest of the three, has MIN_LINES harmonics at ≥ SECOND_BAND_LINE_DB
     //     (this second search over bands is a second multiple comparison), and none of its
-    //     counting lines belongs to the family of a fault detected in the common band.
+    //     counting lines belongs to the family of a fault detected in the common band whose own
+    //     lines show in this band.
     let mut secondary: Vec<SecondaryRead> = Vec::new();
     if impulsive && !eligible.is_empty() {
         let primary: Vec<(Hypothesis, Vec<(f64, f64)>)> = evidence
@@ -927,13 +928,20 @@ fn diagnose_with(
                     continue;
                 }
                 let dfi = spectra[i].resolution_hz;
+                // the common band's faults whose own lines show in this band (detected here on
+                // their own): only their families can explain lines here
+                let here: Vec<(Hypothesis, Vec<(f64, f64)>)> = primary
+                    .iter()
+                    .filter(|(p, _)| ev.iter().any(|e| e.hypothesis == *p && e.detected))
+                    .cloned()
+                    .collect();
                 let mut ev = ev.clone();
                 evidence::cross_explain(&mut ev, fr, o.ftf * fr, dfi);
                 if ev.iter().any(|e| e.score_db > ev[hi].score_db) {
                     continue;
                 }
                 let mut e = ev.swap_remove(hi);
-                evidence::explain_by(&mut e, &primary, fr, dfi);
+                evidence::explain_by(&mut e, &here, fr, dfi);
                 let strong = e
                     .harmonics
                     .iter()

@@ -674,3 +674,36 @@ fn a_slipping_cage_s_harmonics_are_not_an_outer_race_fault() {
         assert_eq!(d.verdict, "ball", "{:?} {:#?}", d.scores, d.evidence);
     }
 }
+
+/// A ball fault (cage-modulated impacts ringing 2.4 kHz) with an outer-race fault ringing
+/// 4.6 kHz: the ball's cage harmonics include BPFO = n·FTF, but where the ball's own lines do
+/// not show, they explain nothing — the outer race is found in its own band: `outer+ball`.
+#[test]
+fn an_outer_race_beside_a_stronger_ball_fault_is_found_in_its_own_band() {
+    use rand::SeedableRng;
+    let (fs, rpm) = (12_000.0, 1797.0);
+    let spec = BearingSpec::parse("6205").unwrap();
+    let fr = rpm / 60.0;
+    let (bsf, bpfo) = (spec.orders.ball_defect * fr, spec.orders.bpfo * fr);
+    let cage = spec.orders.ftf * fr;
+    let n = (8.0 * fs) as usize;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(21);
+    let mut x = white(n, 0.3, &mut rng);
+    let w = 2.0 * std::f64::consts::PI * cage;
+    ring_downs(&mut x, fs, bsf, 2400.0, 0.04, 0.004, 0.01, &mut rng, |t| {
+        2.0 * (0.6 + 0.4 * (w * t).cos())
+    });
+    ring_downs(
+        &mut x,
+        fs,
+        bpfo,
+        4600.0,
+        0.04,
+        0.003,
+        0.01,
+        &mut rng,
+        |_| 1.2,
+    );
+    let d = diagnose(&x, fs, rpm, &spec, None).unwrap();
+    assert_eq!(d.verdict, "outer+ball", "{:?} {:#?}", d.scores, d.secondary);
+}

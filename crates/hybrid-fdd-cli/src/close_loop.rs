@@ -145,6 +145,9 @@ pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
         decimate: a.decimate,
         fault_size_in: None,
     };
+    let mut outputs = crate::report_files(&report_beside(&a.out));
+    outputs.push(a.out.clone());
+    crate::refuse_overwrite("--out", &outputs, &[a.input.as_path()])?;
     let (o, _, _) = run_one(&args, None)?;
     write_machine(&o, &a.out)?;
     crate::say!(
@@ -257,6 +260,14 @@ pub fn effect_list(o: &Outcome) -> String {
 pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Outcome, f64, f64)> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
+    anyhow::ensure!(
+        args.line_frequency.is_finite() && args.line_frequency >= 0.0,
+        "--line-frequency must be a mains frequency in Hz, or 0 for unknown (got {})",
+        args.line_frequency
+    );
+    let mut read = vec![input];
+    read.extend(args.machine.as_deref());
+    crate::refuse_overwrite("--report", &crate::report_files(report), &read)?;
     let loaded = crate::diagnose::load(input, &args.channel, args.fs)?;
     let units = args
         .units

@@ -476,53 +476,25 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>, flag: FsFlag) -> anyhow
     let sig = bearing_data::read_csv(text.as_bytes(), &opts)
         .map_err(|e| csv_error(path, e, &names, col, data))?;
     // `simulate` states the unit of `accel` in its JSON sidecar (g for the calibrated rig, m/s²
-    // for the 5-DOF parameter sets; m/s² when there is no sidecar)
-    let is_accel = names[col] == "accel";
-    let in_g = is_accel && sidecar(path).is_some_and(|v| v["accel_unit"] == "g");
+    // for the 5-DOF parameter sets); a column named `accel` without that sidecar is any
+    // logger's, whose unit the file does not state
+    let side_unit = (names[col] == "accel")
+        .then(|| sidecar(path))
+        .flatten()
+        .and_then(|v| v["accel_unit"].as_str().map(str::to_string));
+    let (unit, units) = match side_unit.as_deref() {
+        Some("g") => ("g (`simulate` output, calibrated CWRU rig)", "g"),
+        Some("m/s^2") => ("m/s² (`simulate` output)", "m/s^2"),
+        _ => ("CSV units (not stated in the file)", "unknown"),
+    };
     Ok(Loaded {
         samples: sig.into_samples(),
         fs_hz: fs,
         rpm: None,
-        unit: match (is_accel, in_g) {
-            (true, true) => "g (`simulate` output, calibrated CWRU rig)",
-            (true, false) => "m/s² (`simulate` output)",
-            _ => "CSV units (not stated in the file)",
-        },
-        units: match (is_accel, in_g) {
-            (true, true) => "g",
-            (true, false) => "m/s^2",
-            _ => "unknown",
-        },
+        unit,
+        units,
         fault_size_in: None,
     })
-}
-
-/// A report at `x.json` beside a recording `x.csv` would overwrite the recording's `simulate`
-/// sidecar (its unit and speed): refused with a one-line error.
-///
-/// # Errors
-/// When the report's JSON path is the recording's existing sidecar.
-fn refuse_sidecar_overwrite(input: &Path, report: &Path) -> anyhow::Result<()> {
-    let side = input.with_extension("json");
-    let full = |p: &Path| -> Option<std::path::PathBuf> {
-        let dir = p
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
-    };
-    if input.extension().is_some_and(|e| e != "json")
-        && side.is_file()
-        && full(&side).is_some()
-        && full(&side) == full(&report.with_extension("json"))
-    {
-        anyhow::bail!(
-            "--report {} would overwrite the recording's sidecar {} (its unit and speed): choose another report path",
-            report.display(),
-            side.display()
-        );
-    }
-    Ok(())
 }
 
 /// The JSON sidecar of a text recording (`x.csv` → `x.json`), when it exists and parses.
@@ -1163,8 +1135,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         write_reports(&o, out, title)?;
         Ok((o, notes))
     };
+    let mut read: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
+    read.extend(args.recording.baseline.as_deref());
+    read.extend(args.classifier.as_deref());
     if !input.is_dir() {
-        refuse_sidecar_overwrite(input, report)?;
+        crate::refuse_overwrite("--report", &crate::report_files(report), &read)?;
         let (o, notes) = one(input, report)?;
         for n in notes {
             eprintln!("note: {n}");
@@ -1182,12 +1157,24 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 "; trained classifier: {}",
                 t.class
             )),
-            report.display()
+            report.with_extension("json").display()
         );
         return Ok(());
     }
-    std::fs::create_dir_all(report)?;
     let names = report_names(&files);
+    if crate::resolved(input).is_some() && crate::resolved(input) == crate::resolved(report) {
+        bail!(
+            "--report {} is the input directory: the reports would be mixed with the recordings (and read as recordings by the next run); choose another directory",
+            report.display()
+        );
+    }
+    let mut outputs: Vec<PathBuf> = names
+        .iter()
+        .flat_map(|n| crate::report_files(&report.join(format!("{n}.json"))))
+        .collect();
+    outputs.push(report.join("summary.csv"));
+    crate::refuse_overwrite("--report", &outputs, &read)?;
+    std::fs::create_dir_all(report)?;
     let bar = indicatif::ProgressBar::new(files.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")

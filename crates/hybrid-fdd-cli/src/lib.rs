@@ -21,3 +21,61 @@ pub mod diagnose;
 pub mod figure;
 pub mod simulate;
 pub mod train;
+
+/// The path of `p` with its directory resolved (`None` when the directory does not exist, so
+/// nothing there can be overwritten).
+pub(crate) fn resolved(p: &std::path::Path) -> Option<std::path::PathBuf> {
+    let dir = p
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
+}
+
+/// Refuse, with a one-line error, outputs that would replace what the command reads: each of
+/// `inputs` (a recording, a baseline, a machine model) and, for a text recording
+/// (`.csv`/`.tsv`/`.txt`), its JSON sidecar `x.json`, which carries its unit and speed — a
+/// report written over it makes the next run read the recording in the wrong unit.
+///
+/// # Errors
+/// When an output and a protected file are the same path (directories resolved).
+pub fn refuse_overwrite(
+    flag: &str,
+    outputs: &[std::path::PathBuf],
+    inputs: &[&std::path::Path],
+) -> anyhow::Result<()> {
+    let mut protected: Vec<(std::path::PathBuf, &'static str)> = Vec::new();
+    for i in inputs {
+        protected.push((i.to_path_buf(), "an input of this command"));
+        let text = i.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+            ["csv", "tsv", "txt"]
+                .iter()
+                .any(|x| e.eq_ignore_ascii_case(x))
+        });
+        let side = i.with_extension("json");
+        if text && side.is_file() {
+            protected.push((side, "a recording's sidecar (its unit and speed)"));
+        }
+    }
+    for o in outputs {
+        let Some(ro) = resolved(o) else { continue };
+        for (p, what) in &protected {
+            if resolved(p).is_some_and(|rp| rp == ro) {
+                anyhow::bail!(
+                    "{flag} would overwrite {} ({what}) with {}: choose another path",
+                    p.display(),
+                    o.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A report's three files: `x.json`, `x.md`, `x.png`.
+pub fn report_files(report: &std::path::Path) -> Vec<std::path::PathBuf> {
+    ["json", "md", "png"]
+        .iter()
+        .map(|e| report.with_extension(e))
+        .collect()
+}

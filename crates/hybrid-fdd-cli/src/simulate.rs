@@ -174,7 +174,8 @@ pub fn wants_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result
 /// Flags that only the bare 5-DOF sets use, set away from their defaults.
 fn bare_only_flags(args: &Args) -> Vec<&'static str> {
     let mut v = Vec::new();
-    let d = |a: f64, b: f64| (a - b).abs() > 1e-12;
+    // a NaN differs from every default (and is refused where the flag applies)
+    let d = |a: f64, b: f64| a.is_nan() || (a - b).abs() > 1e-12;
     if args.states {
         v.push("--states");
     }

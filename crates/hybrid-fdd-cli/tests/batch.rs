@@ -52,6 +52,11 @@ fn inputs_of_one_stem_get_their_own_reports() {
     assert!(summary.starts_with("file,report,"), "{summary}");
     assert!(summary.contains("\nx.csv,x_csv.json,"), "{summary}");
     assert!(summary.contains("\nx.tsv,x_tsv.json,"), "{summary}");
+    // reports into the input directory would mix with the recordings (a `simulate` sidecar
+    // `x.json` there would be replaced by x.csv's report): refused, nothing written
+    let e = format!("{:#}", run_batch(&input, &input).unwrap_err());
+    assert!(e.contains("input directory"), "{e}");
+    assert!(!input.join("summary.csv").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
 

@@ -126,6 +126,46 @@ fn simulate_then_close_the_loop_then_calibrate() {
     let b = hybrid_fdd_cli::diagnose::BaselineSource::load(rig_h.as_ref(), "DE", None).unwrap();
     assert!(b.machine_units().is_some());
 
+    // outputs never replace what the command reads: the recording itself, its sidecar (unit
+    // and speed); both stay intact
+    let before = (
+        std::fs::read(&csv).unwrap(),
+        std::fs::read(dir.join("sim.json")).unwrap(),
+    );
+    for target in [csv.clone(), p("sim.json")] {
+        let cl = CloseLoop::try_parse_from([
+            "close-loop",
+            "--input",
+            &csv,
+            "--fault",
+            "outer",
+            "--rpm",
+            "1797",
+            "--report",
+            &target,
+        ])
+        .unwrap();
+        let e = format!("{:#}", hybrid_fdd_cli::close_loop::run(cl.a).unwrap_err());
+        assert!(e.contains("would overwrite"), "{e}");
+        let cal = Calibrate::try_parse_from([
+            "calibrate",
+            "--input",
+            &csv,
+            "--rpm",
+            "1797",
+            "--out",
+            &target,
+        ])
+        .unwrap();
+        let e = format!(
+            "{:#}",
+            hybrid_fdd_cli::close_loop::calibrate(cal.a).unwrap_err()
+        );
+        assert!(e.contains("would overwrite"), "{e}");
+    }
+    assert_eq!(std::fs::read(&csv).unwrap(), before.0);
+    assert_eq!(std::fs::read(dir.join("sim.json")).unwrap(), before.1);
+
     // missing flags are one-line errors, not panics
     let cl = CloseLoop::try_parse_from(["close-loop", "--input", &csv]).unwrap();
     let e = hybrid_fdd_cli::close_loop::run(cl.a).unwrap_err();

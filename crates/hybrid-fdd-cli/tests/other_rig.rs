@@ -128,7 +128,10 @@ fn the_speed_of_a_simulated_csv_comes_from_its_sidecar() {
     let e = hybrid_fdd_cli::diagnose::run(&over)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("would overwrite the recording's sidecar"), "{e}");
+    assert!(
+        e.contains("would overwrite") && e.contains("sidecar"),
+        "{e}"
+    );
     assert_eq!(json(&csv.with_extension("json"))["rpm"], 1750.0);
     // a sidecar not written by simulate is not read for a speed
     std::fs::write(csv.with_extension("json"), r#"{"rpm": 1750}"#).unwrap();
