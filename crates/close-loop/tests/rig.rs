@@ -177,6 +177,15 @@ fn synthesis_is_seeded_superposes_and_errors_are_typed() {
 /// back within one grid step. (The contact preload is weakly identified from one speed: the
 /// committed rig's 2 µm comes back as a stiffer preload, which moves the 1730 rpm levels by up to
 /// ~13 %.)
+/// Mean RMS of `r`'s synthesis over three realisations (`synth(0..3)`): a gated train's level
+/// varies from burst pattern to burst pattern.
+fn mean_rms(r: &RigModel, synth: impl Fn(u64) -> Synthesis) -> f64 {
+    (0..3)
+        .map(|k| rms(&r.synthesize(&synth(k)).unwrap()))
+        .sum::<f64>()
+        / 3.0
+}
+
 #[test]
 fn calibration_recovers_the_rig_it_is_run_on() {
     let truth = rig::cwru_rig().unwrap();
@@ -271,25 +280,17 @@ fn calibration_recovers_the_rig_it_is_run_on() {
     }
     // the 12 o'clock spall's level: the radial load (with the preload it is fitted at; the two
     // trade off, so the level, not the load, is what must come back)
-    let top_rms = |r: &RigModel| {
-        (0..3)
-            .map(|k| {
-                let s = Synthesis {
-                    outer_angle_rad: std::f64::consts::FRAC_PI_2,
-                    ..Synthesis::new(
-                        Location::Outer.class(),
-                        0.533,
-                        1730.0,
-                        (10.0 * fs) as usize,
-                        70 + k,
-                    )
-                };
-                rms(&r.synthesize(&s).unwrap())
-            })
-            .sum::<f64>()
-            / 3.0
+    let top = |k: u64| Synthesis {
+        outer_angle_rad: std::f64::consts::FRAC_PI_2,
+        ..Synthesis::new(
+            Location::Outer.class(),
+            0.533,
+            1730.0,
+            (10.0 * fs) as usize,
+            70 + k,
+        )
     };
-    let (a, b) = (top_rms(&truth), top_rms(&got));
+    let (a, b) = (mean_rms(&truth, top), mean_rms(&got, top));
     assert!(
         (b / a - 1.0).abs() < 0.15,
         "outer at 12 o'clock: recovered rig RMS {b} vs truth {a} (radial load {} N vs {} N)",
@@ -301,17 +302,9 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         // from burst pattern to burst pattern, so the levels are means over three 10 s
         // realisations
         for rpm in [1797.0, 1730.0] {
-            let mean = |r: &RigModel| {
-                (0..3)
-                    .map(|k| {
-                        let s =
-                            Synthesis::new(loc.class(), size, rpm, (10.0 * fs) as usize, 90 + k);
-                        rms(&r.synthesize(&s).unwrap())
-                    })
-                    .sum::<f64>()
-                    / 3.0
-            };
-            let (a, b) = (mean(&truth), mean(&got));
+            let held =
+                |k: u64| Synthesis::new(loc.class(), size, rpm, (10.0 * fs) as usize, 90 + k);
+            let (a, b) = (mean_rms(&truth, held), mean_rms(&got, held));
             assert!(
                 (b / a - 1.0).abs() < 0.15,
                 "{loc:?} at {rpm} rpm: recovered rig RMS {b} vs truth {a}"

@@ -45,6 +45,23 @@ fn simulate_bare(fault: &str, seed: &str, out: &str) {
     hybrid_fdd_cli::simulate::run(sim.a).unwrap();
 }
 
+/// `close-loop --input csv --fault outer --rpm 1797 --report report`.
+fn close_loop_outer(csv: &str, report: &str) -> hybrid_fdd_cli::close_loop::Args {
+    CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        csv,
+        "--fault",
+        "outer",
+        "--rpm",
+        "1797",
+        "--report",
+        report,
+    ])
+    .unwrap()
+    .a
+}
+
 #[test]
 fn simulate_then_close_the_loop_then_calibrate() {
     let dir = std::env::temp_dir().join(format!("hybrid-fdd-commands-{}", std::process::id()));
@@ -58,19 +75,7 @@ fn simulate_then_close_the_loop_then_calibrate() {
 
     // the loop against the model the recording came from: near zero error, nothing added
     let report = p("loop.json");
-    let cl = CloseLoop::try_parse_from([
-        "close-loop",
-        "--input",
-        &csv,
-        "--fault",
-        "outer",
-        "--rpm",
-        "1797",
-        "--report",
-        &report,
-    ])
-    .unwrap();
-    hybrid_fdd_cli::close_loop::run(cl.a).unwrap();
+    hybrid_fdd_cli::close_loop::run(close_loop_outer(&csv, &report)).unwrap();
     let ledger: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     let after = ledger["error_after"].as_f64().unwrap();
@@ -133,19 +138,10 @@ fn simulate_then_close_the_loop_then_calibrate() {
         std::fs::read(dir.join("sim.json")).unwrap(),
     );
     for target in [csv.clone(), p("sim.json")] {
-        let cl = CloseLoop::try_parse_from([
-            "close-loop",
-            "--input",
-            &csv,
-            "--fault",
-            "outer",
-            "--rpm",
-            "1797",
-            "--report",
-            &target,
-        ])
-        .unwrap();
-        let e = format!("{:#}", hybrid_fdd_cli::close_loop::run(cl.a).unwrap_err());
+        let e = format!(
+            "{:#}",
+            hybrid_fdd_cli::close_loop::run(close_loop_outer(&csv, &target)).unwrap_err()
+        );
         assert!(e.contains("would overwrite"), "{e}");
         let cal = Calibrate::try_parse_from([
             "calibrate",

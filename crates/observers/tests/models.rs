@@ -156,13 +156,7 @@ fn fuzzy_arx_laguerre_observers_track_step_fault() {
 fn innovations_design_keeps_the_one_step_error() {
     // a lightly damped resonance near fs/4 driven by white noise, plus white measurement noise
     let n = 20_000;
-    let mut state: u64 = 7;
-    let mut noise = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 12f64.sqrt()
-    };
+    let mut noise = uniform_noise(7);
     let (r, w) = (0.97_f64, 1.6_f64);
     let mut y = vec![0.0; n];
     for k in 2..n {
@@ -216,13 +210,7 @@ fn fuzzy_model_part_is_the_fal_predictor_under_the_innovations_design() {
     // a lightly damped resonance near fs/4 driven by heavy-tailed noise (impacts), a mild
     // nonlinearity for the fuzzy term, and white measurement noise
     let n = 20_000;
-    let mut state: u64 = 11;
-    let mut noise = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 12f64.sqrt()
-    };
+    let mut noise = uniform_noise(11);
     let (r, w) = (0.97_f64, 1.6_f64);
     let mut y = vec![0.0; n];
     for k in 2..n {
@@ -274,5 +262,16 @@ fn fuzzy_model_part_is_the_fal_predictor_under_the_innovations_design() {
             ratio < limit,
             "{kind}: residual {ratio:.3} × the model's one-step error"
         );
+    }
+}
+
+/// Seeded zero-mean, unit-variance uniform noise (a 64-bit LCG): the records of the tests above.
+fn uniform_noise(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 12f64.sqrt()
     }
 }
