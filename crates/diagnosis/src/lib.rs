@@ -8,7 +8,7 @@
 //!
 //! # Method
 //!
-//! 0. **Speed** ([`speed`]): the recording's shaft-harmonic comb (orders 1–10 within ± 2 % of the
+//! 0. **Speed** ([`speed`]): the recording's shaft-harmonic comb (orders 1–10 within ± 5 % of the
 //!    declared speed) measures the speed; a clear, complete comb (first order and ≥ 80 % of the
 //!    orders present, mains multiples not scored) replaces a declared speed more than ½
 //!    [`SPEED_TOL`] off (`OperatingPoint::rpm_used`).

@@ -9,7 +9,8 @@
 //! spectrum, each harmonic scored by the height of its peak (± 1 bin) over the mean log level
 //! within ± 0.3 fr of it. The best ratio is accepted only when the comb stands out: its score
 //! is at least [`COMB_MIN_PER_ORDER`] per harmonic (10 dB on average) and [`COMB_MIN_CONTRAST`]
-//! times the median score over the search. On the CWRU drive-end records the comb agrees with
+//! times the median score within ± [`CONTRAST_HALF_WIDTH`] of the best
+//! ratio. On the CWRU drive-end records the comb agrees with
 //! the logged speed within 0.1 % (score 27–36 against medians of 6–12 for ten orders); white
 //! noise scores ~5 with a contrast below 2. The comb must also be *complete*: its first order
 //! ≥ 10 dB and ≥ 80 % of the orders ≥ 5 dB over their background (every CWRU record has all ten
@@ -25,13 +26,18 @@ use serde::{Deserialize, Serialize};
 
 use crate::Result;
 
-/// Relative half-width of the speed search around the declared speed.
-pub const SPEED_SEARCH: f64 = 0.02;
+/// Relative half-width of the speed search around the declared speed: a nameplate speed of an
+/// induction motor is off by its slip, up to 3–5 % (was ± 2 % until 2026-11-25).
+pub const SPEED_SEARCH: f64 = 0.05;
+/// Relative half-width of the neighbourhood of the best comb whose median score the contrast is
+/// taken against ([`COMB_MIN_CONTRAST`]).
+pub const CONTRAST_HALF_WIDTH: f64 = 0.02;
 /// Shaft orders in the comb.
 pub const COMB_ORDERS: usize = 10;
 /// Smallest comb score per order (log₁₀ power units: 1.0 = 10 dB) to accept a measured speed.
 pub const COMB_MIN_PER_ORDER: f64 = 1.0;
-/// Smallest ratio of the best comb score to the median score over the search.
+/// Smallest ratio of the best comb score to the median score within ± [`CONTRAST_HALF_WIDTH`]
+/// of it.
 pub const COMB_MIN_CONTRAST: f64 = 2.0;
 /// The first order must stand this far over its background (log₁₀ power: 1.0 = 10 dB).
 pub const COMB_MIN_FIRST_ORDER: f64 = 1.0;
@@ -49,7 +55,7 @@ pub struct SpeedEstimate {
     pub rpm: f64,
     /// Comb score at that speed (sum over orders of log₁₀ peak-over-background).
     pub comb_score: f64,
-    /// Best score over the median score of the search.
+    /// Best score over the median score within ± [`CONTRAST_HALF_WIDTH`] of the best ratio.
     pub contrast: f64,
     /// Orders scored (those below the Nyquist frequency).
     pub orders: usize,
@@ -138,7 +144,13 @@ pub fn estimate_speed(
             (1.0, f64::NEG_INFINITY),
             |b, c| if c.1 > b.1 { c } else { b },
         );
-    let mut sorted: Vec<f64> = scores.iter().map(|c| c.1).collect();
+    // the comb's contrast is against its own neighbourhood (± CONTRAST_HALF_WIDTH of the best
+    // ratio), so it does not grow with the width of the search
+    let mut sorted: Vec<f64> = scores
+        .iter()
+        .filter(|c| (c.0 - r_best).abs() <= CONTRAST_HALF_WIDTH)
+        .map(|c| c.1)
+        .collect();
     sorted.sort_by(f64::total_cmp);
     let median = sorted[sorted.len() / 2];
     let contrast = s_best / median.max(1e-9);
