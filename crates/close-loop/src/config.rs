@@ -29,7 +29,8 @@ pub struct LoopConfig {
     pub broadband_threshold_db: f64,
     /// An envelope line must stand this far (dB) above its local median to propose a modulation.
     pub envelope_threshold_db: f64,
-    /// Largest speed offset searched, as a fraction (0.02 = ±2 %).
+    /// Largest speed offset searched, as a fraction (0.05 = ±5 %: an induction motor's nameplate
+    /// speed is off by its slip, 3–5 %; ±2 % until 2026-11-25).
     pub max_speed_offset: f64,
     /// Smallest speed step proposed, as a fraction.
     pub min_speed_step: f64,
@@ -72,7 +73,7 @@ impl Default for LoopConfig {
             line_threshold_db: 6.0,
             broadband_threshold_db: 3.0,
             envelope_threshold_db: 8.0,
-            max_speed_offset: 0.02,
+            max_speed_offset: 0.05,
             min_speed_step: 1e-3,
             harmonic_tolerance: 0.004,
             max_harmonic_order: 20,

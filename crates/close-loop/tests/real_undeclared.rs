@@ -114,17 +114,8 @@ fn speed_change_by_resampling_130() {
         .map(|e| e.parameters["ratio"])
         .next_back()
         .unwrap_or(1.0);
-    // y(k) = x(1.015·k), linear interpolation (the band of interest is far below Nyquist)
     let s = 1.015;
-    let n = ((x.len() - 2) as f64 / s) as usize;
-    let y: Vec<f64> = (0..n)
-        .map(|k| {
-            let t = k as f64 * s;
-            let i = t.floor() as usize;
-            let f = t - i as f64;
-            x[i] * (1.0 - f) + x[i + 1] * f
-        })
-        .collect();
+    let y = played_faster(x, s);
     let o = run(&y, rpm, DeclaredFault::Outer);
     let ratio = o
         .ledger
@@ -141,6 +132,76 @@ fn speed_change_by_resampling_130() {
         (-0.001..0.0045).contains(&rel),
         "ratio {ratio}, control {ratio0}"
     );
+}
+
+/// `x` played `s` times faster: y(k) = x(s·k), linear interpolation (the band of interest is
+/// far below Nyquist).
+fn played_faster(x: &[f64], s: f64) -> Vec<f64> {
+    let n = ((x.len() - 2) as f64 / s) as usize;
+    (0..n)
+        .map(|k| {
+            let t = k as f64 * s;
+            let i = t.floor() as usize;
+            let f = t - i as f64;
+            x[i] * (1.0 - f) + x[i + 1] * f
+        })
+        .collect()
+}
+
+/// Starting from the rig's machine model (97 calibrated at 12 kHz), 130 played 3 % faster and
+/// 3 % slower: the loop names the speed offset (beyond the former ± 2 % search), and does so
+/// before random slip, which otherwise smears the model's lines over the moved ones (slip 8 %
+/// was taken at 1.5 % and the speed never named).
+#[test]
+fn speed_change_by_resampling_from_the_machine_model_130() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = LoopConfig::default().check().unwrap();
+    let h = load_record(&dir, 97, &LoadOptions::default()).unwrap();
+    let h12 = h.de_at(12_000.0).unwrap();
+    let machine = close_loop::machine::calibrate(
+        &h12,
+        12_000.0,
+        h.rpm().value,
+        bearing_model::Bearing::Skf6205,
+        &cfg,
+    )
+    .unwrap();
+    let r = load_record(&dir, 130, &LoadOptions::default()).unwrap();
+    let rpm = r.rpm().value;
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )
+    .unwrap();
+    for s in [1.03, 1.0 / 1.03] {
+        let y = played_faster(r.de(), s);
+        let o = close_loop::close_loop_from(
+            &PhysicsModel::default(),
+            Some(&machine),
+            &y,
+            12_000.0,
+            &op,
+            &cfg,
+        )
+        .unwrap();
+        let kinds: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
+        let speed = o
+            .ledger
+            .effects
+            .iter()
+            .position(|e| e.kind == EffectKind::SpeedOffset)
+            .unwrap_or_else(|| panic!("{s}: no speed offset named: {kinds:?}"));
+        if let Some(slip) = kinds.iter().position(|k| *k == EffectKind::Slip) {
+            assert!(speed < slip, "{s}: slip before the speed: {kinds:?}");
+        }
+        // the rig's own fault lines sit ~0.33 % above the logged speed (references.md); the
+        // machine model's ratio is folded into the named one
+        let ratio = o.ledger.effects[speed].parameters["ratio"];
+        let rel = ratio / s - 1.0;
+        assert!((-0.001..0.0045).contains(&rel), "{s}: ratio {ratio}");
+        assert!(o.ledger.error_after < o.ledger.error_before);
+    }
 }
 
 /// 97 (healthy, 0 hp, 48 kHz, at its own rate, default settings: no mains frequency declared): a

@@ -238,7 +238,10 @@ pub(super) fn line_comb_candidate(
         .take(24)
         .collect();
     // a spacing at a kinematic fault rate (within the speed search range) is the fault's own
-    // comb at another speed: the speed candidate's business, not an interference comb
+    // comb at another speed: the speed candidate's business, not an interference comb. At the
+    // m-th multiple the window is at most ± 1/(4m) (wider, the windows of neighbouring multiples
+    // meet and every spacing would be "kinematic") and at least ± 2 % (the range before the
+    // speed search was widened to ± 5 %)
     let kinematic: Vec<f64> = crate::impact_orders(ctx.op.fault, &ctx.op.bearing)
         .into_iter()
         .chain([ctx.op.bearing.orders.ftf, 1.0])
@@ -247,7 +250,7 @@ pub(super) fn line_comb_candidate(
     let is_kinematic = |d: f64| {
         kinematic.iter().any(|&k| {
             let m = (d / k).round();
-            m >= 1.0 && (d / (m * k) - 1.0).abs() <= c.max_speed_offset
+            m >= 1.0 && (d / (m * k) - 1.0).abs() <= c.max_speed_offset.min((0.25 / m).max(0.02))
         })
     };
     let mut best: Vec<(f64, f64)> = Vec::new();
