@@ -38,8 +38,9 @@
 //!    on an integer shaft order their kinematic rate is not on ([`Line::shaft_order`]).
 //!    A fault not detected in that common band is read in each other impulsive band: where it
 //!    is the strongest signature and has [`MIN_LINES`] harmonics at ≥ [`SECOND_BAND_LINE_DB`]
-//!    that no fault of the common band explains, it is added ([`Diagnosis::secondary`]) — a
-//!    second fault ringing another resonance, or masked in the first's band.
+//!    that no common-band fault present in that band explains, it is added
+//!    ([`Diagnosis::secondary`]) — a second fault ringing another resonance, or masked in the
+//!    first's band.
 //! 4. **Verdict**: a hypothesis is detected when at least [`MIN_LINES`] harmonics stand
 //!    [`LINE_THRESHOLD_DB`] above the local median, or harmonic 1 does together with one of its
 //!    sidebands. See `docs/equations/diagnosis.md` for the formulas and the reasoning behind the
@@ -960,7 +961,7 @@ fn diagnose_with(
                     band: band_choice(
                         &spectra[i],
                         format!(
-                            "{} is the strongest signature in this band and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB no fault of the common band explains",
+                            "{} is the strongest signature in this band and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB no common-band fault present in this band explains",
                             h.name()
                         ),
                     ),
