@@ -9,7 +9,7 @@ use std::path::Path;
 use anyhow::Context as _;
 use bearing_data::{LoadOptions, load_record};
 use diagnosis::BearingSpec;
-use hybrid_fdd_cli::diagnose::{BaselineSource, CWRU_UNIT, Loaded, Outcome, Plan, diagnose_loaded};
+use hybrid_fdd_cli::diagnose::{BaselineSource, Loaded, Outcome, Plan, diagnose_loaded};
 use hybrid_fdd_cli::train::{ExampleMeta, cross_validate, examples};
 use rayon::prelude::*;
 
@@ -116,8 +116,7 @@ fn cwru_loaded(
         samples: rec.de().to_vec(),
         fs_hz: rec.fs_hz(),
         rpm: Some(rec.rpm().value),
-        unit: CWRU_UNIT,
-        units: "g",
+        unit: bearing_data::SampleUnit::cwru(),
         fault_size_in: e.fault_diameter_in(),
     };
     Ok((rec, l))
@@ -243,8 +242,7 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
         samples: x12,
         fs_hz: 12_000.0,
         rpm: Some(b97.rpm().value),
-        unit: CWRU_UNIT,
-        units: "g",
+        unit: bearing_data::SampleUnit::cwru(),
         fault_size_in: None,
     };
     let meta97 = ExampleMeta {

@@ -177,6 +177,12 @@ pub enum DataError {
         /// Requested rate.
         to_hz: f64,
     },
+    /// A unit code that is not one of `g`, `m/s^2`, `unknown`.
+    #[error("unknown units `{code}` (g, m/s^2 or unknown)")]
+    UnknownUnit {
+        /// The code given.
+        code: String,
+    },
     /// An explicitly given data directory does not exist.
     #[error("data directory {path} does not exist or is not a directory")]
     DataDirNotFound {

@@ -10,6 +10,8 @@
 //! * [`Decimator`]: Kaiser-window FIR decimation ([`Recording::de_at`] pairs 48 kHz with 12 kHz).
 //! * [`read_csv`]: one column of a user's CSV/plain-text recording as a [`Signal`].
 //! * [`DataLocation`]: the one data-directory setting (`--data-dir` / `HYBRID_FDD_DATA`).
+//! * [`SampleUnit`]: the unit of a recording's samples as far as it is known (the one unit type
+//!   of the reports and machine models).
 //!
 //! Dependencies and why: `matfile` (pure-Rust MAT v5 reader; no HDF5/C toolchain, reads the
 //! CWRU v5 files including small-element rpm scalars), `sha2` (RustCrypto SHA-256, the digest the
@@ -39,6 +41,7 @@ mod location;
 mod mat;
 mod recording;
 mod text;
+mod unit;
 
 pub use catalog::{
     Bearing, CatalogEntry, Channels, FaultLocation, OuterPosition, Query, SensorEnd, catalog, entry,
@@ -54,3 +57,4 @@ pub use recording::{
     record_path,
 };
 pub use text::{Column, CsvOptions, HeaderRow, Signal, read_csv, read_csv_file};
+pub use unit::{CWRU_STATEMENT, SampleUnit};

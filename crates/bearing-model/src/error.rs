@@ -81,6 +81,34 @@ pub enum ModelError {
         "unknown fault class `{0}` (none|inner|outer|ball|inner+outer|inner+ball|outer+ball|inner+outer+ball)"
     )]
     UnknownFaultClass(String),
+    /// A fault spec names one location twice (`inner+inner`, `ball+inner+ball`).
+    #[error(
+        "fault `{spec}` names {location} twice: give each of inner, outer, ball at most once (e.g. inner+outer)"
+    )]
+    RepeatedFaultLocation {
+        /// The spec as given.
+        spec: String,
+        /// The location named more than once.
+        location: crate::FaultLocation,
+    },
+    /// A fault onset that is negative or not finite.
+    #[error(
+        "fault onset {onset_s} s must be a finite time >= 0 s (omit it for a fault present from the start)"
+    )]
+    InvalidOnset {
+        /// The onset given, s.
+        onset_s: f64,
+    },
+    /// A fault onset at or after the end of the recording: the fault would never appear.
+    #[error(
+        "fault onset {onset_s} s is not before the end of the {duration_s} s recording: the fault would never appear"
+    )]
+    OnsetAfterEnd {
+        /// The onset given, s.
+        onset_s: f64,
+        /// The recorded duration, s.
+        duration_s: f64,
+    },
     /// A parameter-set name could not be parsed.
     #[error("unknown parameter set `{0}` (table2.1|cwru)")]
     UnknownParamSet(String),
@@ -89,6 +117,22 @@ pub enum ModelError {
         "unknown bearing `{0}` (expected 6205, 6203, a geometry like `n=9,d=0.3126in,D=1.537in,angle=0deg` or multiples like `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`)"
     )]
     UnknownBearing(String),
+    /// Multiples whose `bsf` is the textbook ball-spin frequency, not CWRU's ball-defect rate.
+    #[error(
+        "invalid bearing spec `{spec}`: bsf={bsf} looks like the textbook ball-spin frequency (ftf implies a spin of {spin:.4} and a ball-defect rate of {ball_defect:.4}); bsf here is CWRU's ball-defect rate, twice the spin: give bsf={doubled}"
+    )]
+    BallSpinGivenAsBsf {
+        /// The spec as given.
+        spec: String,
+        /// The `bsf` given.
+        bsf: f64,
+        /// The ball spin `ftf` implies (shaft orders).
+        spin: f64,
+        /// The ball-defect rate `ftf` implies (shaft orders).
+        ball_defect: f64,
+        /// `2 × bsf`: the value to give.
+        doubled: f64,
+    },
     /// A geometry or multiples spec that does not parse or is not physical.
     #[error("invalid bearing spec `{spec}`: {reason}")]
     InvalidBearingSpec {

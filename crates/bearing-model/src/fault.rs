@@ -125,6 +125,20 @@ impl FaultSet {
         self.inner.is_some() || self.outer.is_some() || self.ball.is_some()
     }
 
+    /// Check every spall's onset against a recording of `duration_s` seconds
+    /// ([`check_onset`]; an onset of `−∞`, present from the start, always passes).
+    ///
+    /// # Errors
+    /// [`ModelError::InvalidOnset`], [`ModelError::OnsetAfterEnd`].
+    pub fn check_onsets(&self, duration_s: f64) -> Result<()> {
+        for s in [&self.inner, &self.outer, &self.ball].into_iter().flatten() {
+            if s.onset_s != f64::NEG_INFINITY {
+                check_onset(s.onset_s, duration_s)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Validate every spall against the bearing: a race spall must be narrower than the ball
     /// spacing on that race (one ball in it at a time) and than the ball diameter; a ball spall
     /// must be narrower than the ball diameter.
@@ -148,6 +162,26 @@ impl FaultSet {
         }
         Ok(())
     }
+}
+
+/// Check a fault onset `T_f` given for a recording of `duration_s` seconds (sample `k` at
+/// `k / fs`, so the recording covers `[0, duration_s)`): a finite time `>= 0` before the end,
+/// or the fault would never appear.
+///
+/// # Errors
+/// [`ModelError::InvalidOnset`] for a negative or non-finite onset,
+/// [`ModelError::OnsetAfterEnd`] for an onset at or after `duration_s`.
+pub fn check_onset(onset_s: f64, duration_s: f64) -> Result<()> {
+    if !(onset_s.is_finite() && onset_s >= 0.0) {
+        return Err(ModelError::InvalidOnset { onset_s });
+    }
+    if onset_s >= duration_s {
+        return Err(ModelError::OnsetAfterEnd {
+            onset_s,
+            duration_s,
+        });
+    }
+    Ok(())
 }
 
 /// Where one spall sits: the three locations a [`FaultClass`] combines. The workspace's one
@@ -311,8 +345,13 @@ impl std::fmt::Display for FaultClass {
 
 impl std::str::FromStr for FaultClass {
     type Err = ModelError;
-    /// Parses `none|normal|healthy`, and any `+`/`-`-joined set of `inner|ir`, `outer|or`,
-    /// `ball|b` in any order.
+    /// Parses `none|normal|healthy`, and any `+`/`-`/`,`-joined set of `inner|ir`, `outer|or`,
+    /// `ball|b` in any order, each location at most once. The workspace's one fault-spec parser
+    /// (`simulate --fault`, close-loop's `parse_fault`).
+    ///
+    /// # Errors
+    /// [`ModelError::UnknownFaultClass`] for an unknown part, [`ModelError::RepeatedFaultLocation`]
+    /// for a location named twice (`inner+inner`, `ball+ir+b`).
     fn from_str(s: &str) -> Result<Self> {
         let low = s.trim().to_ascii_lowercase();
         if matches!(low.as_str(), "none" | "normal" | "healthy") {
@@ -320,12 +359,19 @@ impl std::str::FromStr for FaultClass {
         }
         let mut locations = Vec::new();
         for part in low.split(['+', '-', ',']) {
-            locations.push(match part.trim() {
+            let location = match part.trim() {
                 "inner" | "ir" => FaultLocation::Inner,
                 "outer" | "or" => FaultLocation::Outer,
                 "ball" | "b" => FaultLocation::Ball,
                 _ => return Err(ModelError::UnknownFaultClass(s.to_string())),
-            });
+            };
+            if locations.contains(&location) {
+                return Err(ModelError::RepeatedFaultLocation {
+                    spec: s.trim().to_string(),
+                    location,
+                });
+            }
+            locations.push(location);
         }
         Ok(Self::from_locations(&locations))
     }
@@ -410,6 +456,35 @@ mod tests {
     }
 
     #[test]
+    fn a_location_named_twice_is_a_typed_error() {
+        for (spec, location) in [
+            ("inner+inner", FaultLocation::Inner),
+            ("outer+outer", FaultLocation::Outer),
+            ("ball+inner+ball", FaultLocation::Ball),
+            ("IR+inner", FaultLocation::Inner),
+            ("outer-ball-or", FaultLocation::Outer),
+        ] {
+            let e = spec.parse::<FaultClass>().unwrap_err();
+            assert_eq!(
+                e,
+                ModelError::RepeatedFaultLocation {
+                    spec: spec.to_string(),
+                    location
+                },
+                "{spec}"
+            );
+            let msg = e.to_string();
+            assert!(!msg.contains('\n'), "{msg}");
+            assert!(msg.contains(&format!("{location} twice")), "{msg}");
+        }
+        // every location once, in any order, is still a class
+        assert_eq!(
+            "ball+outer+inner".parse::<FaultClass>().unwrap(),
+            FaultClass::InnerOuterBall
+        );
+    }
+
+    #[test]
     fn profile_is_continuous_and_capped() {
         let g = BearingGeometry::skf_6205();
         let s = Spall::new(0.5e-3);
@@ -434,6 +509,36 @@ mod tests {
         assert!(p.drop(p.width_rad - 1e-9) < 1e-12);
         let deep = SpallProfile::new(&Spall::new(6e-3).with_depth(1e-4), r, r, big_r, -1.0);
         assert!((deep.drop(0.5 * deep.width_rad) - 1e-4).abs() < 1e-15);
+    }
+
+    #[test]
+    fn onsets_must_fall_inside_the_recording() {
+        assert!(check_onset(0.0, 1.0).is_ok());
+        assert!(check_onset(0.999, 1.0).is_ok());
+        for bad in [-0.1, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(
+                matches!(check_onset(bad, 1.0), Err(ModelError::InvalidOnset { .. })),
+                "{bad}"
+            );
+        }
+        for late in [1.0, 5.0] {
+            let e = check_onset(late, 1.0).unwrap_err();
+            assert_eq!(
+                e,
+                ModelError::OnsetAfterEnd {
+                    onset_s: late,
+                    duration_s: 1.0
+                }
+            );
+            let msg = e.to_string();
+            assert!(!msg.contains('\n') && msg.contains("onset") && msg.contains("1 s"));
+        }
+        // a spall present from the start (onset −∞) always passes; a late one does not
+        let f = FaultSet::of_class(FaultClass::Outer, Spall::new(1e-3));
+        assert!(f.check_onsets(0.5).is_ok());
+        let late = FaultSet::of_class(FaultClass::Outer, Spall::new(1e-3).with_onset(0.5));
+        assert!(late.check_onsets(0.5).is_err());
+        assert!(late.check_onsets(0.6).is_ok());
     }
 
     #[test]

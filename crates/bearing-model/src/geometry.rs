@@ -61,7 +61,7 @@ impl std::str::FromStr for Bearing {
         match s.trim().to_ascii_lowercase().as_str() {
             "6205" | "skf6205" | "de" | "drive-end" => Ok(Bearing::Skf6205),
             "6203" | "skf6203" | "fe" | "fan-end" => Ok(Bearing::Skf6203),
-            other => Err(ModelError::UnknownBearing(other.to_string())),
+            _ => Err(ModelError::UnknownBearing(s.trim().to_string())),
         }
     }
 }

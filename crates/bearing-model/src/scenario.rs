@@ -123,7 +123,8 @@ impl Scenario {
         self.spec.housing = h;
         self
     }
-    /// Fault onset time `T_f` for every spall, s.
+    /// Fault onset time `T_f` for every spall, s; [`Scenario::simulate`] refuses one outside
+    /// `[0, duration)` ([`crate::fault::check_onset`]).
     pub fn with_fault_onset(mut self, onset_s: f64) -> Self {
         for s in [
             &mut self.spec.faults.inner,

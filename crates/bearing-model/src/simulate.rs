@@ -147,6 +147,7 @@ impl SimConfig {
             Noise::Std(s) => check_range("noise std", s, 0.0, 1e9, "0 ..= 1e9 m/s²")?,
             Noise::SnrDb(s) => check_range("noise snr_db", s, -60.0, 200.0, "-60 ..= 200 dB")?,
         }
+        model.spec().faults.check_onsets(self.duration_s)?;
         let n = (self.duration_s * self.fs_hz).round();
         let max = 5e8 / self.oversampling() as f64;
         if n < 1.0 || n > max {

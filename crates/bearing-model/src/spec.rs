@@ -3,6 +3,12 @@
 //! directly (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, BSF in CWRU's convention: the
 //! ball-defect rate, twice the ball spin).
 //!
+//! Multiples are checked against the kinematics: `bpfo + bpfi = n`, `ftf = bpfo / n` and
+//! `d/D·cos α = 1 − 2·ftf` give the ball spin `(D/2d)(1 − (d/D·cos α)²)` (taking `cos α = 1`)
+//! and the ball-defect rate, twice it. A `bsf` within 2 % of the spin is the textbook ball-spin
+//! frequency given by mistake (an error); one within 5 % of neither is reported by
+//! [`BearingSpec::warnings`] (catalogues round, and a contact angle lowers the rate).
+//!
 //! The kinematics are [`BearingGeometry::orders`] and [`FaultOrders`]; this module only parses
 //! text into them. The one bearing type every crate names a bearing with (diagnosis,
 //! close-loop, the command line).
@@ -16,8 +22,13 @@ use crate::geometry::{Bearing, BearingGeometry, FaultOrders};
 /// fault orders (multiples of the shaft frequency).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BearingSpec {
-    /// Designation or the spec text (for reports).
+    /// Designation or the normalised spec (what machine models compare; `multiples bpfo=…`,
+    /// `n=…,d=…m,D=…m,angle=…rad`).
     pub name: String,
+    /// The spec as the user gave it (trimmed, case kept): what reports echo
+    /// ([`BearingSpec::echo`]); the designation for a bearing built in code.
+    #[serde(default)]
+    pub given: String,
     /// Geometry, when the spec gives one (built-in or `n=…,d=…,D=…`).
     pub geometry: Option<BearingGeometry>,
     /// Fault orders (× shaft frequency); `ball_defect` is CWRU's "BSF".
@@ -30,6 +41,7 @@ impl BearingSpec {
         let g = b.geometry();
         Self {
             name: g.name.to_string(),
+            given: b.designation().to_string(),
             geometry: Some(g),
             orders: g.orders(),
         }
@@ -71,9 +83,49 @@ impl BearingSpec {
         })?;
         Ok(Self {
             name: g.name.to_string(),
+            given: g.name.to_string(),
             geometry: Some(g),
             orders: g.orders(),
         })
+    }
+
+    /// The spec as reports echo it: as the user gave it, with a built-in bearing's full
+    /// designation after it when that differs (`6205 (SKF 6205-2RS JEM)`); the name for a spec
+    /// read from a file written before the given text was kept.
+    pub fn echo(&self) -> String {
+        if self.given.is_empty() {
+            return self.name.clone();
+        }
+        match self.geometry.map(|g| g.name) {
+            Some(full) if !full.is_empty() && full != "custom" && full != self.given => {
+                format!("{} ({full})", self.given)
+            }
+            _ => self.given.clone(),
+        }
+    }
+
+    /// What looks wrong without being an error, one line each: multiples whose `bsf` is within
+    /// 5 % of neither the ball-defect rate nor the spin that `ftf` implies
+    /// ([`ball_rates_implied`]). Empty for a designation or a geometry (consistent by
+    /// construction).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        if self.geometry.is_some() {
+            return w;
+        }
+        let o = &self.orders;
+        if let Some((spin, defect)) = ball_rates_implied(o.ftf)
+            && !within(o.ball_defect, defect, BSF_TOLERANCE)
+            && !within(o.ball_defect, spin, SPIN_TOLERANCE)
+        {
+            w.push(format!(
+                "bearing `{}`: bsf={} is {:+.1} % from the ball-defect rate {defect:.4} that ftf implies (ball spin {spin:.4}; bsf is CWRU's ball-defect rate, twice the spin): check the value",
+                self.echo(),
+                o.ball_defect,
+                100.0 * (o.ball_defect / defect - 1.0)
+            ));
+        }
+        w
     }
 
     /// Parse a spec (see the module documentation).
@@ -86,7 +138,10 @@ impl BearingSpec {
         if !s.contains('=') {
             return s
                 .parse::<Bearing>()
-                .map(Self::builtin)
+                .map(|b| Self {
+                    given: s.to_string(),
+                    ..Self::builtin(b)
+                })
                 .map_err(|_| ModelError::UnknownBearing(s.to_string()));
         }
         let bad = |reason: String| ModelError::InvalidBearingSpec {
@@ -137,11 +192,21 @@ impl BearingSpec {
             }
             let orders = FaultOrders::from_multiples(vals[0], vals[1], vals[2], vals[3])
                 .map_err(|e| bad(e.to_string()))?;
+            let [bpfo, bpfi, ftf, bsf] = vals;
+            if let Some((spin, ball_defect)) = ball_rates_implied(ftf)
+                && within(bsf, spin, SPIN_TOLERANCE)
+            {
+                return Err(ModelError::BallSpinGivenAsBsf {
+                    spec: s.to_string(),
+                    bsf,
+                    spin,
+                    ball_defect,
+                    doubled: 2.0 * bsf,
+                });
+            }
             return Ok(Self {
-                name: format!(
-                    "multiples bpfo={} bpfi={} ftf={} bsf={}",
-                    vals[0], vals[1], vals[2], vals[3]
-                ),
+                name: format!("multiples bpfo={bpfo} bpfi={bpfi} ftf={ftf} bsf={bsf}"),
+                given: s.to_string(),
                 geometry: None,
                 orders,
             });
@@ -172,6 +237,7 @@ impl BearingSpec {
             BearingGeometry::from_dimensions(n, d, pitch, angle).map_err(|e| bad(e.to_string()))?;
         Ok(Self {
             name: format!("n={n},d={d:.6}m,D={pitch:.6}m,angle={angle:.4}rad"),
+            given: s.to_string(),
             geometry: Some(g),
             orders: g.orders(),
         })
@@ -183,6 +249,29 @@ impl std::str::FromStr for BearingSpec {
     fn from_str(s: &str) -> Result<Self> {
         Self::parse(s)
     }
+}
+
+/// Relative distance within which a `bsf` is taken for the ball spin (an error).
+const SPIN_TOLERANCE: f64 = 0.02;
+/// Relative distance from the implied ball-defect rate beyond which a `bsf` is warned about.
+const BSF_TOLERANCE: f64 = 0.05;
+
+/// Whether `x` is within `rel` (relative) of `reference`.
+fn within(x: f64, reference: f64, rel: f64) -> bool {
+    (x - reference).abs() <= rel * reference.abs()
+}
+
+/// The ball spin and ball-defect rate (shaft orders) that a cage order `ftf` implies:
+/// `r = d/D·cos α = 1 − 2·ftf` (with `bpfo + bpfi = n` and `ftf = bpfo / n`) and, taking
+/// `cos α = 1` (a contact angle lowers both by `cos α`), the spin `(1 − r²) / (2r)`, the
+/// ball-defect rate twice it. `None` when `ftf` does not give `0 < r < 1`.
+pub fn ball_rates_implied(ftf: f64) -> Option<(f64, f64)> {
+    let r = 1.0 - 2.0 * ftf;
+    if !(r.is_finite() && r > 0.0 && r < 1.0) {
+        return None;
+    }
+    let spin = (1.0 - r * r) / (2.0 * r);
+    Some((spin, 2.0 * spin))
 }
 
 /// `0.235in`, `5.97mm`, `0.00597m` → metres (a unit is required).
@@ -266,6 +355,86 @@ mod tests {
         let s = BearingSpec::parse("bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135").unwrap();
         assert_eq!(s.orders.ball_defect, 4.7135);
         assert!(s.geometry.is_none());
+    }
+
+    #[test]
+    fn a_textbook_ball_spin_as_bsf_is_a_typed_error() {
+        // the 6205's textbook BSF (ball spin), half of CWRU's ball-defect rate
+        let e = BearingSpec::parse("bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=2.3567").unwrap_err();
+        let ModelError::BallSpinGivenAsBsf {
+            bsf,
+            spin,
+            ball_defect,
+            doubled,
+            ..
+        } = e
+        else {
+            panic!("{e}");
+        };
+        assert_eq!(bsf, 2.3567);
+        assert_eq!(doubled, 4.7134);
+        assert!(close(spin, 2.3567, 1e-3) && close(ball_defect, 4.7135, 1e-3));
+        let msg = e.to_string();
+        assert!(
+            msg.contains("ball-spin") && msg.contains("bsf=4.7134"),
+            "{msg}"
+        );
+        assert!(!msg.contains('\n'));
+        // the 6203's, within 2 % of its spin
+        assert!(matches!(
+            BearingSpec::parse("bpfo=3.0530,bpfi=4.9469,ftf=0.3817,bsf=1.97"),
+            Err(ModelError::BallSpinGivenAsBsf { .. })
+        ));
+    }
+
+    #[test]
+    fn a_bsf_far_from_the_kinematics_is_warned_about() {
+        // CWRU's own table: consistent, no warning
+        let ok = BearingSpec::parse("bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135").unwrap();
+        assert!(ok.warnings().is_empty());
+        // a catalogue's rounding (1 %) passes silently
+        let rounded = BearingSpec::parse("bpfo=3.58,bpfi=5.42,ftf=0.398,bsf=4.76").unwrap();
+        assert!(rounded.warnings().is_empty());
+        // 10 % off: accepted, with one warning naming the implied rate
+        let off = BearingSpec::parse("bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=5.2").unwrap();
+        let w = off.warnings();
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].contains("4.71") && !w[0].contains('\n'), "{}", w[0]);
+        // designations and geometries are consistent by construction
+        assert!(BearingSpec::parse("6205").unwrap().warnings().is_empty());
+        assert!(
+            BearingSpec::parse("n=10,d=8mm,D=40mm,angle=15deg")
+                .unwrap()
+                .warnings()
+                .is_empty()
+        );
+    }
+
+    #[test]
+    fn the_spec_is_echoed_as_given() {
+        let typed = "BPFO=3.5848,BPFI=5.4152,FTF=0.39828,BSF=4.7135";
+        let s = BearingSpec::parse(&format!("  {typed} ")).unwrap();
+        assert_eq!(s.given, typed);
+        assert_eq!(s.echo(), typed);
+        let g = BearingSpec::parse("n=9, d=7.94004mm, D=39.0398mm").unwrap();
+        assert_eq!(g.echo(), "n=9, d=7.94004mm, D=39.0398mm");
+        let b = BearingSpec::parse("SKF6205").unwrap();
+        assert_eq!(b.echo(), "SKF6205 (SKF 6205-2RS JEM)");
+        assert_eq!(
+            BearingSpec::designated(Bearing::Skf6203).echo(),
+            "6203 (SKF 6203-2RS JEM)"
+        );
+        // an unknown designation is named as typed
+        let e = BearingSpec::parse("SKF6306").unwrap_err();
+        assert_eq!(e, ModelError::UnknownBearing("SKF6306".into()));
+        let e = "NU205".parse::<Bearing>().unwrap_err();
+        assert_eq!(e, ModelError::UnknownBearing("NU205".into()));
+        // a spec read from a file written without `given` echoes its name
+        let old = BearingSpec {
+            given: String::new(),
+            ..BearingSpec::parse(typed).unwrap()
+        };
+        assert_eq!(old.echo(), old.name);
     }
 
     #[test]

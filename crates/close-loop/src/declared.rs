@@ -19,15 +19,24 @@ pub fn impact_orders(fault: DeclaredFault, rates: &BearingSpec) -> Vec<f64> {
     rates.impact_orders(fault)
 }
 
-/// Parse "none|normal|healthy" or any `+`-joined set of "inner|ir", "outer|or", "ball|b".
+/// Parse "none|normal|healthy" or any `+`-joined set of "inner|ir", "outer|or", "ball|b", each
+/// at most once: bearing-model's one fault-spec parser ([`DeclaredFault`]'s `FromStr`).
 ///
 /// # Errors
+/// [`CloseLoopError::RepeatedFault`] for a location named twice (`inner+inner`),
 /// [`CloseLoopError::UnknownFault`] for anything else.
 pub fn parse_fault(s: &str) -> Result<DeclaredFault, CloseLoopError> {
-    s.parse::<DeclaredFault>()
-        .map_err(|_| CloseLoopError::UnknownFault {
+    s.parse::<DeclaredFault>().map_err(|e| match e {
+        bearing_model::ModelError::RepeatedFaultLocation { spec, location } => {
+            CloseLoopError::RepeatedFault {
+                name: spec,
+                location,
+            }
+        }
+        _ => CloseLoopError::UnknownFault {
             name: s.to_string(),
-        })
+        },
+    })
 }
 
 /// What the model is told: speed, bearing and fault.

@@ -59,6 +59,16 @@ pub enum CloseLoopError {
         /// The name given.
         name: String,
     },
+    /// The fault names one location twice (`inner+inner`, `ball+inner+ball`).
+    #[error(
+        "fault `{name}` names {location} twice: give each of inner, outer, ball at most once (e.g. inner+outer)"
+    )]
+    RepeatedFault {
+        /// The name given.
+        name: String,
+        /// The location named more than once.
+        location: bearing_model::FaultLocation,
+    },
     /// The declared model failed to produce an output.
     #[error("the declared model failed: {reason}")]
     Model {

@@ -17,6 +17,8 @@
 //! - `rand` + `rand_xoshiro`: SplitMix64, the seeded generator of the loop's and the rig's noise
 //!   (the same generator `classify` splits windows with).
 //! - `bearing-model`: the 5-DOF physics model behind [`physics::PhysicsModel`].
+//! - `bearing-data`: [`SampleUnit`], the recording's unit the reports state (the input layer's
+//!   one unit type).
 //!
 //! The declared model comes in through the [`DeclaredModel`] trait, so this crate needs no
 //! simulator of its own; [`scenario::PhenomenologicalModel`] is a small impact-train model used by
@@ -39,6 +41,7 @@ mod runner;
 pub mod scenario;
 pub mod spectrum;
 
+pub use bearing_data::SampleUnit;
 pub use config::{CheckedConfig, LoopConfig};
 pub use declared::{
     BearingSpec, DeclaredFault, DeclaredModel, OperatingPoint, impact_orders, parse_fault,

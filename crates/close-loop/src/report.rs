@@ -2,6 +2,7 @@
 //! Its JSON schema is documented in the crate README.
 
 use crate::effect::{EffectKind, Placement};
+use bearing_data::SampleUnit;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -65,8 +66,12 @@ pub struct Declared {
     pub model: String,
     /// Declared speed, rpm.
     pub rpm: f64,
-    /// Bearing designation.
+    /// Bearing designation, or the normalised spec (what machine models compare).
     pub bearing: String,
+    /// The bearing spec as the user gave it, case kept (`BearingSpec::echo`): what the Markdown
+    /// echoes (empty in a ledger written before it was kept).
+    #[serde(default)]
+    pub bearing_spec: String,
     /// Declared fault ("none", "outer", "inner+ball", …).
     pub fault: String,
     /// Sampling frequency, Hz.
@@ -119,6 +124,12 @@ pub struct Ledger {
     pub residual_rms_after: Option<f64>,
     /// RMS of the measurement on the held-out segment (the scale of `residual_rms_*`).
     pub held_out_signal_rms: f64,
+    /// Unit of the recording's samples as the input layer knows it: every amplitude of the
+    /// ledger (`held_out_signal_rms`, `residual_rms_*`, effect amplitudes and gains,
+    /// `structural_modes`) is in it, PSDs (`protocol.floor_psd`) in its square per Hz. The loop
+    /// itself does not know it (`unknown`); the command sets the recording's.
+    #[serde(default)]
+    pub unit: SampleUnit,
     /// Accepted effects, in the order they were added.
     pub effects: Vec<EffectEntry>,
     /// Candidates of the last round that did not pass the stop rule.
@@ -163,13 +174,19 @@ impl Ledger {
     pub fn to_markdown(&self, title: &str) -> String {
         let mut s = String::new();
         s.push_str(&format!("# Closed loop: {title}\n\n"));
+        let bearing = if self.declared.bearing_spec.is_empty() {
+            &self.declared.bearing
+        } else {
+            &self.declared.bearing_spec
+        };
         s.push_str(&format!(
-            "Declared model `{}` at {:.1} rpm, bearing {}, fault `{}`, fs = {} Hz.\n\n",
-            self.declared.model,
-            self.declared.rpm,
-            self.declared.bearing,
-            self.declared.fault,
-            self.declared.fs
+            "Declared model `{}` at {:.1} rpm, bearing `{bearing}`, fault `{}`, fs = {} Hz.\n\n",
+            self.declared.model, self.declared.rpm, self.declared.fault, self.declared.fs
+        ));
+        let u = self.unit.label();
+        s.push_str(&format!(
+            "Recording unit: {}. Amplitudes (RMS, line amplitudes, modal gains) are in {u}, PSDs in ({u})²/Hz.\n\n",
+            self.unit
         ));
         s.push_str(&format!(
             "Fitted on samples {}..{}, scored on held-out samples {}..{}; Welch {} samples ({:.3} Hz bins), band {:.1}–{:.1} Hz; stop margin {:.1} %.\n\n",
@@ -193,14 +210,15 @@ impl Ledger {
             self.secondary_after
         ));
         let opt = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.4e}"));
+        let opt_u = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.4e} {u}"));
         s.push_str(&format!(
-            "Held-out observer residual RMS ({}): {} → {} (held-out signal RMS {:.4e}).\n\n",
+            "Held-out observer residual RMS ({}): {} → {} (held-out signal RMS {:.4e} {u}).\n\n",
             self.observer,
-            opt(self.residual_rms_before),
-            opt(self.residual_rms_after),
+            opt_u(self.residual_rms_before),
+            opt_u(self.residual_rms_after),
             self.held_out_signal_rms
         ));
-        s.push_str("| # | kind | frequency (Hz) | where | effect | LSD before (dB) | LSD after (dB) | observer RMS before | observer RMS after | RMS ratio before | RMS ratio after |\n");
+        s.push_str(&format!("| # | kind | frequency (Hz) | where | effect (amplitudes in {u}) | LSD before (dB) | LSD after (dB) | observer RMS before ({u}) | observer RMS after ({u}) | RMS ratio before | RMS ratio after |\n"));
         s.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (i, e) in self.effects.iter().enumerate() {
             s.push_str(&format!(
@@ -238,5 +256,133 @@ impl Ledger {
             }
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ledger(unit: SampleUnit) -> Ledger {
+        let mut parameters = BTreeMap::new();
+        parameters.insert("order".to_string(), 2.0);
+        parameters.insert("amplitude".to_string(), 0.012);
+        Ledger {
+            error_metric: PRIMARY_METRIC.into(),
+            error_before: 3.0,
+            error_after: 2.0,
+            secondary_metric: SECONDARY_METRIC.into(),
+            secondary_before: 1.0,
+            secondary_after: 0.9,
+            observer: "ALPIO".into(),
+            residual_rms_before: Some(0.25),
+            residual_rms_after: Some(0.2),
+            held_out_signal_rms: 0.5,
+            unit,
+            effects: vec![EffectEntry {
+                kind: EffectKind::ShaftHarmonic,
+                frequency_hz: Some(59.9),
+                parameters,
+                placement: Placement::Measurement,
+                description: "shaft harmonic 2x at 59.900 Hz, amplitude 1.2000e-2".into(),
+                error_before: 3.0,
+                error_after: 2.0,
+                secondary_before: 1.0,
+                secondary_after: 0.9,
+                fit_error_before: 3.0,
+                fit_error_after: 2.0,
+                residual_rms_before: Some(0.25),
+                residual_rms_after: Some(0.2),
+                replaces_step: None,
+            }],
+            rejected: vec![],
+            stop_reason: "done".into(),
+            declared: Declared {
+                model: "physics".into(),
+                rpm: 1797.0,
+                bearing: "multiples bpfo=3.5848 bpfi=5.4152 ftf=0.39828 bsf=4.7135".into(),
+                bearing_spec: "BPFO=3.5848,BPFI=5.4152,FTF=0.39828,BSF=4.7135".into(),
+                fault: "outer".into(),
+                fs: 12_000.0,
+            },
+            protocol: Protocol {
+                fit_samples: [0, 100],
+                held_out_samples: [100, 200],
+                nperseg: 64,
+                df_hz: 187.5,
+                band_hz: [0.0, 6000.0],
+                margin: 0.02,
+                floor_db: -60.0,
+                floor_psd: 1e-9,
+                estimation_lsd_db: 0.5,
+            },
+            structural_modes: vec![],
+        }
+    }
+
+    #[test]
+    fn the_report_states_the_unit_of_its_amplitudes() {
+        let l = ledger(SampleUnit::cwru());
+        let md = l.to_markdown("130.mat");
+        assert!(md.contains(bearing_data::CWRU_STATEMENT), "{md}");
+        assert!(
+            md.contains("held-out signal RMS 5.0000e-1 file units"),
+            "{md}"
+        );
+        assert!(
+            md.contains("2.5000e-1 file units → 2.0000e-1 file units"),
+            "{md}"
+        );
+        assert!(md.contains("observer RMS before (file units)"), "{md}");
+        let md = ledger(SampleUnit::from_code("m/s^2").unwrap()).to_markdown("sim");
+        assert!(md.contains("Recording unit: m/s²."), "{md}");
+        // the unit is an added key: the keys users script against are all still there
+        let v = serde_json::to_value(&l).unwrap();
+        assert_eq!(v["unit"]["code"], "g");
+        assert_eq!(v["unit"]["statement"], bearing_data::CWRU_STATEMENT);
+        for key in [
+            "error_before",
+            "error_after",
+            "held_out_signal_rms",
+            "effects",
+        ] {
+            assert!(v.get(key).is_some(), "{key}");
+        }
+        let e = &v["effects"][0];
+        assert_eq!(e["kind"], "shaft_harmonic");
+        assert_eq!(e["parameters"]["order"], 2.0);
+        for key in ["frequency_hz", "placement", "error_before", "error_after"] {
+            assert!(e.get(key).is_some(), "{key}");
+        }
+        // a ledger written before the unit and the typed spec were kept still reads
+        let mut old = v.clone();
+        let obj = old.as_object_mut().unwrap();
+        obj.remove("unit");
+        obj["declared"]
+            .as_object_mut()
+            .unwrap()
+            .remove("bearing_spec");
+        let back: Ledger = serde_json::from_value(old).unwrap();
+        assert!(back.unit.is_unknown());
+        assert!(
+            back.to_markdown("old")
+                .contains("bearing `multiples bpfo=3.5848")
+        );
+    }
+
+    #[test]
+    fn the_bearing_is_echoed_as_typed() {
+        let l = ledger(SampleUnit::unknown());
+        let v = serde_json::to_value(&l).unwrap();
+        assert_eq!(
+            v["declared"]["bearing"],
+            "multiples bpfo=3.5848 bpfi=5.4152 ftf=0.39828 bsf=4.7135"
+        );
+        let md = l.to_markdown("x");
+        assert!(
+            md.contains("bearing `BPFO=3.5848,BPFI=5.4152,FTF=0.39828,BSF=4.7135`"),
+            "{md}"
+        );
+        assert!(!md.contains("bpfo="), "{md}");
     }
 }

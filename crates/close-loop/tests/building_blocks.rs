@@ -205,6 +205,21 @@ fn bad_input_gets_typed_errors() {
         close_loop::parse_fault("cage"),
         Err(CloseLoopError::UnknownFault { .. })
     ));
+    for (repeated, location) in [
+        ("inner+inner", bearing_model::FaultLocation::Inner),
+        ("outer+outer", bearing_model::FaultLocation::Outer),
+        ("ball+inner+ball", bearing_model::FaultLocation::Ball),
+    ] {
+        let e = close_loop::parse_fault(repeated).unwrap_err();
+        assert_eq!(
+            e,
+            CloseLoopError::RepeatedFault {
+                name: repeated.into(),
+                location
+            }
+        );
+        assert!(!e.to_string().contains('\n'));
+    }
     let mut nan = y.clone();
     nan[17] = f64::NAN;
     assert_eq!(

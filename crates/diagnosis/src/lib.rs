@@ -329,8 +329,12 @@ pub struct OperatingPoint {
     /// is too short to resolve the search).
     #[serde(default)]
     pub measured_speed: Option<speed::SpeedEstimate>,
-    /// Bearing name or spec.
+    /// Bearing name or normalised spec.
     pub bearing: String,
+    /// The bearing spec as the user gave it, case kept (`BearingSpec::echo`): what reports echo
+    /// (empty in a report written before it was kept).
+    #[serde(default)]
+    pub bearing_spec: String,
     /// Fault orders (× fr).
     pub orders: FaultOrders,
     /// Fault frequencies at fr, Hz.
@@ -1044,6 +1048,7 @@ fn diagnose_with(
             rpm_used,
             measured_speed,
             bearing: bearing.name.clone(),
+            bearing_spec: bearing.echo(),
             orders: o,
             frequencies_hz: o.at(fr),
         },

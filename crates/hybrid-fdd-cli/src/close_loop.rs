@@ -269,13 +269,10 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
     read.extend(args.machine.as_deref());
     crate::refuse_overwrite("--report", &crate::report_files(report), &read)?;
     let loaded = crate::diagnose::load(input, &args.channel, args.fs)?;
-    let units = args
-        .units
-        .clone()
-        .unwrap_or_else(|| loaded.units.to_string());
-    if !matches!(units.as_str(), "g" | "m/s^2" | "unknown") {
-        bail!("unknown units `{units}` (g, m/s^2 or unknown)");
-    }
+    let unit = match args.units.as_deref() {
+        Some(code) => close_loop::SampleUnit::from_code(code)?,
+        None => loaded.unit.clone(),
+    };
     let (mut y, mut fs) = (loaded.samples, loaded.fs_hz);
     if args.decimate > 1 {
         y = bearing_data::decimate(&y, args.decimate)?;
@@ -296,14 +293,18 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
     let rpm = rpm.context("--rpm is required (the file stores no speed)")?;
     let builtin = args.bearing.parse::<bearing_model::Bearing>().ok();
     let bearing = match builtin {
-        Some(b) => BearingSpec::designated(b),
-        None => BearingSpec::parse(&args.bearing)?,
+        // named by its designation (what machine models compare), echoed as typed
+        Some(b) => BearingSpec {
+            given: args.bearing.trim().to_string(),
+            ..BearingSpec::designated(b)
+        },
+        None => crate::parse_bearing(&args.bearing)?,
     };
     let fault = parse_fault(&args.fault)?;
     let op = OperatingPoint::new(rpm, bearing, fault)?;
     if let Some(m) = prior {
         m.check_compatible(fs, &op.bearing.name)?;
-        m.check_units(&units)?;
+        m.check_units(&unit.code)?;
     }
     let cfg = LoopConfig {
         max_effects: args.max_effects,
@@ -348,7 +349,8 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
         out.machine
             .ensure_path(&y[..n_fit], &y[n_fit..], cfg.get().max_path_order)?;
     }
-    out.machine.units = units;
+    out.machine.units = unit.code.clone();
+    out.ledger.unit = unit;
     out.machine.provenance.recording = input
         .file_name()
         .and_then(|s| s.to_str())

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use anyhow::{Context as _, bail};
+use bearing_data::SampleUnit;
 use diagnosis::{Baseline, BearingSpec, Diagnosis, diagnose};
 use rayon::prelude::*;
 
@@ -77,7 +78,7 @@ impl RecordingFlags {
             channel: self.channel.clone(),
             fs: self.fs,
             rpm: self.rpm,
-            bearing: BearingSpec::parse(spec)?,
+            bearing: crate::parse_bearing(spec)?,
         })
     }
 
@@ -102,17 +103,12 @@ pub struct Loaded {
     pub fs_hz: f64,
     /// Speed stored in (or catalogued for) the file, rpm.
     pub rpm: Option<f64>,
-    /// Unit of the samples, as far as known (a sentence for reports).
-    pub unit: &'static str,
-    /// The same as a short code: "g", "m/s^2" or "unknown".
-    pub units: &'static str,
+    /// Unit of the samples, as far as known (its code, "g", "m/s^2" or "unknown", and the
+    /// statement reports print).
+    pub unit: SampleUnit,
     /// Catalogued fault diameter, inches, for a CWRU record.
     pub fault_size_in: Option<f64>,
 }
-
-/// Unit statement for CWRU `.mat` samples.
-pub const CWRU_UNIT: &str =
-    "file units (CWRU accelerometer data; the data README states no unit, commonly read as g)";
 
 /// How a `--fs` meets a rate the file itself stores (a CWRU record's, a time column's).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -225,8 +221,7 @@ pub fn load_with(
                     samples: x,
                     fs_hz,
                     rpm: Some(rec.rpm().value),
-                    unit: CWRU_UNIT,
-                    units: "g",
+                    unit: SampleUnit::cwru(),
                     fault_size_in: bearing_data::entry(number).and_then(|e| e.fault_diameter_in()),
                 });
             }
@@ -247,8 +242,11 @@ pub fn load_with(
                 samples: x,
                 fs_hz: fs,
                 rpm: set.rpm,
-                unit: CWRU_UNIT,
-                units: "unknown",
+                // CWRU-style variables of another file: the CWRU statement, no unit claimed
+                unit: SampleUnit {
+                    code: "unknown".into(),
+                    ..SampleUnit::cwru()
+                },
                 fault_size_in: None,
             })
         }
@@ -482,17 +480,16 @@ fn load_csv(path: &Path, channel: &str, fs: Option<f64>, flag: FsFlag) -> anyhow
         .then(|| sidecar(path))
         .flatten()
         .and_then(|v| v["accel_unit"].as_str().map(str::to_string));
-    let (unit, units) = match side_unit.as_deref() {
-        Some("g") => ("g (`simulate` output, calibrated CWRU rig)", "g"),
-        Some("m/s^2") => ("m/s² (`simulate` output)", "m/s^2"),
-        _ => ("CSV units (not stated in the file)", "unknown"),
+    let unit = match side_unit.as_deref() {
+        Some("g") => SampleUnit::stated("g", "g (`simulate` output, calibrated CWRU rig)")?,
+        Some("m/s^2") => SampleUnit::stated("m/s^2", "m/s² (`simulate` output)")?,
+        _ => SampleUnit::stated("unknown", "CSV units (not stated in the file)")?,
     };
     Ok(Loaded {
         samples: sig.into_samples(),
         fs_hz: fs,
         rpm: None,
         unit,
-        units,
         fault_size_in: None,
     })
 }
@@ -729,7 +726,7 @@ pub struct Outcome {
     /// How the baseline was used (`None` = self-referenced).
     pub baseline_note: Option<String>,
     /// Unit of the samples.
-    pub unit: &'static str,
+    pub unit: SampleUnit,
     /// The trained classifier's class, when one was given.
     pub trained: Option<TrainedClass>,
 }
@@ -815,13 +812,13 @@ pub fn diagnose_loaded(
         Some(src) => {
             if let Some(u) = src.machine_units()
                 && u != "unknown"
-                && l.units != "unknown"
-                && u != l.units
+                && !l.unit.is_unknown()
+                && u != l.unit.code
             {
                 anyhow::bail!(
                     "baseline machine model {} is in {u} but the recording is in {}",
                     src.path.display(),
-                    l.units
+                    l.unit.code
                 );
             }
             let b = src.at(l.fs_hz)?;
@@ -838,7 +835,7 @@ pub fn diagnose_loaded(
     Ok(Outcome {
         diagnosis: d,
         baseline_note: note,
-        unit: l.unit,
+        unit: l.unit.clone(),
         trained: None,
     })
 }
@@ -928,7 +925,11 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         op.rpm_used,
         op.shaft_hz,
         op.fs_hz,
-        op.bearing,
+        if op.bearing_spec.is_empty() {
+            &op.bearing
+        } else {
+            &op.bearing_spec
+        },
         op.frequencies_hz.bpfo,
         op.frequencies_hz.bpfi,
         op.frequencies_hz.ball_defect,
@@ -936,7 +937,7 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         o.unit,
         d.whitening.order,
         s.residual_rms,
-        o.unit.split(' ').next().unwrap_or(""),
+        o.unit.label(),
         s.residual_kurtosis,
         s.signal_kurtosis,
     );

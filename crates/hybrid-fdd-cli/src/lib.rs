@@ -22,6 +22,20 @@ pub mod figure;
 pub mod simulate;
 pub mod train;
 
+/// Parse a `--bearing` spec with bearing-model's parser and say on stderr what looks wrong
+/// without being an error ([`bearing_model::BearingSpec::warnings`]: a `bsf` away from the
+/// kinematics of the other multiples).
+///
+/// # Errors
+/// The parser's typed errors (a textbook ball spin given as `bsf` among them).
+pub fn parse_bearing(spec: &str) -> anyhow::Result<bearing_model::BearingSpec> {
+    let b = bearing_model::BearingSpec::parse(spec)?;
+    for w in b.warnings() {
+        eprintln!("warning: {w}");
+    }
+    Ok(b)
+}
+
 /// The path of `p` with its directory resolved (`None` when the directory does not exist, so
 /// nothing there can be overwritten).
 pub(crate) fn resolved(p: &std::path::Path) -> Option<std::path::PathBuf> {

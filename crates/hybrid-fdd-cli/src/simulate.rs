@@ -66,7 +66,7 @@ pub struct Args {
     /// Housing resonance, Hz (default: the parameter set's, 3300 Hz).
     #[arg(long, allow_negative_numbers = true)]
     pub resonance: Option<f64>,
-    /// Fault onset time T_f, s (default: present from the start).
+    /// Fault onset time T_f, s: in [0, --duration) (default: present from the start).
     #[arg(long, allow_negative_numbers = true)]
     pub onset: Option<f64>,
     /// Largest internal RK4 step, s.
@@ -126,6 +126,8 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
         sc.spec.housing.resonance_hz = f;
     }
     if let Some(t) = args.onset {
+        // checked here too, so an onset is refused even with --fault none
+        bearing_model::fault::check_onset(t, args.duration)?;
         sc = sc.with_fault_onset(t);
     }
     Ok(sc)

@@ -44,8 +44,7 @@ fn loaded(samples: Vec<f64>, fs_hz: f64, units: &'static str) -> Loaded {
         samples,
         fs_hz,
         rpm: Some(RPM),
-        unit: "test units",
-        units,
+        unit: bearing_data::SampleUnit::stated(units, "test units").unwrap(),
         fault_size_in: None,
     }
 }

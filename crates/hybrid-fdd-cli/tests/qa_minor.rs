@@ -1,0 +1,244 @@
+//! QA's minor findings, as a user meets them through the flags: a fault location named twice, a
+//! fault onset outside the recording, reports that state no unit for their amplitudes, a
+//! textbook ball spin given as `bsf`, and a bearing spec echoed in lower case.
+
+mod common;
+
+use clap::Parser as _;
+use common::{Calibrate, CloseLoop, Diagnose, Simulate, dir, json, s};
+
+/// `simulate`'s error for `extra` flags (written into `d`), as the command prints it.
+fn simulate_error(d: &std::path::Path, extra: &[&str]) -> String {
+    let out = d.join("sim.csv");
+    let mut v = vec!["simulate", "--out", s(&out)];
+    v.extend_from_slice(extra);
+    let a = Simulate::try_parse_from(v).unwrap().a;
+    format!("{:#}", hybrid_fdd_cli::simulate::run(a).unwrap_err())
+}
+
+/// 2 s of the bare 5-DOF model with an outer-race fault at 1797 rpm (accel in m/s², stated by
+/// its sidecar).
+fn simulate_outer(out: &std::path::Path) {
+    let a = Simulate::try_parse_from([
+        "simulate",
+        "--fault",
+        "outer",
+        "--params",
+        "cwru",
+        "--duration",
+        "2",
+        "--seed",
+        "4",
+        "--out",
+        s(out),
+    ])
+    .unwrap()
+    .a;
+    hybrid_fdd_cli::simulate::run(a).unwrap();
+}
+
+#[test]
+fn a_fault_location_named_twice_is_a_one_line_error() {
+    let d = dir("qa-repeated");
+    for fault in ["inner+inner", "outer+outer", "ball+inner+ball", "IR+inner"] {
+        // the calibrated rig (the default here) and the bare 5-DOF model
+        for params in ["auto", "cwru"] {
+            let e = simulate_error(
+                &d,
+                &["--fault", fault, "--params", params, "--duration", "0.1"],
+            );
+            assert!(e.contains("twice") && e.contains(fault), "{fault}: {e}");
+            assert!(!e.contains('\n'), "{e}");
+        }
+    }
+    assert!(!d.join("sim.csv").exists(), "nothing written");
+    // close-loop parses its --fault with the same parser
+    let csv = d.join("rec.csv");
+    simulate_outer(&csv);
+    let a = CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        s(&csv),
+        "--fault",
+        "outer+outer",
+        "--report",
+        s(&d.join("r.json")),
+    ])
+    .unwrap()
+    .a;
+    let e = format!("{:#}", hybrid_fdd_cli::close_loop::run(a).unwrap_err());
+    assert!(e.contains("outer twice"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_fault_onset_outside_the_recording_is_an_error() {
+    let d = dir("qa-onset");
+    let base = ["--params", "cwru", "--duration", "0.1"];
+    for (fault, onset, says) in [
+        ("outer", "0.1", "never appear"),
+        ("outer", "5", "never appear"),
+        ("none", "5", "never appear"),
+        ("inner", "-1", ">= 0"),
+        ("inner", "nan", ">= 0"),
+        ("inner", "inf", ">= 0"),
+    ] {
+        let mut v = base.to_vec();
+        v.extend(["--fault", fault, "--onset", onset]);
+        let e = simulate_error(&d, &v);
+        assert!(e.contains("onset") && e.contains(says), "{onset}: {e}");
+        assert!(!e.contains('\n'), "{e}");
+        if says == "never appear" {
+            assert!(e.contains("0.1 s recording"), "{e}");
+        }
+    }
+    assert!(!d.join("sim.csv").exists(), "nothing written");
+    // inside the recording it simulates
+    let out = d.join("ok.csv");
+    let mut v = vec![
+        "simulate",
+        "--out",
+        s(&out),
+        "--fault",
+        "outer",
+        "--onset",
+        "0.05",
+    ];
+    v.extend(base);
+    hybrid_fdd_cli::simulate::run(Simulate::try_parse_from(v).unwrap().a).unwrap();
+    assert!(out.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn reports_state_the_unit_and_echo_the_bearing_as_typed() {
+    let d = dir("qa-unit");
+    let csv = d.join("rec.csv");
+    simulate_outer(&csv);
+    let typed = "BPFO=3.5848,BPFI=5.4152,FTF=0.39828,BSF=4.7135";
+    let report = d.join("loop.json");
+    let a = CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        s(&csv),
+        "--fault",
+        "outer",
+        "--model",
+        "phenomenological",
+        "--bearing",
+        typed,
+        "--report",
+        s(&report),
+    ])
+    .unwrap()
+    .a;
+    hybrid_fdd_cli::close_loop::run(a).unwrap();
+    let v = json(&report);
+    assert_eq!(v["unit"]["code"], "m/s^2", "{}", v["unit"]);
+    assert!(v["unit"]["statement"].as_str().unwrap().starts_with("m/s²"));
+    // the keys users script against are untouched
+    assert!(v["error_before"].is_f64() && v["error_after"].is_f64());
+    assert_eq!(
+        v["declared"]["bearing"],
+        "multiples bpfo=3.5848 bpfi=5.4152 ftf=0.39828 bsf=4.7135"
+    );
+    assert_eq!(v["declared"]["bearing_spec"], typed);
+    let md = std::fs::read_to_string(report.with_extension("md")).unwrap();
+    assert!(md.contains(&format!("bearing `{typed}`")), "{md}");
+    assert!(md.contains("Recording unit: m/s²"), "{md}");
+    assert!(md.contains("held-out signal RMS"), "{md}");
+    let rms_line = md
+        .lines()
+        .find(|l| l.contains("held-out signal RMS"))
+        .unwrap();
+    assert!(rms_line.contains(" m/s²)"), "{rms_line}");
+
+    // calibrate's report (beside the machine model) states it too
+    let m = d.join("m.json");
+    let a = Calibrate::try_parse_from([
+        "calibrate",
+        "--input",
+        s(&csv),
+        "--model",
+        "phenomenological",
+        "--bearing",
+        "SKF6205",
+        "--out",
+        s(&m),
+    ])
+    .unwrap()
+    .a;
+    hybrid_fdd_cli::close_loop::calibrate(a).unwrap();
+    let r = d.join("m.report.json");
+    assert_eq!(json(&r)["unit"]["code"], "m/s^2");
+    let md = std::fs::read_to_string(r.with_extension("md")).unwrap();
+    assert!(md.contains("bearing `SKF6205 (SKF 6205-2RS JEM)`"), "{md}");
+    assert!(md.contains("Recording unit: m/s²"), "{md}");
+
+    // diagnose echoes the spec as typed as well
+    let dr = d.join("diag.json");
+    let a = Diagnose::try_parse_from([
+        "diagnose",
+        "--input",
+        s(&csv),
+        "--bearing",
+        typed,
+        "--report",
+        s(&dr),
+    ])
+    .unwrap()
+    .a;
+    hybrid_fdd_cli::diagnose::run(&a).unwrap();
+    assert_eq!(json(&dr)["operating_point"]["bearing_spec"], typed);
+    let md = std::fs::read_to_string(dr.with_extension("md")).unwrap();
+    assert!(md.contains(&format!("bearing {typed}")), "{md}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_textbook_ball_spin_as_bsf_is_refused() {
+    let plan = |bearing: &str| {
+        Diagnose::try_parse_from(["diagnose", "--bearing", bearing])
+            .unwrap()
+            .a
+            .recording
+            .plan()
+    };
+    let e = format!(
+        "{:#}",
+        plan("bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=2.3567").unwrap_err()
+    );
+    assert!(
+        e.contains("textbook ball-spin") && e.contains("bsf=4.7134"),
+        "{e}"
+    );
+    assert!(!e.contains('\n'), "{e}");
+    // CWRU's own table is accepted without a word; a value off the kinematics is accepted with
+    // a warning (a catalogue may round or state another convention)
+    let ok = plan("bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135").unwrap();
+    assert!(ok.bearing.warnings().is_empty());
+    let odd = plan("bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=5.3").unwrap();
+    assert_eq!(odd.bearing.warnings().len(), 1);
+    // close-loop reads --bearing with the same parser
+    let d = dir("qa-bsf");
+    let csv = d.join("rec.csv");
+    simulate_outer(&csv);
+    let a = CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        s(&csv),
+        "--fault",
+        "outer",
+        "--model",
+        "phenomenological",
+        "--bearing",
+        "bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=2.3567",
+        "--report",
+        s(&d.join("r.json")),
+    ])
+    .unwrap()
+    .a;
+    let e = format!("{:#}", hybrid_fdd_cli::close_loop::run(a).unwrap_err());
+    assert!(e.contains("textbook ball-spin"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
