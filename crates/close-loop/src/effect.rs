@@ -258,6 +258,18 @@ pub const MODE_MAX_DAMPING: f64 = 0.7;
 /// Gain range of a fitted mode: a bump up to +200 (46 dB), a notch down to −0.97 (−30 dB).
 pub const MODE_GAIN_RANGE: (f64, f64) = (-0.97, 200.0);
 
+/// Largest modulation depth the fit searches (the golden-section search runs over
+/// [0.02, `MODULATION_MAX_DEPTH`]).
+pub const MODULATION_MAX_DEPTH: f64 = 1.0;
+
+/// Whether a fitted modulation's depth ended at the top of its search range
+/// ([`MODULATION_MAX_DEPTH`]): the floor-regularised spectral distance then kept asking for more
+/// sideband power than a depth can give, and the depth is not a measurement (black-box check:
+/// 30–50 % modulations came back at 0.99999).
+pub fn depth_at_bound(m: &Modulation) -> bool {
+    m.depth >= 0.99 * MODULATION_MAX_DEPTH
+}
+
 /// Whether a fitted mode's damping or gain sits at its search bound (within 1 %): the data did
 /// not pin it, and the "mode" is a broad correction of the spectral shape, not a resonance.
 pub fn mode_at_bound(mode: &Mode) -> bool {
@@ -384,6 +396,10 @@ impl Effect {
             } => {
                 m.insert("depth".into(), modulation.depth);
                 m.insert("shaft_order".into(), *shaft_order);
+                m.insert(
+                    "at_search_bound".into(),
+                    if depth_at_bound(modulation) { 1.0 } else { 0.0 },
+                );
             }
             Self::ShaftComb {
                 shaft_hz,
@@ -493,8 +509,15 @@ impl Effect {
                 rate,
                 shaft_order,
             } => format!(
-                "modulation at {:.3} Hz ({rate}, {shaft_order:.4} x fr), depth {:.3}",
-                modulation.frequency_hz, modulation.depth
+                "modulation at {:.3} Hz ({rate}, {shaft_order:.4} x fr), depth {:.3}{}",
+                modulation.frequency_hz,
+                modulation.depth,
+                if depth_at_bound(modulation) {
+                    " (depth at its search bound: the spectral distance asked for the most \
+                     modulation allowed; the rate is measured, the depth is not)"
+                } else {
+                    ""
+                }
             ),
             Self::ShaftComb {
                 shaft_hz, orders, ..

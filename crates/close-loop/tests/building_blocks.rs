@@ -370,3 +370,25 @@ fn modes_at_their_search_bound_are_flagged() {
         assert!(e.describe().contains("not a resolved resonance"));
     }
 }
+
+/// A fitted modulation whose depth ends at the top of its search range is reported as such (key
+/// `at_search_bound`, and the description says the depth is not a measurement); a depth inside
+/// the range is not.
+#[test]
+fn modulation_depths_at_their_search_bound_are_flagged() {
+    use close_loop::effect::{Effect, MODULATION_MAX_DEPTH, Modulation};
+    let effect = |depth: f64| Effect::Modulation {
+        modulation: Modulation {
+            frequency_hz: 29.95,
+            depth,
+        },
+        shaft_order: 1.0,
+        rate: "shaft",
+    };
+    let inside = effect(0.4);
+    assert_eq!(inside.parameters()["at_search_bound"], 0.0);
+    assert!(!inside.describe().contains("search bound"));
+    let pinned = effect(0.99999 * MODULATION_MAX_DEPTH);
+    assert_eq!(pinned.parameters()["at_search_bound"], 1.0);
+    assert!(pinned.describe().contains("the depth is not"));
+}

@@ -68,7 +68,12 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
             });
             ctx.calibrate(s2, false)
         };
-        let (mu, _) = golden_min(|mu| eval(mu).1, 0.02, 1.0, 22);
+        let (mu, _) = golden_min(
+            |mu| eval(mu).1,
+            0.02,
+            crate::effect::MODULATION_MAX_DEPTH,
+            22,
+        );
         let (s2, lsd) = eval(mu);
         let order = fm / fr;
         let ftf = ctx.op.bearing.orders.ftf;
