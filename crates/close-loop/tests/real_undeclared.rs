@@ -167,6 +167,30 @@ fn rig_12k(dir: &Path) -> &'static close_loop::machine::MachineModel {
     })
 }
 
+/// The loop on `y` (12 kHz, 6205, outer race declared at `rpm`) started from `machine`.
+fn run_from(
+    machine: &close_loop::machine::MachineModel,
+    y: &[f64],
+    rpm: f64,
+    cfg: &close_loop::CheckedConfig,
+) -> Outcome {
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )
+    .unwrap();
+    close_loop::close_loop_from(
+        &PhysicsModel::default(),
+        Some(machine),
+        y,
+        12_000.0,
+        &op,
+        cfg,
+    )
+    .unwrap()
+}
+
 /// Starting from the rig's machine model, 130 with a 50 Hz mains comb added (50…300 Hz, each
 /// line at 28 % of the record's RMS; mains declared 50 Hz): the comb is named with its spacing,
 /// its six lines and their amplitude. 50 Hz is 4.19 × the 6205's cage rate at 1796 rpm; when
@@ -190,27 +214,13 @@ fn mains_comb_from_the_machine_model_130() {
                 .sum::<f64>()
         })
         .collect();
-    let op = OperatingPoint::new(
-        rpm,
-        BearingSpec::designated(bearing_model::Bearing::Skf6205),
-        DeclaredFault::Outer,
-    )
-    .unwrap();
     let cfg = LoopConfig {
         line_frequency_hz: Some(50.0),
         ..LoopConfig::default()
     }
     .check()
     .unwrap();
-    let o = close_loop::close_loop_from(
-        &PhysicsModel::default(),
-        Some(machine),
-        &y,
-        12_000.0,
-        &op,
-        &cfg,
-    )
-    .unwrap();
+    let o = run_from(machine, &y, rpm, &cfg);
     let comb = o
         .ledger
         .effects
@@ -242,23 +252,9 @@ fn speed_change_by_resampling_from_the_machine_model_130() {
     let machine = rig_12k(&dir);
     let r = load_record(&dir, 130, &LoadOptions::default()).unwrap();
     let rpm = r.rpm().value;
-    let op = OperatingPoint::new(
-        rpm,
-        BearingSpec::designated(bearing_model::Bearing::Skf6205),
-        DeclaredFault::Outer,
-    )
-    .unwrap();
     for s in [1.03, 1.0 / 1.03] {
         let y = played_faster(r.de(), s);
-        let o = close_loop::close_loop_from(
-            &PhysicsModel::default(),
-            Some(machine),
-            &y,
-            12_000.0,
-            &op,
-            &cfg,
-        )
-        .unwrap();
+        let o = run_from(machine, &y, rpm, &cfg);
         let kinds: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
         let speed = o
             .ledger
