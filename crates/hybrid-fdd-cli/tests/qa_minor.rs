@@ -37,6 +37,26 @@ fn simulate_outer(out: &std::path::Path) {
     hybrid_fdd_cli::simulate::run(a).unwrap();
 }
 
+/// `close-loop` on `input` with `fault`, reporting to `report`, plus `extra` flags.
+fn close_loop(
+    input: &std::path::Path,
+    fault: &str,
+    report: &std::path::Path,
+    extra: &[&str],
+) -> anyhow::Result<()> {
+    let mut v = vec![
+        "close-loop",
+        "--input",
+        s(input),
+        "--fault",
+        fault,
+        "--report",
+        s(report),
+    ];
+    v.extend_from_slice(extra);
+    hybrid_fdd_cli::close_loop::run(CloseLoop::try_parse_from(v).unwrap().a)
+}
+
 #[test]
 fn a_fault_location_named_twice_is_a_one_line_error() {
     let d = dir("qa-repeated");
@@ -55,18 +75,10 @@ fn a_fault_location_named_twice_is_a_one_line_error() {
     // close-loop parses its --fault with the same parser
     let csv = d.join("rec.csv");
     simulate_outer(&csv);
-    let a = CloseLoop::try_parse_from([
-        "close-loop",
-        "--input",
-        s(&csv),
-        "--fault",
-        "outer+outer",
-        "--report",
-        s(&d.join("r.json")),
-    ])
-    .unwrap()
-    .a;
-    let e = format!("{:#}", hybrid_fdd_cli::close_loop::run(a).unwrap_err());
+    let e = format!(
+        "{:#}",
+        close_loop(&csv, "outer+outer", &d.join("r.json"), &[]).unwrap_err()
+    );
     assert!(e.contains("outer twice"), "{e}");
     let _ = std::fs::remove_dir_all(&d);
 }
@@ -117,22 +129,13 @@ fn reports_state_the_unit_and_echo_the_bearing_as_typed() {
     simulate_outer(&csv);
     let typed = "BPFO=3.5848,BPFI=5.4152,FTF=0.39828,BSF=4.7135";
     let report = d.join("loop.json");
-    let a = CloseLoop::try_parse_from([
-        "close-loop",
-        "--input",
-        s(&csv),
-        "--fault",
+    close_loop(
+        &csv,
         "outer",
-        "--model",
-        "phenomenological",
-        "--bearing",
-        typed,
-        "--report",
-        s(&report),
-    ])
-    .unwrap()
-    .a;
-    hybrid_fdd_cli::close_loop::run(a).unwrap();
+        &report,
+        &["--model", "phenomenological", "--bearing", typed],
+    )
+    .unwrap();
     let v = json(&report);
     assert_eq!(v["unit"]["code"], "m/s^2", "{}", v["unit"]);
     assert!(v["unit"]["statement"].as_str().unwrap().starts_with("m/s²"));
@@ -223,22 +226,16 @@ fn a_textbook_ball_spin_as_bsf_is_refused() {
     let d = dir("qa-bsf");
     let csv = d.join("rec.csv");
     simulate_outer(&csv);
-    let a = CloseLoop::try_parse_from([
-        "close-loop",
-        "--input",
-        s(&csv),
-        "--fault",
-        "outer",
+    let flags = [
         "--model",
         "phenomenological",
         "--bearing",
         "bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=2.3567",
-        "--report",
-        s(&d.join("r.json")),
-    ])
-    .unwrap()
-    .a;
-    let e = format!("{:#}", hybrid_fdd_cli::close_loop::run(a).unwrap_err());
+    ];
+    let e = format!(
+        "{:#}",
+        close_loop(&csv, "outer", &d.join("r.json"), &flags).unwrap_err()
+    );
     assert!(e.contains("textbook ball-spin"), "{e}");
     let _ = std::fs::remove_dir_all(&d);
 }
