@@ -22,7 +22,7 @@ const FS: f64 = 12_000.0;
 /// Training rule: the 0 hp, 12 kHz drive-end records.
 const RULE: &str = "12 kHz drive-end fault records at 0 hp (1797 rpm); outer race at 6 o'clock for \
      the paths and severities, at 3 o'clock for the sensor's horizontal sensitivity, at 12 o'clock \
-     for the radial load";
+     for the radial load, at 3 and 12 o'clock for their own severities";
 
 struct Row {
     number: u32,
@@ -263,12 +263,27 @@ fn write(
         model.chain_fir.len(),
     ));
     md.push_str(
-        "| severity | size (mm) | gain | random fraction | strike fraction | record |\n|---|---|---|---|---|---|\n",
+        "| severity | position | size (mm) | gain | random fraction | strike fraction | record |\n|---|---|---|---|---|---|---|\n",
     );
     for s in &model.severities {
+        // the outer-race position as a clock position (6 o'clock = −π/2, 3 o'clock = 0)
+        let position = match s.outer_angle_rad {
+            None if s.location == rig::Location::Outer => "reference (6 o'clock)".to_string(),
+            None => "–".to_string(),
+            Some(a) => {
+                let hours = (3.0 - a.to_degrees() / 30.0).rem_euclid(12.0);
+                let hours = if hours.round() == 0.0 {
+                    12.0
+                } else {
+                    hours.round()
+                };
+                format!("{hours:.0} o'clock")
+            }
+        };
         md.push_str(&format!(
-            "| {} | {:.3} | {:.4e} | {:.3} | {:.2} | {} |\n",
+            "| {} | {} | {:.3} | {:.4e} | {:.3} | {:.2} | {} |\n",
             s.location.name(),
+            position,
             s.size_mm,
             s.gain,
             s.random_fraction,

@@ -130,6 +130,96 @@ fn severity_interpolates_in_log_size_and_holds_outside() {
     ));
 }
 
+/// An outer-race spall at a position the rig holds severities for uses them (interpolated
+/// over that position's sizes); any other position, and every inner-race or ball spall, uses the
+/// reference severities; a position on another location or a non-finite one is refused on
+/// load.
+#[test]
+fn outer_race_positions_use_their_own_severities() {
+    use std::f64::consts::FRAC_PI_2;
+    let mut r = rig::cwru_rig().unwrap();
+    r.severities
+        .retain(|s| s.location != Location::Outer || s.outer_angle_rad.is_none());
+    let reference = r
+        .severities
+        .iter()
+        .find(|s| s.location == Location::Outer)
+        .unwrap()
+        .clone();
+    let size = reference.size_mm;
+    let six = r.severity_at(Location::Outer, size, -FRAC_PI_2).unwrap();
+    assert_eq!(six, r.severity(Location::Outer, size).unwrap());
+    let mut top = reference.clone();
+    top.outer_angle_rad = Some(FRAC_PI_2);
+    top.gain = 0.25 * reference.gain;
+    top.random_fraction = 0.9;
+    top.strike_fraction = 0.12;
+    r.severities.push(top);
+    let r = rig::RigModel::from_json(&r.to_json().unwrap()).unwrap();
+    // 12 o'clock (and a hair off it) reads the top severity at every size, held beyond it
+    for angle in [
+        FRAC_PI_2,
+        FRAC_PI_2 + 0.05,
+        FRAC_PI_2 - 2.0 * std::f64::consts::TAU,
+    ] {
+        for s in [size, 0.5 * size, 3.0 * size] {
+            let (g, q) = r.severity_at(Location::Outer, s, angle).unwrap();
+            assert!(
+                (g - 0.25 * reference.gain).abs() <= 1e-12 * g,
+                "{angle} {s}"
+            );
+            assert_eq!(q, 0.9);
+            assert_eq!(
+                r.strike_fraction_at(Location::Outer, s, angle).unwrap(),
+                0.12
+            );
+        }
+    }
+    // 6 and 3 o'clock keep the reference
+    for angle in [-FRAC_PI_2, 0.0, FRAC_PI_2 + 0.3] {
+        assert_eq!(
+            r.severity_at(Location::Outer, size, angle).unwrap(),
+            r.severity(Location::Outer, size).unwrap()
+        );
+    }
+    assert_eq!(r.severity(Location::Outer, size).unwrap(), six);
+    // inner race: a position never selects anything
+    assert_eq!(
+        r.severity_at(Location::Inner, 0.3, FRAC_PI_2).unwrap(),
+        r.severity(Location::Inner, 0.3).unwrap()
+    );
+    // a louder top severity makes a louder 12 o'clock record than a 6 o'clock one would be
+    let synth = |angle: f64| {
+        let mut s = Synthesis::new(FaultClass::Outer, size, 1797.0, 12_000, 5);
+        s.outer_angle_rad = angle;
+        let y = r.fault_signal(&s).unwrap();
+        rms(&y)
+    };
+    let mut louder = r.clone();
+    for s in louder
+        .severities
+        .iter_mut()
+        .filter(|s| s.outer_angle_rad.is_some())
+    {
+        s.gain *= 8.0;
+    }
+    let louder_top = {
+        let mut s = Synthesis::new(FaultClass::Outer, size, 1797.0, 12_000, 5);
+        s.outer_angle_rad = FRAC_PI_2;
+        rms(&louder.fault_signal(&s).unwrap())
+    };
+    assert!((louder_top / synth(FRAC_PI_2) - 8.0).abs() < 1e-6 * 8.0);
+    // a position on another location is refused on load
+    let mut bad = r.clone();
+    let inner = bad
+        .severities
+        .iter_mut()
+        .find(|s| s.location == Location::Inner)
+        .unwrap();
+    inner.outer_angle_rad = Some(0.0);
+    assert!(rig::RigModel::from_json(&bad.to_json().unwrap()).is_err());
+}
+
 #[test]
 fn synthesis_is_seeded_superposes_and_errors_are_typed() {
     let r = rig::cwru_rig().unwrap();
@@ -259,10 +349,21 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         "test",
     )
     .unwrap();
-    assert_eq!(got.severities.len(), 3);
+    // three reference severities and the 12 o'clock record's own
+    assert_eq!(got.severities.len(), 4);
+    assert_eq!(
+        got.severities
+            .iter()
+            .filter_map(|s| s.outer_angle_rad)
+            .collect::<Vec<_>>(),
+        vec![std::f64::consts::FRAC_PI_2]
+    );
     for s in &got.severities {
         // the strike fraction comes back within one step of the grid it is chosen from
-        let want = truth.strike_fraction(s.location, s.size_mm).unwrap();
+        let want = match s.outer_angle_rad {
+            None => truth.strike_fraction(s.location, s.size_mm).unwrap(),
+            Some(a) => truth.strike_fraction_at(s.location, s.size_mm, a).unwrap(),
+        };
         let step = |p: f64| {
             (0..rig::STRIKE_FRACTIONS.len())
                 .min_by(|&a, &b| {
@@ -423,4 +524,44 @@ fn impact_paths_are_per_size_and_the_nearest_calibrated_size_is_used() {
     let mut bad = r.clone();
     bad.impact_paths[0].size_mm = Some(0.0);
     assert!(RigModel::from_json(&bad.to_json().unwrap()).is_err());
+}
+
+/// The excitation's looser integration tolerance ([`rig::EXCITATION_RTOL`]) stays within
+/// 1e-3 relative RMS of the same model integrated at 1e-8 (the bearing model's accuracy
+/// target against its reference), for a race spall and a ball at the dissertation's lowest
+/// speed and at CWRU's.
+#[test]
+fn excitation_tolerance_keeps_the_output_within_1e_3_of_a_tight_integration() {
+    let r = rig::cwru_rig().expect("committed rig");
+    let fs = r.fs_hz;
+    let n = (0.25 * fs) as usize;
+    for (class, rpm) in [(FaultClass::Outer, 1797.0), (FaultClass::Ball, 300.0)] {
+        let at = |rtol: f64| {
+            rig::excitation_with(
+                Bearing::Skf6205,
+                r.preload_m,
+                r.radial_load_n,
+                class,
+                0.5,
+                rpm,
+                0.0,
+                fs,
+                n,
+                11,
+                rtol,
+            )
+            .expect("simulates")
+            .vertical
+        };
+        let (x, reference) = (at(rig::EXCITATION_RTOL), at(1e-8));
+        let d = x
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (a - b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let norm = reference.iter().map(|v| v * v).sum::<f64>().sqrt();
+        assert!(norm > 0.0);
+        assert!(d / norm < 1e-3, "{class:?} at {rpm} rpm: {:.2e}", d / norm);
+    }
 }

@@ -245,12 +245,12 @@ pub fn simulate_rig(
         .into_iter()
         .filter(|l| l.in_class(class))
     {
-        let (g, q) = rig.severity(loc, args.fault_size)?;
-        let strike = rig.strike_fraction(loc, args.fault_size)?;
-        // severity() above has already failed for a location without any calibrated size
-        let (lo, hi) = rig
-            .calibrated_range_mm(loc)
-            .unwrap_or((args.fault_size, args.fault_size));
+        let (g, q) = rig.severity_at(loc, args.fault_size, syn.outer_angle_rad)?;
+        let strike = rig.strike_fraction_at(loc, args.fault_size, syn.outer_angle_rad)?;
+        // severity_at() above has already failed for a location without any calibrated size
+        let ((lo, hi), at_position) = rig
+            .calibrated_range_mm_at(loc, syn.outer_angle_rad)
+            .unwrap_or(((args.fault_size, args.fault_size), false));
         let extrapolated =
             args.fault_size < lo * (1.0 - 1e-9) || args.fault_size > hi * (1.0 + 1e-9);
         used.insert(
@@ -261,6 +261,7 @@ pub fn simulate_rig(
                 "strike_fraction": strike,
                 "calibrated_range_mm": [lo, hi],
                 "extrapolated": extrapolated,
+                "own_position_severity": at_position,
             }),
         );
     }

@@ -494,114 +494,120 @@ pub fn calibrate_rig(
     // fraction that matches the record's kurtosis and the gain that matches its excess mean
     // square; the strike fraction whose simulated fault line stands as far over its envelope-spectrum neighbours
     // as the measured one (the record's first samples, as many as simulated) wins
-    let severities_for = |fit: &PathFit, kappa: f64, chain: &[f64], strikes: Option<&[f64]>| {
-        let mut out = Vec::with_capacity(training.len());
-        for (i, t) in training.iter().enumerate() {
-            let path = fit.path_of(t.location, t.size_mm);
-            let seen = fit.sims[i].seen(kappa);
-            let bg = apply_fir(
-                chain,
-                &bg_of(t.rpm, fit.sims[i].vertical.len(), 7 + i as u64),
-            );
-            let skip = WARMUP.min(bg.len() / 2);
-            let excess = (measured[i].1 - variance(&bg[skip..])).max(0.0);
-            let rate = fault_rate_of(&machine, t.location, t.rpm);
-            let tau = BURST_PERIODS * fs / rate.max(1e-9);
-            // (gain, random fraction, simulated record) for a strike fraction, the gain and the
-            // kurtosis averaged over the gate realisations of `seeds` (a gated train's kurtosis
-            // varies from burst pattern to burst pattern)
-            let fit_strike = |strike: f64, seeds: &[u64]| {
-                let trains: Vec<Vec<f64>> = seeds
-                    .iter()
-                    .map(|s| gated(&seen, strike, tau, s + i as u64))
-                    .collect();
-                // gain and simulated records for a random fraction q
-                let at = |q: f64| {
-                    let through: Vec<Vec<f64>> = trains
+    // `recs`: (seed index, record, its excitation, the path it is seen through)
+    type Rec<'r, 'a> = (usize, TrainingRecord<'a>, &'r Excitation, &'r ImpactPath);
+    let severities_for =
+        |recs: &[Rec<'_, '_>], kappa: f64, chain: &[f64], strikes: Option<&[f64]>| {
+            let mut out = Vec::with_capacity(recs.len());
+            for (k, &(i, t, sim, path)) in recs.iter().enumerate() {
+                let seen = sim.seen(kappa);
+                let bg = apply_fir(chain, &bg_of(t.rpm, sim.vertical.len(), 7 + i as u64));
+                let skip = WARMUP.min(bg.len() / 2);
+                let (measured_var, measured_kurt) = (variance(t.y), kurtosis(t.y));
+                let excess = (measured_var - variance(&bg[skip..])).max(0.0);
+                let rate = fault_rate_of(&machine, t.location, t.rpm);
+                let tau = BURST_PERIODS * fs / rate.max(1e-9);
+                // (gain, random fraction, simulated record) for a strike fraction, the gain and the
+                // kurtosis averaged over the gate realisations of `seeds` (a gated train's kurtosis
+                // varies from burst pattern to burst pattern)
+                let fit_strike = |strike: f64, seeds: &[u64]| {
+                    let trains: Vec<Vec<f64>> = seeds
                         .iter()
-                        .map(|x| apply_fir(chain, &path.path.filter(&mix(x, q, 11 + i as u64))))
+                        .map(|s| gated(&seen, strike, tau, s + i as u64))
                         .collect();
-                    let skip = WARMUP.min(through[0].len() / 2);
-                    let ms = through.iter().map(|x| mean_square(&x[skip..])).sum::<f64>()
-                        / through.len() as f64;
-                    let g = (excess / ms.max(1e-300)).sqrt();
-                    let ys: Vec<Vec<f64>> = through
-                        .iter()
-                        .map(|x| {
-                            x[skip..]
-                                .iter()
-                                .zip(&bg[skip..])
-                                .map(|(a, b)| g * a + b)
-                                .collect()
-                        })
-                        .collect();
-                    (g, ys)
-                };
-                let kurt_at = |q: f64| {
-                    let ys = at(q).1;
-                    ys.iter().map(|y| kurtosis(y)).sum::<f64>() / ys.len() as f64
-                };
-                let (mut lo, mut hi) = (0.0, 0.99);
-                let q = if kurt_at(lo) <= kurt[i] {
-                    0.0
-                } else if kurt_at(hi) >= kurt[i] {
-                    hi
-                } else {
-                    for _ in 0..14 {
-                        let mid = 0.5 * (lo + hi);
-                        if kurt_at(mid) > kurt[i] {
-                            lo = mid;
-                        } else {
-                            hi = mid;
+                    // gain and simulated records for a random fraction q
+                    let at = |q: f64| {
+                        let through: Vec<Vec<f64>> = trains
+                            .iter()
+                            .map(|x| apply_fir(chain, &path.path.filter(&mix(x, q, 11 + i as u64))))
+                            .collect();
+                        let skip = WARMUP.min(through[0].len() / 2);
+                        let ms = through.iter().map(|x| mean_square(&x[skip..])).sum::<f64>()
+                            / through.len() as f64;
+                        let g = (excess / ms.max(1e-300)).sqrt();
+                        let ys: Vec<Vec<f64>> = through
+                            .iter()
+                            .map(|x| {
+                                x[skip..]
+                                    .iter()
+                                    .zip(&bg[skip..])
+                                    .map(|(a, b)| g * a + b)
+                                    .collect()
+                            })
+                            .collect();
+                        (g, ys)
+                    };
+                    let kurt_at = |q: f64| {
+                        let ys = at(q).1;
+                        ys.iter().map(|y| kurtosis(y)).sum::<f64>() / ys.len() as f64
+                    };
+                    let (mut lo, mut hi) = (0.0, 0.99);
+                    let q = if kurt_at(lo) <= measured_kurt {
+                        0.0
+                    } else if kurt_at(hi) >= measured_kurt {
+                        hi
+                    } else {
+                        for _ in 0..14 {
+                            let mid = 0.5 * (lo + hi);
+                            if kurt_at(mid) > measured_kurt {
+                                lo = mid;
+                            } else {
+                                hi = mid;
+                            }
                         }
-                    }
-                    0.5 * (lo + hi)
+                        0.5 * (lo + hi)
+                    };
+                    let (g, mut ys) = at(q);
+                    (g, q, ys.swap_remove(0))
                 };
-                let (g, mut ys) = at(q);
-                (g, q, ys.swap_remove(0))
-            };
-            // one gate realisation while the strike fraction is searched, three for the fit
-            let search = [17];
-            let fit_seeds: &[u64] = &[17, 1017, 2017];
-            let (strike, (g, q, _)) = match strikes {
-                Some(b) => (b[i], fit_strike(b[i], fit_seeds)),
-                None => {
-                    let mut best: Option<(f64, f64)> = None;
-                    // the measured line, on as many samples as simulated (the same for every
-                    // strike fraction): computed once
-                    let mut measured_line = None;
-                    for &strike in &STRIKE_FRACTIONS {
-                        let r = fit_strike(strike, &search);
-                        let m = r.2.len().min(t.y.len());
-                        let meas = measured_line
-                            .get_or_insert_with(|| line_prominence_db(&t.y[..m], fs, rate));
-                        let (Ok(Some(sim)), Ok(Some(meas))) =
-                            (line_prominence_db(&r.2, fs, rate), meas)
-                        else {
-                            continue;
-                        };
-                        let meas = *meas;
-                        let miss = (sim - meas).abs();
-                        if best.is_none_or(|b| miss < b.1 - 1e-9) {
-                            best = Some((strike, miss));
+                // one gate realisation while the strike fraction is searched, three for the fit
+                let search = [17];
+                let fit_seeds: &[u64] = &[17, 1017, 2017];
+                let (strike, (g, q, _)) = match strikes {
+                    Some(b) => (b[k], fit_strike(b[k], fit_seeds)),
+                    None => {
+                        let mut best: Option<(f64, f64)> = None;
+                        // the measured line, on as many samples as simulated (the same for every
+                        // strike fraction): computed once
+                        let mut measured_line = None;
+                        for &strike in &STRIKE_FRACTIONS {
+                            let r = fit_strike(strike, &search);
+                            let m = r.2.len().min(t.y.len());
+                            let meas = measured_line
+                                .get_or_insert_with(|| line_prominence_db(&t.y[..m], fs, rate));
+                            let (Ok(Some(sim)), Ok(Some(meas))) =
+                                (line_prominence_db(&r.2, fs, rate), meas)
+                            else {
+                                continue;
+                            };
+                            let meas = *meas;
+                            let miss = (sim - meas).abs();
+                            if best.is_none_or(|b| miss < b.1 - 1e-9) {
+                                best = Some((strike, miss));
+                            }
                         }
+                        let strike = best.map_or(1.0, |b| b.0);
+                        (strike, fit_strike(strike, fit_seeds))
                     }
-                    let strike = best.map_or(1.0, |b| b.0);
-                    (strike, fit_strike(strike, fit_seeds))
-                }
-            };
-            out.push(Severity {
-                location: t.location,
-                size_mm: t.size_mm,
-                gain: g,
-                random_fraction: q,
-                strike_fraction: strike,
-                record: t.name.to_string(),
-            });
-        }
-        out
-    };
-    let severities = severities_for(&fit, 0.0, &[], None);
+                };
+                out.push(Severity {
+                    location: t.location,
+                    size_mm: t.size_mm,
+                    gain: g,
+                    random_fraction: q,
+                    strike_fraction: strike,
+                    record: t.name.to_string(),
+                    outer_angle_rad: None,
+                });
+            }
+            out
+        };
+    let recs: Vec<Rec<'_, '_>> = training
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (i, *t, &fit.sims[i], fit.path_of(t.location, t.size_mm)))
+        .collect();
+    let severities = severities_for(&recs, 0.0, &[], None);
     let strikes: Vec<f64> = severities.iter().map(|s| s.strike_fraction).collect();
     let impact_paths = fit.paths.clone();
     let mut rig = RigModel {
@@ -633,15 +639,52 @@ pub fn calibrate_rig(
     // κ from the off-axis records with the κ = 0 severities, then the severities again with κ
     rig.sensor_horizontal = fit_horizontal(&rig, bearing, &cross)?;
     if rig.sensor_horizontal > 0.0 {
-        rig.severities = severities_for(&fit, rig.sensor_horizontal, &[], Some(&strikes));
+        rig.severities = severities_for(&recs, rig.sensor_horizontal, &[], Some(&strikes));
     }
     // the measurement chain's response (the fault records' anti-alias roll-off), then the
     // severities once more behind it
     rig.chain_fir = chain_response(&rig, training, &measured, &welch, half)?;
     if !rig.chain_fir.is_empty() {
         rig.severities =
-            severities_for(&fit, rig.sensor_horizontal, &rig.chain_fir, Some(&strikes));
+            severities_for(&recs, rig.sensor_horizontal, &rig.chain_fir, Some(&strikes));
     }
+    // the off-axis and top records' own severities (each CWRU position is a separate bearing):
+    // their excitation at their position, seen through their size's path and behind the same
+    // sensor and chain, fitted as the reference records are (strike fraction searched)
+    let positioned: Vec<TrainingRecord<'_>> = cross.iter().chain(&top).copied().collect();
+    let sims: Vec<Excitation> = positioned
+        .iter()
+        .enumerate()
+        .map(|(j, t)| {
+            excitation(
+                bearing,
+                preload_m,
+                radial_load_n,
+                FaultClass::Outer,
+                t.size_mm,
+                t.rpm * machine.speed_ratio,
+                t.outer_angle_rad,
+                fs,
+                t.y.len().min(long) + WARMUP,
+                1000 + (training.len() + j) as u64,
+            )
+        })
+        .collect::<Result<_, CloseLoopError>>()?;
+    let recs: Vec<Rec<'_, '_>> = positioned
+        .iter()
+        .zip(&sims)
+        .enumerate()
+        .map(|(j, (t, sim))| {
+            let path = fit.path_of(Location::Outer, t.size_mm);
+            (training.len() + j, *t, sim, path)
+        })
+        .collect();
+    let own = severities_for(&recs, rig.sensor_horizontal, &rig.chain_fir, None);
+    rig.severities
+        .extend(own.into_iter().zip(&positioned).map(|(mut s, t)| {
+            s.outer_angle_rad = Some(t.outer_angle_rad);
+            s
+        }));
     Ok(rig)
 }
 
