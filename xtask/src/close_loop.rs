@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use close_loop::machine::MachineModel;
 use close_loop::{EffectKind, Outcome};
-use hybrid_fdd_cli::close_loop::{effect_list, run_one};
+use hybrid_fdd_cli::close_loop::{calibrate_one, effect_list, run_one};
 
 use crate::common::Context;
 
@@ -72,7 +72,7 @@ fn all_real(
         let mut a = base(normal.clone(), out_dir.join(format!("{name}.report.json")));
         a.decimate = dec;
         a.max_effects = args.max_effects.max(16);
-        let (o, rpm, fs) = run_one(&a, None)?;
+        let (o, rpm, fs) = calibrate_one(&a)?;
         let mut m = o.machine.clone();
         m.provenance.recording = format!(
             "97.mat (DE{})",

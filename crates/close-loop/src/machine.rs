@@ -13,9 +13,9 @@ use serde::{Deserialize, Serialize};
 
 /// Calibrate a machine model on a healthy recording `y` (sampled at `fs` Hz, shaft at `rpm`,
 /// `bearing` of the 5-DOF model): the loop from the declared healthy 5-DOF physics with default
-/// slip, and the [`MachineModel`] it ends with (what `cargo xtask calibrate` writes). The loop
-/// fits on the first part of `y` and scores on the rest ([`crate::fit_len`]); pass only data the
-/// caller may fit on.
+/// slip, verified from the model as saved ([`calibrate_with`]), and the [`MachineModel`] it ends
+/// with (what `cargo xtask calibrate` writes). The loop fits on the first part of `y` and scores
+/// on the rest ([`crate::fit_len`]); pass only data the caller may fit on.
 ///
 /// # Errors
 /// As [`crate::close_loop`].
@@ -32,7 +32,109 @@ pub fn calibrate(
         bearing,
         ..crate::physics::PhysicsModel::default()
     };
-    Ok(crate::close_loop(&model, y, fs, &op, cfg)?.machine)
+    Ok(calibrate_with(&model, y, fs, &op, cfg)?.machine)
+}
+
+/// Verification passes a calibration runs at most ([`calibrate_with`]).
+pub const MAX_VERIFICATION_PASSES: usize = 2;
+
+/// A calibration: the loop on `y` from the declared `model` ([`crate::close_loop`]; on a
+/// recording declared healthy the model is given a structural path if the loop added none,
+/// [`MachineModel::ensure_path`]), then a verification pass — the loop again on the same recording, started from the machine model
+/// as it is saved (JSON round trip, [`crate::close_loop_from`]). A clean recording must add
+/// nothing to its own model: when the pass adds nothing, the saved model's own held-out error on
+/// the recording (the pass's start) becomes the calibration's end error (`error_after`,
+/// `provenance.error_after`), so a run from the saved model starts where the calibration ended;
+/// when it adds effects (the last round of the first loop was judged on the loop's own state,
+/// which the saved model rebuilds only up to the lines' re-fit), they join the ledger (marked
+/// "verification pass k"), the model is the pass's end state, and it is verified again, at most
+/// [`MAX_VERIFICATION_PASSES`] times (the stop reason says when the last pass still added
+/// something). Each pass is recorded in `ledger.verification`.
+///
+/// # Errors
+/// As [`crate::close_loop`].
+pub fn calibrate_with(
+    model: &dyn crate::DeclaredModel,
+    y: &[f64],
+    fs: f64,
+    op: &crate::OperatingPoint,
+    cfg: &crate::CheckedConfig,
+) -> Result<crate::Outcome, CloseLoopError> {
+    let mut out = crate::close_loop(model, y, fs, op, cfg)?;
+    if op.fault == bearing_model::FaultClass::None {
+        // a healthy machine model always holds a path ([`MachineModel::ensure_path`]); it is
+        // verified as it will be saved, path included
+        let n_fit = crate::fit_len(y.len(), cfg);
+        out.machine
+            .ensure_path(&y[..n_fit], &y[n_fit..], cfg.get().max_path_order)?;
+    }
+    let declared_error = out.ledger.error_before;
+    let mut converged = false;
+    for pass in 1..=MAX_VERIFICATION_PASSES {
+        let saved = MachineModel::from_json(&out.machine.to_json()?)?;
+        let v = crate::close_loop_from(model, Some(&saved), y, fs, op, cfg)?;
+        let added = v.ledger.effects.len();
+        out.ledger.verification.push(crate::VerificationPass {
+            pass,
+            error_start: v.ledger.error_before,
+            error_end: v.ledger.error_after,
+            effects_added: added,
+        });
+        if added == 0 {
+            out.ledger.error_after = v.ledger.error_before;
+            out.ledger.secondary_after = v.ledger.secondary_before;
+            out.ledger.residual_rms_after = v.ledger.residual_rms_before;
+            out.machine.provenance.error_after = v.ledger.error_before;
+            converged = true;
+            break;
+        }
+        merge_pass(&mut out, v, pass, declared_error);
+    }
+    if !converged {
+        out.ledger.stop_reason += &format!(
+            "; the verification from the saved model still added effects after {MAX_VERIFICATION_PASSES} passes (the model is the last pass's end state)"
+        );
+    }
+    Ok(out)
+}
+
+/// Append a verification pass's effects and end state to the calibration's outcome.
+fn merge_pass(out: &mut crate::Outcome, v: crate::Outcome, pass: usize, declared_error: f64) {
+    let offset = out.ledger.effects.len();
+    let l = v.ledger;
+    for mut e in l.effects {
+        let own = e.replaces_step.map(|k| k + offset);
+        if let (Some(k), Some(j)) = (own, e.replaces_step) {
+            e.description = e.description.replace(
+                &format!("replaces step {j}'s"),
+                &format!("replaces step {k}'s"),
+            );
+        }
+        let earlier = if own.is_none() && e.kind.is_setting() {
+            out.ledger
+                .effects
+                .iter()
+                .rposition(|p| p.kind == e.kind)
+                .map(|i| i + 1)
+        } else {
+            None
+        };
+        if let Some(k) = earlier {
+            e.description += &format!("; replaces step {k}'s value (a setting, not an added term)");
+        }
+        e.description += &format!(" (verification pass {pass})");
+        e.replaces_step = own.or(earlier);
+        out.ledger.effects.push(e);
+    }
+    out.ledger.error_after = l.error_after;
+    out.ledger.secondary_after = l.secondary_after;
+    out.ledger.residual_rms_after = l.residual_rms_after;
+    out.ledger.rejected = l.rejected;
+    out.ledger.stop_reason = l.stop_reason;
+    out.ledger.structural_modes = l.structural_modes;
+    out.spectra.model_after = v.spectra.model_after;
+    out.machine = v.machine;
+    out.machine.provenance.error_before = declared_error;
 }
 
 /// Parse one of this crate's versioned JSON files and check its `format` and `version`.
@@ -78,6 +180,14 @@ pub enum MachineLine {
         order: f64,
         /// Amplitude on the calibration recording, recording units.
         amplitude: f64,
+        /// The line's frequency on the calibration recording, Hz, as the loop fitted it (a
+        /// shaft comb's lines sit at k·f̂r, f̂r refined from the comb itself, which need not be
+        /// `order` × the model's fr exactly; at order 20 a 0.01 % difference is a quarter cycle
+        /// over a 2.5 s fitting segment). At another speed the line moves with it:
+        /// `frequency_hz` × fr / fr of the calibration. Absent in files written before it
+        /// existed (the line then sits at `order` × fr).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        frequency_hz: Option<f64>,
     },
     /// A line at a fixed frequency.
     Tone {
@@ -86,6 +196,29 @@ pub enum MachineLine {
         /// Amplitude on the calibration recording, recording units.
         amplitude: f64,
     },
+}
+
+impl MachineLine {
+    /// The line's frequency at shaft rate `fr_hz`, the model being calibrated at `fr_cal_hz`.
+    pub fn frequency_at(&self, fr_hz: f64, fr_cal_hz: f64) -> f64 {
+        match *self {
+            MachineLine::ShaftHarmonic {
+                frequency_hz: Some(f),
+                ..
+            } if fr_cal_hz > 0.0 => f * fr_hz / fr_cal_hz,
+            MachineLine::ShaftHarmonic { order, .. } => order * fr_hz,
+            MachineLine::Tone { frequency_hz, .. } => frequency_hz,
+        }
+    }
+
+    /// Amplitude on the calibration recording.
+    pub fn amplitude(&self) -> f64 {
+        match *self {
+            MachineLine::ShaftHarmonic { amplitude, .. } | MachineLine::Tone { amplitude, .. } => {
+                amplitude
+            }
+        }
+    }
 }
 
 /// Where a machine model came from.
@@ -150,6 +283,10 @@ pub struct MachineModel {
     pub channel_modes: Vec<Mode>,
     /// Modulations of the physics output.
     pub modulations: Vec<Modulation>,
+    /// Random slip fraction of the declared physics at the end of the calibration, when the loop
+    /// changed it (absent: the declared model's own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slip_fraction: Option<f64>,
     /// Where it came from.
     pub provenance: Provenance,
     /// RMS of the calibration recording's held-out part through the path's prediction-error
@@ -180,6 +317,7 @@ impl MachineModel {
                 crate::Effect::ShaftHarmonic { order, .. } => MachineLine::ShaftHarmonic {
                     order,
                     amplitude: l.amplitude(),
+                    frequency_hz: Some(l.frequency_hz),
                 },
                 _ => MachineLine::Tone {
                     frequency_hz: l.frequency_hz,
@@ -250,6 +388,10 @@ impl MachineModel {
             lines,
             channel_modes: st.modes.clone(),
             modulations: st.mods.clone(),
+            slip_fraction: ctx
+                .model_of(st)
+                .slip_fraction()
+                .filter(|s| Some(*s) != ctx.model.slip_fraction()),
             provenance: Provenance {
                 recording: String::new(),
                 error_before: before,
@@ -262,14 +404,19 @@ impl MachineModel {
         }
     }
 
-    /// The frequencies of the model's lines at shaft rate `fr_hz` (true, not declared, speed).
+    /// Shaft rate of the calibration recording, Hz (declared speed × the calibrated ratio).
+    pub fn calibration_shaft_hz(&self) -> f64 {
+        self.declared_rpm / 60.0 * self.speed_ratio
+    }
+
+    /// The frequencies of the model's lines at shaft rate `fr_hz` (true, not declared, speed):
+    /// a shaft line at its calibrated frequency scaled by `fr_hz` / the calibration's shaft
+    /// rate (`order` × `fr_hz` for a file that does not state it), a tone where it is.
     pub fn line_frequencies(&self, fr_hz: f64) -> Vec<f64> {
+        let fr_cal = self.calibration_shaft_hz();
         self.lines
             .iter()
-            .map(|l| match *l {
-                MachineLine::ShaftHarmonic { order, .. } => order * fr_hz,
-                MachineLine::Tone { frequency_hz, .. } => frequency_hz,
-            })
+            .map(|l| l.frequency_at(fr_hz, fr_cal))
             .collect()
     }
 
@@ -432,5 +579,106 @@ impl MachineModel {
         self.path_residual_kurtosis = Some(kurtosis);
         self.path = Some(p);
         Ok(true)
+    }
+}
+
+/// Samples the structural path's filter runs before a synthesized recording starts (its
+/// transient dies out).
+const SYNTH_WARMUP: usize = 4096;
+
+impl MachineModel {
+    /// A recording of this machine model, `n` samples at its rate, shaft at `rpm` declared (the
+    /// calibrated speed ratio applied), every random draw from `seed`: the structural path
+    /// driven by white excitation at its calibrated level, the white floor, the lines at their
+    /// calibrated amplitudes with seeded random phases, and the declared physics `model`
+    /// (with the calibration's slip, housing mode and shaft forces, modulations and channel
+    /// modes, scaled by the physics gain) — what the model says a recording of this machine
+    /// is. A clean recording: the loop started from this model adds nothing to it (test
+    /// `idempotence::simulated_recording_of_the_machine_model_48k`).
+    ///
+    /// # Errors
+    /// The physics simulation's errors; [`CloseLoopError::Model`] when the physics is seen
+    /// through a separately identified path (`physics_path`: its shaping is spectral, not a
+    /// filter) or `rpm` is not finite and positive.
+    pub fn simulate(
+        &self,
+        model: &dyn crate::DeclaredModel,
+        rpm: f64,
+        n: usize,
+        seed: u64,
+    ) -> Result<Vec<f64>, CloseLoopError> {
+        use std::f64::consts::PI;
+        if !(rpm.is_finite() && rpm > 0.0) {
+            return Err(CloseLoopError::InvalidRpm { rpm });
+        }
+        let fs = self.fs_hz;
+        let mut y = vec![0.0; n];
+        if self.physics_gain > 0.0 {
+            if self.physics_path.is_some() {
+                return Err(CloseLoopError::Model {
+                    reason: "a machine model whose physics is seen through its own path cannot \
+                             be synthesised in the time domain"
+                        .into(),
+                });
+            }
+            let mut m: Option<Box<dyn crate::DeclaredModel>> = None;
+            if let Some(frac) = self.slip_fraction {
+                m = m.as_deref().unwrap_or(model).with_slip_fraction(frac).or(m);
+            }
+            if let Some([f, z]) = self.housing_mode {
+                m = m.as_deref().unwrap_or(model).with_housing_mode(f, z).or(m);
+            }
+            for &[order, amp, phase] in &self.shaft_forces {
+                if order >= 1.0 && order.fract() == 0.0 {
+                    m = m
+                        .as_deref()
+                        .unwrap_or(model)
+                        .with_shaft_force(order as u32, amp, phase)
+                        .or(m);
+                }
+            }
+            let rates = crate::BearingSpec::designated(self.bearing.parse().map_err(|_| {
+                CloseLoopError::UnknownBearing {
+                    name: self.bearing.clone(),
+                }
+            })?);
+            let fault = crate::parse_fault(&self.declared_fault)?;
+            let op =
+                crate::OperatingPoint::new(rpm, rates, fault)?.with_speed_ratio(self.speed_ratio);
+            let mut x = m.as_deref().unwrap_or(model).simulate(&op, n, fs)?;
+            for md in &self.modulations {
+                x = md.apply(&x, 0, fs);
+            }
+            for mode in &self.channel_modes {
+                x = mode.apply(&x, fs);
+            }
+            let g = self.physics_gain.sqrt();
+            for (a, b) in y.iter_mut().zip(&x) {
+                *a += g * b;
+            }
+        }
+        let mut g = crate::scenario::Gaussian::new(seed);
+        if let Some(p) = &self.path {
+            let sd = (p.excitation_variance * self.path_level).max(0.0).sqrt();
+            let e: Vec<f64> = (0..n + SYNTH_WARMUP).map(|_| sd * g.sample()).collect();
+            let f = p.filter(&e);
+            for (a, b) in y.iter_mut().zip(&f[SYNTH_WARMUP..]) {
+                *a += b;
+            }
+        }
+        let floor_sd = (self.noise_floor_psd * fs / 2.0).max(0.0).sqrt();
+        y.iter_mut().for_each(|v| *v += floor_sd * g.sample());
+        let fr = rpm / 60.0 * self.speed_ratio;
+        for (l, f) in self.lines.iter().zip(self.line_frequencies(fr)) {
+            let ph = 2.0 * PI * g.uniform();
+            if f > 0.0 && f < 0.5 * fs {
+                let w = 2.0 * PI * f / fs;
+                let a = l.amplitude();
+                for (k, v) in y.iter_mut().enumerate() {
+                    *v += a * (w * k as f64 + ph).cos();
+                }
+            }
+        }
+        Ok(y)
     }
 }

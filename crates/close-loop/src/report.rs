@@ -143,6 +143,24 @@ pub struct Ledger {
     /// Modes of the structural path in the final model (empty without one).
     #[serde(default)]
     pub structural_modes: Vec<crate::path::PathMode>,
+    /// A calibration's verification passes ([`crate::machine::calibrate_with`]): the loop run
+    /// again on the same recording from the machine model as saved. Absent for a plain run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub verification: Vec<VerificationPass>,
+}
+
+/// One verification pass of a calibration: the loop on the calibration recording started from
+/// the machine model as it would be saved (JSON round trip).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VerificationPass {
+    /// 1-based pass number.
+    pub pass: usize,
+    /// Held-out error of the saved model on the calibration recording (the pass's start), dB.
+    pub error_start: f64,
+    /// Held-out error at the pass's end, dB.
+    pub error_end: f64,
+    /// Effects the pass added (0: the saved model is the calibration's fixed point).
+    pub effects_added: usize,
 }
 
 /// Held-out spectra for plotting (not part of the JSON).
@@ -241,6 +259,20 @@ impl Ledger {
             s.push_str("| – | (no effect found) | | | | | | | | | |\n");
         }
         s.push_str(&format!("\nStop: {}\n", self.stop_reason));
+        for v in &self.verification {
+            s.push_str(&format!(
+                "\nVerification pass {} (the loop again from the machine model as saved): {:.3} dB → {:.3} dB, {} effect(s) added{}\n",
+                v.pass,
+                v.error_start,
+                v.error_end,
+                v.effects_added,
+                if v.effects_added == 0 {
+                    " — the saved model is the calibration's end state"
+                } else {
+                    " (listed above, after the first loop's)"
+                }
+            ));
+        }
         if !self.rejected.is_empty() {
             s.push_str("\nCandidates of the last round that were not kept:\n\n");
             for r in &self.rejected {
@@ -296,6 +328,7 @@ mod tests {
                 replaces_step: None,
             }],
             rejected: vec![],
+            verification: vec![],
             stop_reason: "done".into(),
             declared: Declared {
                 model: "physics".into(),

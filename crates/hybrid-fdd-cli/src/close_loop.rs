@@ -148,7 +148,7 @@ pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
     let mut outputs = crate::report_files(&report_beside(&a.out));
     outputs.push(a.out.clone());
     crate::refuse_overwrite("--out", &outputs, &[a.input.as_path()])?;
-    let (o, _, _) = run_one(&args, None)?;
+    let (o, _, _) = calibrate_one(&args)?;
     write_machine(&o, &a.out)?;
     crate::say!(
         "{}: machine model with {} structural mode(s), {} line(s), speed ratio {:.5}; held-out {} {:.3} -> {:.3} dB; {:.2} s -> {}",
@@ -258,6 +258,24 @@ pub fn effect_list(o: &Outcome) -> String {
 /// Missing `--input`/`--report`/speed, bad units or decimation, a machine model that does not
 /// match, or the loop's typed errors.
 pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Outcome, f64, f64)> {
+    run_one_as(args, prior, false)
+}
+
+/// [`run_one`] as a calibration (no prior machine model): the loop followed by its verification
+/// passes from the machine model as saved (`close_loop::machine::calibrate_with`), so that the
+/// loop run again from the written model on the same recording adds nothing.
+///
+/// # Errors
+/// As [`run_one`].
+pub fn calibrate_one(args: &Args) -> anyhow::Result<(Outcome, f64, f64)> {
+    run_one_as(args, None, true)
+}
+
+fn run_one_as(
+    args: &Args,
+    prior: Option<&MachineModel>,
+    calibrating: bool,
+) -> anyhow::Result<(Outcome, f64, f64)> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
     anyhow::ensure!(
@@ -341,7 +359,11 @@ pub fn run_one(args: &Args, prior: Option<&MachineModel>) -> anyhow::Result<(Out
         }
         other => bail!("unknown model `{other}` (physics, arx-laguerre, phenomenological)"),
     };
-    let mut out = close_loop_from(model.as_ref(), prior, &y, fs, &op, &cfg)?;
+    let mut out = if calibrating {
+        close_loop::machine::calibrate_with(model.as_ref(), &y, fs, &op, &cfg)?
+    } else {
+        close_loop_from(model.as_ref(), prior, &y, fs, &op, &cfg)?
+    };
     if fault == bearing_model::FaultClass::None {
         // a healthy machine model is a diagnosis baseline: it needs a structural path even when
         // the declared model already explained the recording and the loop added none

@@ -966,7 +966,9 @@ pub(super) fn background_of(
     let fr = rpm / 60.0 * h.speed_ratio;
     for l in lines {
         let (f, a) = match *l {
-            MachineLine::ShaftHarmonic { order, amplitude } => (order * fr, amplitude),
+            MachineLine::ShaftHarmonic {
+                order, amplitude, ..
+            } => (order * fr, amplitude),
             MachineLine::Tone {
                 frequency_hz,
                 amplitude,

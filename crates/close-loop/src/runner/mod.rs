@@ -346,6 +346,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             .as_ref()
             .map(|p| p.modes.clone())
             .unwrap_or_default(),
+        verification: Vec::new(),
     };
     Ok(Outcome {
         ledger,
@@ -510,16 +511,89 @@ fn segments(n: usize, nperseg: usize) -> usize {
     (2 * n / nperseg.max(1)).saturating_sub(1).max(1)
 }
 
-/// The initial state of a run that starts from a calibrated machine model.
+/// The initial state of a run that starts from a calibrated machine model: the calibration's
+/// final state rebuilt on this recording, so that on the calibration recording itself it is that
+/// state (test `idempotence::calibration_recording_from_its_own_model_12k`):
+/// - the declared physics with the calibration's slip, housing mode and shaft forces (their
+///   response lines part of the phase-coherent prediction), at the calibrated speed ratio;
+/// - the lines at their calibrated frequencies (shaft lines moved with the speed), re-fitted in
+///   amplitude and phase one after the other in the order the loop added them, each on what the
+///   physics lines and the lines before it leave — as the loop fitted them. Fitted each on the
+///   raw recording instead (before 2026-12), a line the loop had added twice (two shaft combs
+///   share orders; the second holds the correction) counted twice at full amplitude;
+/// - the physics behind the machine's physics path when it has one; behind its broadband path
+///   when this run declares a fault whose impacts the path rings; otherwise as the calibration
+///   saw it, unshaped. Put behind the broadband path on a healthy run (before 2026-12), the
+///   physics became a second copy of the path with a gain of its own, which a channel mode at its
+///   search bound and a speed step then bent into a broad correction: 97 from its own model
+///   gained a resonance and a speed offset (2.716 → 2.454 dB) that its calibration never had.
+///
+/// Gains, floor and path level are fitted afresh by the caller ([`Ctx::calibrate`]).
 fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError> {
     let ratio = m.speed_ratio;
-    let base = ctx.make_base(ratio)?;
+    let mut model: Option<Arc<dyn DeclaredModel>> = None;
+    fn current<'m>(
+        model: &'m Option<Arc<dyn DeclaredModel>>,
+        declared: &'m dyn DeclaredModel,
+    ) -> &'m dyn DeclaredModel {
+        match model {
+            Some(x) => x.as_ref(),
+            None => declared,
+        }
+    }
+    if let Some(frac) = m.slip_fraction
+        && let Some(x) = current(&model, ctx.model).with_slip_fraction(frac)
+    {
+        model = Some(Arc::from(x));
+    }
+    if let Some([f, z]) = m.housing_mode
+        && let Some(x) = current(&model, ctx.model).with_housing_mode(f, z)
+    {
+        model = Some(Arc::from(x));
+    }
+    let unforced = match &model {
+        Some(x) => ctx.make_base_with(x.as_ref(), ratio)?,
+        None => ctx.make_base(ratio)?,
+    };
+    let mut forced_orders = Vec::new();
+    for &[order, amp, phase] in &m.shaft_forces {
+        if order >= 1.0
+            && order.fract() == 0.0
+            && let Some(x) = current(&model, ctx.model).with_shaft_force(order as u32, amp, phase)
+        {
+            model = Some(Arc::from(x));
+            forced_orders.push(order);
+        }
+    }
+    let (base, physics_lines) = match (&model, forced_orders.is_empty()) {
+        (Some(x), false) => {
+            let b = ctx.make_base_with(x.as_ref(), ratio)?;
+            let d: Vec<f64> = b
+                .signal
+                .iter()
+                .zip(&unforced.signal)
+                .map(|(p, q)| p - q)
+                .collect();
+            let f_sim = ctx.op.shaft_hz() * ratio;
+            let lines = forced_orders
+                .iter()
+                .map(|o| fit_line(&d, ctx.fs, o * f_sim))
+                .collect();
+            (b, lines)
+        }
+        _ => (unforced, Vec::new()),
+    };
     let fr = ctx.op.shaft_hz() * ratio;
-    let resid = &ctx.y[..ctx.n_fit];
+    let mut resid = ctx.y[..ctx.n_fit].to_vec();
+    for l in &physics_lines {
+        negated(l).add_to(&mut resid, 0, ctx.fs);
+    }
     let mut lines: Vec<Line> = Vec::new();
     for f in m.line_frequencies(fr) {
         if f > 0.0 && f < 0.5 * ctx.fs {
-            lines.push(fit_line(resid, ctx.fs, f));
+            let l = fit_line(&resid, ctx.fs, f);
+            negated(&l).add_to(&mut resid, 0, ctx.fs);
+            lines.push(l);
         }
     }
     let df = ctx.welch.df();
@@ -528,21 +602,19 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         .path
         .as_ref()
         .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
-    // the declared physics keeps its line structure (kinematics, modulation) and is seen
-    // through the structural path identified from data: the machine's physics path if it has
-    // one, else its broadband path
+    let impacts = !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty();
     let phys_path = m
         .physics_path
         .as_ref()
-        .or(m.path.as_ref())
+        .or(m.path.as_ref().filter(|_| impacts))
         .map(|p| Arc::new(PathPsd::new(p.clone(), n_bins, df)));
     let phys_path_fitted = false;
     let phys_shape = phys_path
         .as_ref()
         .map(|p| Arc::new(ctx.physics_shape(&base.psd, &p.path)));
     Ok(State {
-        model: None,
-        physics_lines: Vec::new(),
+        model: model.map(crate::engine::ModelRef),
+        physics_lines,
         base,
         modes: m.channel_modes.clone(),
         mods: m.modulations.clone(),
@@ -555,6 +627,15 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         log_floor: m.noise_floor_psd.max(1e-300).ln(),
         log_bg: m.path_level.max(1e-300).ln(),
     })
+}
+
+/// The line with the opposite sign (to subtract it with [`Line::add_to`]).
+fn negated(l: &Line) -> Line {
+    Line {
+        a: -l.a,
+        b: -l.b,
+        ..*l
+    }
 }
 
 /// Identify a structural path from the fitting segment's line-free PSD
