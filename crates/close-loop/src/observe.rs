@@ -7,6 +7,11 @@
 //!   observed by ALPIO (eqs 4.16–4.17, `observers`), fault entering along b_y.
 //! * Physics (ch. 2–3, 5): the measured-channel (housing) mode of the 5-DOF model, observed by
 //!   ASMO (eqs 5.23–5.28), linear part designed with `LinearDesign::for_recordings`.
+//! * Physics behind a structural path (the loop identified one, or a calibrated machine model
+//!   gave it): the path `y = e/A(z)` as the observer's model
+//!   ([`observers::ModelConfig::CalibratedPath`], what the chapter pipelines' physics observers
+//!   run on once a machine is calibrated), observed by ASMO, default linear design: the
+//!   observer then runs on the calibrated model, not on one fixed mode.
 //!
 //! The per-sample uncertainty bound is Γ = [`BOUND_FRACTION`]·RMS(s) on the fitting segment, as in
 //! the `observers` crate's own 5-DOF test. Measured on a 2 s simulated CWRU-like outer-race record
@@ -30,7 +35,7 @@ pub const ARX_ORDER: usize = 6;
 pub const BOUND_FRACTION: f64 = 1e-3;
 
 /// The observer that scores a residual.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum ResidualObserver {
     /// ALPIO on an ARX-Laguerre model identified on the fitting segment of the scored signal.
     ArxLaguerre,
@@ -40,6 +45,12 @@ pub enum ResidualObserver {
         natural_frequency_hz: f64,
         /// Damping ratio of the mode.
         damping_ratio: f64,
+    },
+    /// ASMO on the structural path the model is seen through (calibrated machine model or
+    /// identified by the loop): `a₁ … a_p` of `A(z)`.
+    CalibratedPath {
+        /// AR coefficients `a₁ … a_p` of the path `1/A(z)`.
+        ar: Vec<f64>,
     },
 }
 
@@ -72,6 +83,10 @@ impl ResidualObserver {
             } => format!(
                 "ASMO on the housing mode ({natural_frequency_hz:.1} Hz, zeta {damping_ratio:.4})"
             ),
+            Self::CalibratedPath { ar } => format!(
+                "ASMO on the structural path (AR order {}) of the calibrated model",
+                ar.len()
+            ),
         }
     }
 
@@ -94,7 +109,7 @@ impl ResidualObserver {
             });
         }
         let fit = &signal[..n_fit];
-        let (kind, model, linear) = match *self {
+        let (kind, model, linear) = match self {
             Self::ArxLaguerre => {
                 let id = identify_arx(fit)?;
                 let model =
@@ -108,7 +123,12 @@ impl ResidualObserver {
                     LinearDesign::default(),
                 )
             }
-            Self::Physics {
+            Self::CalibratedPath { ar } => (
+                ObserverKind::Asmo,
+                ModelConfig::CalibratedPath(observers::LinearModel::from_ar(ar).map_err(obs_err)?),
+                LinearDesign::default(),
+            ),
+            &Self::Physics {
                 natural_frequency_hz,
                 damping_ratio,
             } => (

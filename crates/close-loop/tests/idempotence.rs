@@ -118,6 +118,16 @@ fn calibration_recording_from_its_own_model_12k() {
         cal.ledger.error_after
     );
     assert!((saved.provenance.error_after - cal.ledger.error_after).abs() < 1e-9);
+    // the ledger's observer runs on the calibrated model (its structural path), not on the 5-DOF
+    // model's fixed housing mode: on the healthy record its held-out residual is at most half
+    // the signal (0.69 of it on the housing mode)
+    assert!(
+        o.ledger.observer.contains("structural path"),
+        "{}",
+        o.ledger.observer
+    );
+    let ratio = o.ledger.residual_rms_after.unwrap() / o.ledger.held_out_signal_rms;
+    assert!(ratio <= 0.5, "observer residual / signal {ratio:.3}");
 }
 
 /// A recording simulated from 97's 12 kHz machine model (seeded: path excitation, floor, lines

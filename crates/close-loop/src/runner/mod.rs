@@ -311,7 +311,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         secondary_metric: SECONDARY_METRIC.to_string(),
         secondary_before: before.rms,
         secondary_after: held.rms,
-        observer: ctx.model_of(&st).residual_observer(ctx.fs).describe(),
+        observer: residual_observer(ctx, &st).describe(),
         residual_rms_before: obs_before,
         residual_rms_after: obs,
         held_out_signal_rms: crate::metric::rms(&ctx.y[ctx.n_fit..]),
@@ -472,10 +472,26 @@ fn observer_rms(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
     let all = 0..ctx.y.len();
     let d = ctx.lines_signal(&st.all_lines(), all);
     let sig: Vec<f64> = ctx.y.iter().zip(&d).map(|(a, b)| a - b).collect();
-    ctx.model_of(st)
-        .residual_observer(ctx.fs)
+    residual_observer(ctx, st)
         .held_out_rms(&sig, ctx.n_fit, ctx.fs)
         .ok()
+}
+
+/// The observer of the state's model: a physics model with a structural path (the broadband
+/// path of the machine, else the path the physics is seen through) is observed on that path —
+/// the calibrated model, whose residual then carries what the healthy machine does not explain
+/// — and otherwise on what the declared model names (its housing mode, or the ARX-Laguerre
+/// model identified on the fitting segment).
+fn residual_observer(ctx: &Ctx<'_>, st: &State) -> crate::observe::ResidualObserver {
+    let own = ctx.model_of(st).residual_observer(ctx.fs);
+    match (&own, st.path.as_ref().or(st.phys_path.as_ref())) {
+        (crate::observe::ResidualObserver::Physics { .. }, Some(p)) => {
+            crate::observe::ResidualObserver::CalibratedPath {
+                ar: p.path.ar.clone(),
+            }
+        }
+        _ => own,
+    }
 }
 
 fn spectra(ctx: &Ctx<'_>, first: &State, last: &State) -> Spectra {
