@@ -309,9 +309,26 @@ fn write(
          | record | class | role | rpm | RMS meas | RMS sim | sim/meas | kurt meas | kurt sim | crest meas | crest sim | bands sim/meas | line meas (dB) | line sim (dB) |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
-    let mut csv = String::from(
-        "record,class,role,rpm,rms_measured,rms_simulated,kurtosis_measured,kurtosis_simulated,crest_measured,crest_simulated,band0_ratio,band1_ratio,band2_ratio,band3_ratio,line_measured_db,line_simulated_db\n",
-    );
+    // the csv crate quotes a field that holds a comma (the 48 kHz rows' role does)
+    let mut csv = csv::WriterBuilder::new().from_writer(Vec::new());
+    csv.write_record([
+        "record",
+        "class",
+        "role",
+        "rpm",
+        "rms_measured",
+        "rms_simulated",
+        "kurtosis_measured",
+        "kurtosis_simulated",
+        "crest_measured",
+        "crest_simulated",
+        "band0_ratio",
+        "band1_ratio",
+        "band2_ratio",
+        "band3_ratio",
+        "line_measured_db",
+        "line_simulated_db",
+    ])?;
     let opt = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.1}"));
     for r in rows {
         let (m, s) = (&r.cmp.measured, &r.cmp.simulated);
@@ -333,26 +350,26 @@ fn write(
             opt(m.line_prominence_db),
             opt(s.line_prominence_db),
         ));
-        csv.push_str(&format!(
-            "{},{},{},{:.0},{:.6},{:.6},{:.4},{:.4},{:.3},{:.3},{:.4},{:.4},{:.4},{:.4},{},{}\n",
-            r.number,
-            r.class,
-            r.role,
-            r.rpm,
-            m.rms,
-            s.rms,
-            m.kurtosis,
-            s.kurtosis,
-            m.crest,
-            s.crest,
-            br[0],
-            br[1],
-            br[2],
-            br[3],
+        csv.write_record([
+            r.number.to_string(),
+            r.class.clone(),
+            r.role.to_string(),
+            format!("{:.0}", r.rpm),
+            format!("{:.6}", m.rms),
+            format!("{:.6}", s.rms),
+            format!("{:.4}", m.kurtosis),
+            format!("{:.4}", s.kurtosis),
+            format!("{:.3}", m.crest),
+            format!("{:.3}", s.crest),
+            format!("{:.4}", br[0]),
+            format!("{:.4}", br[1]),
+            format!("{:.4}", br[2]),
+            format!("{:.4}", br[3]),
             opt(m.line_prominence_db),
             opt(s.line_prominence_db),
-        ));
+        ])?;
     }
+    let csv = String::from_utf8(csv.into_inner()?)?;
     let json = model.to_json()? + "\n";
     let files = [
         (out.join("README.md"), md),
