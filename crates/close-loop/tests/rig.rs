@@ -209,6 +209,32 @@ fn outer_race_positions_use_their_own_severities() {
         rms(&louder.fault_signal(&s).unwrap())
     };
     assert!((louder_top / synth(FRAC_PI_2) - 8.0).abs() < 1e-6 * 8.0);
+    // a path fitted at 12 o'clock serves 12 o'clock only; the reference path every other position
+    let mut r = r.clone();
+    r.impact_paths.retain(|p| p.outer_angle_rad.is_none());
+    let reference_path = r.impact_path_for(Location::Outer, size).unwrap().clone();
+    let mut top_path = reference_path.clone();
+    top_path.outer_angle_rad = Some(FRAC_PI_2);
+    top_path.path.ar = vec![-0.5];
+    r.impact_paths.push(top_path.clone());
+    let r = rig::RigModel::from_json(&r.to_json().unwrap()).unwrap();
+    assert_eq!(
+        r.impact_path_for_at(Location::Outer, 3.0 * size, FRAC_PI_2 + 0.05)
+            .unwrap(),
+        &top_path
+    );
+    assert_eq!(
+        r.impact_path_for(Location::Outer, size).unwrap(),
+        &reference_path
+    );
+    assert_eq!(
+        r.impact_path_for_at(Location::Outer, size, -FRAC_PI_2)
+            .unwrap(),
+        &reference_path
+    );
+    let mut bad = r.clone();
+    bad.impact_paths.last_mut().unwrap().location = Location::Inner;
+    assert!(rig::RigModel::from_json(&bad.to_json().unwrap()).is_err());
     // a position on another location is refused on load
     let mut bad = r.clone();
     let inner = bad
@@ -349,6 +375,38 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         "test",
     )
     .unwrap();
+    // the fault records' chain on the healthy background (the truth rig's, which the records
+    // carry and the healthy recording does not) comes back: mean power response over 4.2–5.4 kHz
+    let band_power = |h: &[f64]| {
+        let m = h.len() / 2;
+        let fs_bins: Vec<f64> = (0..=24).map(|i| 4200.0 + 50.0 * i as f64).collect();
+        fs_bins
+            .iter()
+            .map(|f| {
+                let w = 2.0 * std::f64::consts::PI * f / fs;
+                let re: f64 = h
+                    .iter()
+                    .enumerate()
+                    .map(|(k, c)| c * (w * (k as f64 - m as f64)).cos())
+                    .sum();
+                re * re
+            })
+            .sum::<f64>()
+            / fs_bins.len() as f64
+    };
+    assert!(!truth.background_chain_fir.is_empty());
+    let (want, have) = (
+        band_power(&truth.background_chain_fir),
+        band_power(&got.background_chain_fir),
+    );
+    assert!(
+        want < 0.6,
+        "the committed rig attenuates its background there: {want}"
+    );
+    assert!(
+        (have / want).ln().abs() < 1.5f64.ln(),
+        "recovered background chain {have:.3} against {want:.3}"
+    );
     // three reference severities and the 12 o'clock record's own
     assert_eq!(got.severities.len(), 4);
     assert_eq!(

@@ -140,6 +140,37 @@ fn chain_response(
     Ok(zero_phase_fir(&r, welch, |v| v.sqrt()))
 }
 
+/// The fault records' measurement chain as the healthy machine's broadband background sees it:
+/// per frequency the smallest, over the training records, of the smoothed ratio of the measured
+/// PSD to the rig's background PSD at that record's speed (its lines at the fault records'
+/// levels, no fault), clamped at 1, as a zero-phase FIR of its square root. A fault only adds
+/// power, so the record whose fault adds least in a band tells how much of the healthy
+/// recording's broadband power the fault records' chain lets through there (97, recorded at
+/// 48 kHz, keeps 20–30 times the 4–6 kHz power of the 12 kHz ball-fault records). Empty when
+/// nothing is attenuated by more than 1 dB.
+fn background_chain(
+    training: &[TrainingRecord<'_>],
+    measured: &[(Vec<f64>, f64)],
+    welch: &Welch,
+    half: usize,
+    bg: impl Fn(f64, usize, u64) -> Vec<f64>,
+) -> Result<Vec<f64>, CloseLoopError> {
+    let fs = welch.fs();
+    let mut low = vec![0.0f64; welch.n_bins()];
+    for (i, t) in training.iter().enumerate() {
+        let n = t.y.len().min((4.0 * fs) as usize);
+        let s_bg = smooth(&welch.try_psd(&bg(t.rpm, n, 7 + i as u64))?, half);
+        for ((l, a), b) in low.iter_mut().zip(&measured[i].0).zip(&s_bg) {
+            *l = l.min((a.max(1e-300) / b.max(1e-300)).ln());
+        }
+    }
+    let r: Vec<f64> = low.iter().map(|v| v.exp()).collect();
+    if training.is_empty() || r.iter().all(|v| *v > 10f64.powf(-0.1)) {
+        return Ok(Vec::new());
+    }
+    Ok(zero_phase_fir(&r, welch, |v| v.sqrt()))
+}
+
 /// A Hann-windowed zero-phase FIR of `2·CHAIN_HALF + 1` taps whose amplitude response samples
 /// `amp(p(f))`, `p` a per-bin quantity of `welch`'s grid interpolated linearly in frequency
 /// (frequency sampling on a 1024-point grid).
@@ -186,7 +217,16 @@ fn background_remainder(
 ) -> Result<Vec<f64>, CloseLoopError> {
     let fs = welch.fs();
     let s_h = smooth(&welch.try_psd(healthy)?, half);
-    let model = background_of(machine, &machine.lines, &[], fs, rpm, healthy.len(), 17);
+    let model = background_of(
+        machine,
+        &machine.lines,
+        &[],
+        &[],
+        fs,
+        rpm,
+        healthy.len(),
+        17,
+    );
     let s_m = smooth(&welch.try_psd(&model)?, half);
     let r: Vec<f64> = s_h
         .iter()
@@ -293,6 +333,7 @@ fn fit_paths(
                 location: loc,
                 size_mm: Some(size),
                 path,
+                outer_angle_rad: None,
             });
         }
     }
@@ -391,8 +432,21 @@ pub fn calibrate_rig(
     // machine at that record's speed (chain tones, remainder and all), not over the healthy
     // recording: the two differ where the recording chains do (the ~4.2 kHz interference comb
     // is far stronger on 97 than on the 12 kHz fault records)
+    // the fault records' chain on the broadband background, from the records themselves
+    let bg_chain = background_chain(training, &measured, &welch, half, |rpm, n, seed| {
+        background_of(&machine, &chain_lines, &remainder, &[], fs, rpm, n, seed)
+    })?;
     let bg_of = |rpm: f64, n: usize, seed: u64| {
-        background_of(&machine, &chain_lines, &remainder, fs, rpm, n, seed)
+        background_of(
+            &machine,
+            &chain_lines,
+            &remainder,
+            &bg_chain,
+            fs,
+            rpm,
+            n,
+            seed,
+        )
     };
     let background: Vec<(Vec<f64>, f64)> = training
         .iter()
@@ -624,6 +678,7 @@ pub fn calibrate_rig(
         sensor_horizontal: 0.0,
         chain_fir: Vec::new(),
         background_fir: remainder.clone(),
+        background_chain_fir: bg_chain.clone(),
         depth_m: DEPTH_M,
         slip_fraction: SLIP_FRACTION,
         severities,
@@ -670,14 +725,50 @@ pub fn calibrate_rig(
             )
         })
         .collect::<Result<_, CloseLoopError>>()?;
+    // and their own paths (the path from a defect at 3 or 12 o'clock to the sensor is not the
+    // one from 6): fitted as the reference paths are, on the excess over the rig's background
+    // against what the sensor sees of their excitation
+    let mut own_paths: Vec<ImpactPath> = Vec::with_capacity(positioned.len());
+    for (j, (t, sim)) in positioned.iter().zip(&sims).enumerate() {
+        let n = t.y.len().min(long);
+        let s_y = smooth(&welch.try_psd(t.y)?, half);
+        let s_b = smooth(
+            &welch.try_psd(&bg_of(t.rpm, n, 7 + (training.len() + j) as u64))?,
+            half,
+        );
+        let s_x = smooth(&welch.try_psd(&sim.seen(rig.sensor_horizontal))?, half);
+        let r: Vec<f64> = s_y
+            .iter()
+            .zip(&s_b)
+            .zip(&s_x)
+            .map(|((a, b), x)| ((a - b).max(0.1 * a) / x.max(1e-300)).max(1e-300).ln())
+            .collect();
+        let mean = r[1..].iter().sum::<f64>() / (r.len() - 1).max(1) as f64;
+        let shape: Vec<f64> = r.iter().map(|v| (v - mean).exp()).collect();
+        let own = match StructuralPath::from_psd(&shape, welch.df(), fs, IMPACT_PATH_ORDER) {
+            Ok(mut path) if r.iter().all(|v| v.is_finite()) => {
+                path.excitation_variance = 1.0;
+                ImpactPath {
+                    location: Location::Outer,
+                    size_mm: Some(t.size_mm),
+                    path,
+                    outer_angle_rad: Some(t.outer_angle_rad),
+                }
+            }
+            // no usable spectrum: the reference path of its size
+            _ => ImpactPath {
+                outer_angle_rad: Some(t.outer_angle_rad),
+                ..fit.path_of(Location::Outer, t.size_mm).clone()
+            },
+        };
+        own_paths.push(own);
+    }
     let recs: Vec<Rec<'_, '_>> = positioned
         .iter()
         .zip(&sims)
+        .zip(&own_paths)
         .enumerate()
-        .map(|(j, (t, sim))| {
-            let path = fit.path_of(Location::Outer, t.size_mm);
-            (training.len() + j, *t, sim, path)
-        })
+        .map(|(j, ((t, sim), path))| (training.len() + j, *t, sim, path))
         .collect();
     let own = severities_for(&recs, rig.sensor_horizontal, &rig.chain_fir, None);
     rig.severities
@@ -685,6 +776,7 @@ pub fn calibrate_rig(
             s.outer_angle_rad = Some(t.outer_angle_rad);
             s
         }));
+    rig.impact_paths.extend(own_paths);
     Ok(rig)
 }
 
@@ -809,6 +901,7 @@ fn fit_horizontal(
             &rig.healthy,
             &rig.chain_lines,
             &rig.background_fir,
+            &rig.background_chain_fir,
             rig.fs_hz,
             t.rpm,
             t.y.len().min((4.0 * rig.fs_hz) as usize),
@@ -859,7 +952,7 @@ mod tests {
         let (fs, rpm, n) = (rig.fs_hz, 1797.0, 96_000);
         let welch = Welch::new(fs, 1024).unwrap();
         let half = ((SMOOTH_HZ / welch.df()).round() as usize).max(1);
-        let model = background_of(m, &m.lines, &[], fs, rpm, n, 3);
+        let model = background_of(m, &m.lines, &[], &[], fs, rpm, n, 3);
         let p_model = welch.try_psd(&model).unwrap();
         let band = |p: &[f64]| band_power(p, &welch, 400.0, 800.0);
         let (b, a) = bandpass_coefficients(600.0, 0.1, fs);
@@ -874,7 +967,7 @@ mod tests {
         let fir = background_remainder(m, &healthy, rpm, &welch, half).unwrap();
         assert!(!fir.is_empty());
         let with = welch
-            .try_psd(&background_of(m, &m.lines, &fir, fs, rpm, n, 9))
+            .try_psd(&background_of(m, &m.lines, &fir, &[], fs, rpm, n, 9))
             .unwrap();
         let ratio = band(&with) / band(&p_healthy);
         assert!((0.8..1.25).contains(&ratio), "400–800 Hz: {ratio}");
@@ -887,7 +980,7 @@ mod tests {
         // the model's own realisation: at most a trace of remainder
         let own = background_remainder(m, &model, rpm, &welch, half).unwrap();
         let trace = welch
-            .try_psd(&background_of(m, &m.lines, &own, fs, rpm, n, 9))
+            .try_psd(&background_of(m, &m.lines, &own, &[], fs, rpm, n, 9))
             .unwrap();
         let total = |p: &[f64]| p.iter().sum::<f64>();
         assert!(
