@@ -5,25 +5,15 @@
 
 use std::path::{Path, PathBuf};
 
-use bearing_data::{DataLocation, LoadOptions, load_record};
+use bearing_data::{LoadOptions, load_record};
 use close_loop::machine::MachineModel;
 use close_loop::physics::PhysicsModel;
 use close_loop::{BearingSpec, DeclaredFault, LoopConfig, OperatingPoint, Outcome};
 
+mod common;
+
 fn data_dir() -> Option<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let loc = DataLocation::resolve(None, &root).ok()?;
-    match loc.required() {
-        Ok(dir) => Some(dir.to_path_buf()),
-        Err(e) => {
-            assert!(
-                std::env::var("CI").as_deref() != Ok("true"),
-                "CWRU data required under CI=true: {e}"
-            );
-            eprintln!("skipping the idempotence test: {e}");
-            None
-        }
-    }
+    common::data_dir("the idempotence test")
 }
 
 fn model() -> PhysicsModel {

@@ -5,27 +5,17 @@
 
 use std::path::{Path, PathBuf};
 
-use bearing_data::{DataLocation, LoadOptions, load_record};
+use bearing_data::{LoadOptions, load_record};
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::add_tone;
 use close_loop::{
     BearingSpec, DeclaredFault, EffectKind, LoopConfig, OperatingPoint, Outcome, close_loop,
 };
 
+mod common;
+
 fn data_dir() -> Option<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let loc = DataLocation::resolve(None, &root).ok()?;
-    match loc.required() {
-        Ok(dir) => Some(dir.to_path_buf()),
-        Err(e) => {
-            assert!(
-                std::env::var("CI").as_deref() != Ok("true"),
-                "CWRU data required under CI=true: {e}"
-            );
-            eprintln!("skipping real-data close-loop test: {e}");
-            None
-        }
-    }
+    common::data_dir("real-data close-loop test")
 }
 
 fn run(y: &[f64], rpm: f64, fault: DeclaredFault) -> Outcome {
