@@ -605,9 +605,19 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         negated(l).add_to(&mut resid, 0, ctx.fs);
     }
     let mut lines: Vec<Line> = Vec::new();
-    for f in m.line_frequencies(fr) {
+    for (f, ml) in m.line_frequencies(fr).into_iter().zip(&m.lines) {
         if f > 0.0 && f < 0.5 * ctx.fs {
-            let l = fit_line(&resid, ctx.fs, f);
+            let mut l = fit_line(&resid, ctx.fs, f);
+            // a machine line takes its phase and level from this recording, but no more than
+            // LINE_GROWTH_LIMIT times its calibrated level: what a line grew beyond that stays
+            // in the residual, where the loop names it (a 4× order thirty times the healthy
+            // machine's is looseness, not the machine)
+            let cap = LINE_GROWTH_LIMIT * ml.amplitude();
+            let amp = l.amplitude();
+            if amp > cap && amp > 0.0 {
+                l.a *= cap / amp;
+                l.b *= cap / amp;
+            }
             negated(&l).add_to(&mut resid, 0, ctx.fs);
             lines.push(l);
         }
@@ -748,6 +758,10 @@ mod speed;
 
 pub(crate) use lines::classify_line;
 use lines::{fit_line, line_candidates, shaft_force_candidate};
+
+/// Largest factor by which a machine model's line may exceed its calibrated amplitude on
+/// another recording before the excess counts as an undeclared line (6 dB).
+pub const LINE_GROWTH_LIMIT: f64 = 2.0;
 use modulation::modulation_candidates;
 use resonance::resonance_candidates;
 use speed::{slip_candidate, speed_candidates};
