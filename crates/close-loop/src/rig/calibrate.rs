@@ -293,15 +293,7 @@ fn fit_paths(
             1000 + i as u64,
         )?;
         let s_x = smooth(&welch.try_psd(&x.vertical)?, half);
-        let r: Vec<f64> = measured[i]
-            .0
-            .iter()
-            .zip(&background[i].0)
-            .zip(&s_x)
-            .map(|((a, b), x)| ((a - b).max(0.1 * a) / x.max(1e-300)).max(1e-300).ln())
-            .collect();
-        let mean = r[1..].iter().sum::<f64>() / (nb - 1) as f64;
-        ratios.push(r.iter().map(|v| v - mean).collect::<Vec<f64>>());
+        ratios.push(excess_log_ratio(&measured[i].0, &background[i].0, &s_x));
         sims.push(x);
     }
     let mut paths = Vec::new();
@@ -327,12 +319,10 @@ fn fit_paths(
             let shape: Vec<f64> = (0..nb)
                 .map(|k| (idx.iter().map(|&i| ratios[i][k]).sum::<f64>() / idx.len() as f64).exp())
                 .collect();
-            let mut path = StructuralPath::from_psd(&shape, welch.df(), fs, IMPACT_PATH_ORDER)?;
-            path.excitation_variance = 1.0;
             paths.push(ImpactPath {
                 location: loc,
                 size_mm: Some(size),
-                path,
+                path: impact_path_of(&shape, welch, fs)?,
                 outer_angle_rad: None,
             });
         }
@@ -362,6 +352,27 @@ fn fit_paths(
             .push(((measured[i].1 - background[i].1).max(0.0) / ms_x).sqrt());
     }
     Ok(fit)
+}
+
+/// ln of a record's smoothed excess PSD (measured minus background, at least a tenth of the
+/// measured) over its smoothed excitation PSD, normalised to zero mean over the bins above DC:
+/// the shape an impact path is fitted to.
+fn excess_log_ratio(measured: &[f64], background: &[f64], excitation: &[f64]) -> Vec<f64> {
+    let r: Vec<f64> = measured
+        .iter()
+        .zip(background)
+        .zip(excitation)
+        .map(|((a, b), x)| ((a - b).max(0.1 * a) / x.max(1e-300)).max(1e-300).ln())
+        .collect();
+    let mean = r[1..].iter().sum::<f64>() / (r.len() - 1).max(1) as f64;
+    r.iter().map(|v| v - mean).collect()
+}
+
+/// The impact path (AR order [`IMPACT_PATH_ORDER`], unit excitation variance) of a PSD shape.
+fn impact_path_of(shape: &[f64], welch: &Welch, fs: f64) -> Result<StructuralPath, CloseLoopError> {
+    let mut path = StructuralPath::from_psd(shape, welch.df(), fs, IMPACT_PATH_ORDER)?;
+    path.excitation_variance = 1.0;
+    Ok(path)
 }
 
 /// A measured or simulated training record for [`calibrate_rig`].
@@ -737,24 +748,15 @@ pub fn calibrate_rig(
             half,
         );
         let s_x = smooth(&welch.try_psd(&sim.seen(rig.sensor_horizontal))?, half);
-        let r: Vec<f64> = s_y
-            .iter()
-            .zip(&s_b)
-            .zip(&s_x)
-            .map(|((a, b), x)| ((a - b).max(0.1 * a) / x.max(1e-300)).max(1e-300).ln())
-            .collect();
-        let mean = r[1..].iter().sum::<f64>() / (r.len() - 1).max(1) as f64;
-        let shape: Vec<f64> = r.iter().map(|v| (v - mean).exp()).collect();
-        let own = match StructuralPath::from_psd(&shape, welch.df(), fs, IMPACT_PATH_ORDER) {
-            Ok(mut path) if r.iter().all(|v| v.is_finite()) => {
-                path.excitation_variance = 1.0;
-                ImpactPath {
-                    location: Location::Outer,
-                    size_mm: Some(t.size_mm),
-                    path,
-                    outer_angle_rad: Some(t.outer_angle_rad),
-                }
-            }
+        let r = excess_log_ratio(&s_y, &s_b, &s_x);
+        let shape: Vec<f64> = r.iter().map(|v| v.exp()).collect();
+        let own = match impact_path_of(&shape, &welch, fs) {
+            Ok(path) if r.iter().all(|v| v.is_finite()) => ImpactPath {
+                location: Location::Outer,
+                size_mm: Some(t.size_mm),
+                path,
+                outer_angle_rad: Some(t.outer_angle_rad),
+            },
             // no usable spectrum: the reference path of its size
             _ => ImpactPath {
                 outer_angle_rad: Some(t.outer_angle_rad),
