@@ -150,6 +150,7 @@ fn fit_predict(
     key.push(match kind {
         ClassifierKind::Svm => 1,
         ClassifierKind::Tree => 2,
+        ClassifierKind::SvmLogEnergy => 3,
     });
     key.push(data.n_classes() as u64);
     key.push(train.len() as u64);
@@ -280,5 +281,22 @@ mod tests {
         let out = evaluate_cell(&d, &plan, ClassifierKind::Tree).unwrap();
         assert_eq!(out.n_test, plan.folds[0].test.len());
         assert_eq!(out.average, 100.0, "energies separate the classes");
+    }
+
+    #[test]
+    fn the_energy_in_db_needs_positive_energies_and_separates_what_the_energy_separates() {
+        let names = vec!["normal".into(), "ball".into(), "inner".into()];
+        let d = cell_dataset(names.clone(), &recordings()).unwrap();
+        let plan = cell_plan(&d, Protocol::TimeBlocked, 1, None).unwrap();
+        let out = evaluate_cell(&d, &plan, ClassifierKind::SvmLogEnergy).unwrap();
+        assert_eq!(out.average, 100.0);
+        let mut silent = recordings();
+        silent[0].energies[3] = 0.0;
+        let d = cell_dataset(names, &silent).unwrap();
+        let plan = cell_plan(&d, Protocol::TimeBlocked, 1, None).unwrap();
+        assert!(matches!(
+            evaluate_cell(&d, &plan, ClassifierKind::SvmLogEnergy),
+            Err(PipelineError::Classify(_))
+        ));
     }
 }

@@ -298,12 +298,21 @@ pub fn run_chapter(
     }
     // Every (table, protocol, source, crack) cell is independent: run them in parallel and
     // collect in order.
+    // The SVM chapters classify the energy as printed and, beside it on the CWRU tables, in dB.
+    let kinds = |d: &DissTable| -> Vec<ClassifierKind> {
+        match clf {
+            ClassifierKind::Svm if d.dataset == "cwru" => vec![clf, ClassifierKind::SvmLogEnergy],
+            _ => vec![clf],
+        }
+    };
     let mut cell_jobs = Vec::new();
     for (di, d) in diss.iter().enumerate() {
         for protocol in d.protocols() {
             for (si, _) in sources.iter().enumerate() {
                 for ci in 0..d.cracks.len() {
-                    cell_jobs.push((di, protocol, si, ci));
+                    for kind in kinds(d) {
+                        cell_jobs.push((di, protocol, si, ci, kind));
+                    }
                 }
             }
         }
@@ -311,7 +320,7 @@ pub fn run_chapter(
     pb.set_length(cell_jobs.len() as u64);
     let cells: Vec<anyhow::Result<Cell>> = cell_jobs
         .par_iter()
-        .map(|&(di, protocol, si, ci)| {
+        .map(|&(di, protocol, si, ci, kind)| {
             let d = diss[di];
             let name = source_name(sources[si]);
             let src = Src {
@@ -319,9 +328,16 @@ pub fn run_chapter(
                 feats: &feats,
                 source: &name,
             };
-            let r =
-                pl::cells::evaluate_table_cell(d, &cfg.scope(), &src, ci, protocol, cfg.seeds, clf)
-                    .with_context(|| format!("table {} {} crack {}", d.id, name, d.cracks[ci]));
+            let r = pl::cells::evaluate_table_cell(
+                d,
+                &cfg.scope(),
+                &src,
+                ci,
+                protocol,
+                cfg.seeds,
+                kind,
+            )
+            .with_context(|| format!("table {} {} crack {}", d.id, name, d.cracks[ci]));
             pb.inc(1);
             r
         })
@@ -331,17 +347,24 @@ pub fn run_chapter(
         for protocol in d.protocols() {
             let mut cols = Vec::new();
             for src in &sources {
-                let mut cs = Vec::new();
+                let (mut cs, mut cs_db) = (Vec::new(), Vec::new());
                 for _ in 0..d.cracks.len() {
-                    let (_, c) = it
-                        .next()
-                        .ok_or_else(|| anyhow::anyhow!("cell bookkeeping"))?;
-                    cs.push(c?);
+                    for _ in kinds(d) {
+                        let (&(.., kind), c) = it
+                            .next()
+                            .ok_or_else(|| anyhow::anyhow!("cell bookkeeping"))?;
+                        if kind == ClassifierKind::SvmLogEnergy {
+                            cs_db.push(c?);
+                        } else {
+                            cs.push(c?);
+                        }
+                    }
                 }
                 cols.push(SourceColumns {
                     source: source_name(*src),
                     in_dissertation: src.is_some(),
                     cells: cs,
+                    cells_db: cs_db,
                 });
             }
             report_tables.push(OurTable {
@@ -554,8 +577,9 @@ fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> Vec<
         cfg.window_len, cfg.windows_per_rec
     ));
     n.push(match clf {
-        ClassifierKind::Svm => "Classifier: one-vs-one linear SVM (`classify` crate, linfa-svm), features standardised on the training split.".to_string(),
+        ClassifierKind::Svm => "Classifier: one-vs-one linear SVM (`classify` crate, linfa-svm), features standardised on the training split. Beside it, on the CWRU tables, the same SVM on the energy in dB (10·log10 E; column `ours_db` of tables.csv / tables.json, lines \"E in dB\" of the headline): not the dissertation's feature, reported because the scale alone moves the accuracies by several points and changes which protocol the observers help (docs/equations/xtask-chapters.md, \"The energy's scale\").".to_string(),
         ClassifierKind::Tree => "Classifier: Gini decision tree (`classify` crate, linfa-trees), eq. 5.34.".to_string(),
+        ClassifierKind::SvmLogEnergy => "Classifier: one-vs-one linear SVM on log10 of the window energy (the energy in dB).".to_string(),
     });
     n.push(format!(
         "CWRU data: 12 kHz drive-end recordings (DE channel) at loads 0–3 hp; fault recordings OR at 6 o'clock. {}",
@@ -687,11 +711,13 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
         } else {
             "simulated multi-fault substitute"
         };
-        for m in methods
-            .iter()
-            .map(|m| m.name().to_string())
-            .chain(["raw signal".to_string()])
-        {
+        for (m, db) in [false, true].into_iter().flat_map(|db| {
+            methods
+                .iter()
+                .map(|m| m.name().to_string())
+                .chain(["raw signal".to_string()])
+                .map(move |m| (m, db))
+        }) {
             let mut parts = Vec::new();
             let diss_vals: Vec<f64> = ds
                 .iter()
@@ -701,7 +727,7 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                         .collect::<Vec<_>>()
                 })
                 .collect();
-            if !diss_vals.is_empty() {
+            if !diss_vals.is_empty() && !db {
                 parts.push(format!(
                     "dissertation {}",
                     pct(diss_vals.iter().sum::<f64>() / diss_vals.len() as f64)
@@ -721,7 +747,13 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                         protocol_key(t.protocol) == key && ds.iter().any(|d| d.id == t.table)
                     })
                     .flat_map(|t| t.sources.iter().filter(|c| c.source == m))
-                    .flat_map(|c| c.cells.iter())
+                    .flat_map(|c| {
+                        if db {
+                            c.cells_db.iter()
+                        } else {
+                            c.cells.iter()
+                        }
+                    })
                     .filter_map(|c| match c {
                         Cell::Measured(o) => Some(o.average),
                         Cell::NotApplicable(_) => None,
@@ -735,6 +767,10 @@ fn headline(ch: u8, diss: &[&DissTable], tabs: &[OurTable], methods: &[Method]) 
                     ));
                 }
             }
+            if parts.is_empty() {
+                continue;
+            }
+            let m = if db { format!("{m}, E in dB") } else { m };
             s.push_str(&format!("  ch{ch} {label}, {m}: {}\n", parts.join(", ")));
         }
     }

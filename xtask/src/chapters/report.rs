@@ -45,6 +45,9 @@ pub struct SourceColumns {
     pub in_dissertation: bool,
     /// One cell per crack size, in the dissertation table's column order.
     pub cells: Vec<Cell>,
+    /// The same cells classified on the window energy in dB (`ClassifierKind::SvmLogEnergy`;
+    /// empty for the tree, whose splits do not depend on the scale).
+    pub cells_db: Vec<Cell>,
 }
 
 /// Our version of one dissertation table under one protocol.
@@ -150,6 +153,9 @@ pub struct FlatRow {
     pub ours: Option<f64>,
     /// ours − dissertation.
     pub difference: Option<f64>,
+    /// Ours with the window energy in dB (`ClassifierKind::SvmLogEnergy`; None: not applicable
+    /// or a tree).
+    pub ours_db: Option<f64>,
 }
 
 fn round1(v: f64) -> f64 {
@@ -165,7 +171,8 @@ pub fn flatten(t: &OurTable, d: &DissTable) -> Vec<FlatRow> {
             let crack = d.cracks[ci].clone();
             let nrows = d.classes.len() + 1;
             for r in 0..nrows {
-                let (class, diss, ours) = if r < d.classes.len() {
+                let cell_db = s.cells_db.get(ci);
+                let (class, diss, ours, ours_db) = if r < d.classes.len() {
                     let diss = if t.protocol == Protocol::RandomWindows && s.in_dissertation {
                         d.value(r, &s.source, ci)
                     } else {
@@ -175,7 +182,11 @@ pub fn flatten(t: &OurTable, d: &DissTable) -> Vec<FlatRow> {
                         Cell::Measured(o) => o.per_class[r],
                         Cell::NotApplicable(_) => None,
                     };
-                    (d.classes[r].clone(), diss, ours)
+                    let ours_db = match cell_db {
+                        Some(Cell::Measured(o)) => o.per_class[r],
+                        _ => None,
+                    };
+                    (d.classes[r].clone(), diss, ours, ours_db)
                 } else {
                     let diss = if t.protocol == Protocol::RandomWindows && s.in_dissertation {
                         d.avg(&s.source, ci)
@@ -186,7 +197,11 @@ pub fn flatten(t: &OurTable, d: &DissTable) -> Vec<FlatRow> {
                         Cell::Measured(o) => Some(o.average),
                         Cell::NotApplicable(_) => None,
                     };
-                    ("average".to_string(), diss, ours)
+                    let ours_db = match cell_db {
+                        Some(Cell::Measured(o)) => Some(o.average),
+                        _ => None,
+                    };
+                    ("average".to_string(), diss, ours, ours_db)
                 };
                 let ours = ours.map(round1);
                 let difference = match (ours, diss) {
@@ -203,6 +218,7 @@ pub fn flatten(t: &OurTable, d: &DissTable) -> Vec<FlatRow> {
                     dissertation: diss,
                     ours,
                     difference,
+                    ours_db: ours_db.map(round1),
                 });
             }
         }
@@ -390,6 +406,7 @@ pub fn csv(rep: &ChapterReport, diss: &[&DissTable]) -> anyhow::Result<String> {
         "dissertation",
         "ours",
         "difference",
+        "ours_db",
     ])?;
     for t in &rep.tables {
         let Some(d) = diss.iter().find(|d| d.id == t.table) else {
@@ -407,6 +424,7 @@ pub fn csv(rep: &ChapterReport, diss: &[&DissTable]) -> anyhow::Result<String> {
                 &f(r.dissertation),
                 &f(r.ours),
                 &f(r.difference),
+                &f(r.ours_db),
             ])?;
         }
     }
