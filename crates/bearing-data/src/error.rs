@@ -69,6 +69,12 @@ pub enum DataError {
         /// The parser's message.
         message: String,
     },
+    /// No signal, or more than one, of a MAT-file fits what was asked (`mat_tree::select_signal`).
+    #[error("{reason}")]
+    MatSignal {
+        /// What was asked, and what the file holds.
+        reason: String,
+    },
     /// The file holds no drive-end channel for the requested variable number.
     #[error(
         "no drive-end channel X{variable:03}_DE_time in the file ({found} signal variables found)"

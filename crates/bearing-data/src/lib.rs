@@ -6,7 +6,9 @@
 //!   records the shared copy lacks, with no file access.
 //! * [`load_record`] / [`parse_record`]: a typed [`Recording`] from a `.mat` file, handling the
 //!   files' quirks (174 → X173, 3001–3008 → X056–X059/X048–X051, 99 → X099, miUINT16 rpm,
-//!   missing BA/FE, no rpm); [`read_variable_sets`] for other CWRU-style MAT files.
+//!   missing BA/FE, no rpm); [`read_variable_sets`] for other CWRU-style MAT files;
+//!   [`read_mat_tree`], [`select_signal`], [`sampling_rate_near`] for any other MAT v5–v7 file
+//!   (compressed, signals inside structs, struct arrays and cells: other rigs' recordings).
 //! * [`Decimator`]: Kaiser-window FIR decimation ([`Recording::de_at`] pairs 48 kHz with 12 kHz).
 //! * [`read_csv`]: one column of a user's CSV/plain-text recording as a [`Signal`].
 //! * [`DataLocation`]: the one data-directory setting (`--data-dir` / `HYBRID_FDD_DATA`).
@@ -14,7 +16,9 @@
 //!   of the reports and machine models).
 //!
 //! Dependencies and why: `matfile` (pure-Rust MAT v5 reader; no HDF5/C toolchain, reads the
-//! CWRU v5 files including small-element rpm scalars), `sha2` (RustCrypto SHA-256, the digest the
+//! CWRU v5 files including small-element rpm scalars; it skips structs, cells and text, so
+//! [`read_mat_tree`] walks those itself), `flate2` (zlib for MATLAB's compressed elements; already
+//! in the build through the PNG encoder), `sha2` (RustCrypto SHA-256, the digest the
 //! public mirrors pin), `csv` (robust quoting/trimming/comments for users' text files),
 //! `thiserror` (the one typed error enum), `serde` (labels, rpm and the label enums derive
 //! `Serialize`/`Deserialize` so reports can write them).
@@ -39,6 +43,7 @@ mod error;
 mod grades;
 mod location;
 mod mat;
+mod mat_tree;
 mod recording;
 mod text;
 mod unit;
@@ -52,6 +57,10 @@ pub use error::{DataError, Result};
 pub use grades::smith_randall_grade;
 pub use location::{DATA_DIR_ENV, DataLocation, ci_from_env};
 pub use mat::{VariableSet, read_variable_sets, select_set, validate_structure};
+pub use mat_tree::{
+    MAX_DEPTH, MAX_INFLATED_BYTES, MIN_SIGNAL_SAMPLES, MatLeaf, MatSignal, MatValue, read_mat_tree,
+    sampling_rate_near, select_signal,
+};
 pub use recording::{
     Labels, LoadOptions, Recording, Rpm, RpmSource, cwru_dir, load_record, parse_record,
     record_path,

@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 
 use crate::catalog::SensorEnd;
 use crate::error::{DataError, Result};
+use crate::mat_tree::{Endian, Tag as SubTag, tag_at, type_size as numeric_size};
 
 /// Length of the MAT v5 header.
 const HEADER_LEN: usize = 128;
@@ -33,81 +34,9 @@ fn malformed(offset: usize, reason: &'static str) -> DataError {
     DataError::MalformedMat { offset, reason }
 }
 
-#[derive(Clone, Copy)]
-struct Endian {
-    little: bool,
-}
-
-impl Endian {
-    fn u32_at(self, b: &[u8], off: usize) -> Option<u32> {
-        let s: [u8; 4] = b.get(off..off + 4)?.try_into().ok()?;
-        Some(if self.little {
-            u32::from_le_bytes(s)
-        } else {
-            u32::from_be_bytes(s)
-        })
-    }
-    fn i32_at(self, b: &[u8], off: usize) -> Option<i32> {
-        self.u32_at(b, off).map(|v| v as i32)
-    }
-}
-
-/// A sub-element tag inside a matrix: type, data start and length, and the offset after padding.
-struct SubTag {
-    ty: u32,
-    data: usize,
-    len: usize,
-    next: usize,
-}
-
-/// Parse a tag at `off` within `body` (absolute offsets into `b`, body ends at `end`).
+/// A sub-element tag inside a matrix: the generic reader's tag, padded to 8 bytes.
 fn sub_tag(b: &[u8], e: Endian, off: usize, end: usize) -> Result<SubTag> {
-    if off.checked_add(8).is_none_or(|x| x > end) {
-        return Err(malformed(off, "sub-element tag runs past its matrix"));
-    }
-    let w = e
-        .u32_at(b, off)
-        .ok_or_else(|| malformed(off, "truncated tag"))?;
-    if w >> 16 != 0 {
-        // Small data element: 2-byte size, 2-byte type, up to 4 bytes of data inline.
-        let len = (w >> 16) as usize;
-        if len > 4 {
-            return Err(malformed(off, "small data element longer than 4 bytes"));
-        }
-        Ok(SubTag {
-            ty: w & 0xFFFF,
-            data: off + 4,
-            len,
-            next: off + 8,
-        })
-    } else {
-        let len = e
-            .u32_at(b, off + 4)
-            .ok_or_else(|| malformed(off, "truncated tag"))? as usize;
-        let data = off + 8;
-        if len > end - data {
-            return Err(malformed(off, "sub-element longer than its matrix"));
-        }
-        let padded = len.div_ceil(8) * 8;
-        let next = (data + padded).min(end);
-        Ok(SubTag {
-            ty: w,
-            data,
-            len,
-            next,
-        })
-    }
-}
-
-/// Byte size of a numeric MAT data type, `None` for non-numeric types.
-fn numeric_size(ty: u32) -> Option<usize> {
-    match ty {
-        1 | 2 => Some(1),
-        3 | 4 => Some(2),
-        5..=7 => Some(4),
-        9 | 12 | 13 => Some(8),
-        _ => None,
-    }
+    tag_at(b, e, off, end, true)
 }
 
 /// Check the structure of a MAT v5 file without allocating: header, every top-level element

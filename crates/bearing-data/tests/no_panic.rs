@@ -5,7 +5,8 @@
 mod common;
 
 use bearing_data::{
-    Column, CsvOptions, parse_record, read_csv, read_variable_sets, validate_structure,
+    Column, CsvOptions, parse_record, read_csv, read_mat_tree, read_variable_sets, select_signal,
+    validate_structure,
 };
 use proptest::prelude::*;
 use std::sync::Once;
@@ -74,6 +75,34 @@ proptest! {
         b[at..at + 4].copy_from_slice(&word.to_le_bytes());
         watch_panics();
         let _ = parse_record(&b, 105);
+        prop_assert!(!PANICKED.load(Ordering::SeqCst));
+    }
+
+    #[test]
+    fn mutated_mat_trees_never_panic_the_generic_reader(
+        which in 0usize..3,
+        edits in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 1..8),
+        word in prop_oneof![Just(u32::MAX), Just(0x7FFF_FFFF), Just(0x0004_0004), Just(0), any::<u32>()],
+        at in any::<prop::sample::Index>(),
+        cut in any::<prop::sample::Index>(),
+    ) {
+        let name = ["struct_v5.mat", "plain.mat", "mfpt_like.mat"][which];
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mat").join(name);
+        let mut b = std::fs::read(p).expect("fixture");
+        for (i, v) in &edits {
+            let k = 128 + i.index(b.len() - 128);
+            b[k] = *v;
+        }
+        let k = 128 + at.index(b.len() - 132) / 4 * 4;
+        b[k..k + 4].copy_from_slice(&word.to_le_bytes());
+        let keep = cut.index(b.len() + 1);
+        watch_panics();
+        for bytes in [&b[..], &b[..keep]] {
+            if let Ok(leaves) = read_mat_tree(bytes) {
+                let _ = select_signal(&leaves, None);
+                let _ = select_signal(&leaves, Some("Data"));
+            }
+        }
         prop_assert!(!PANICKED.load(Ordering::SeqCst));
     }
 

@@ -18,11 +18,14 @@ use close_loop::{
 /// Flags of this task.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Recording: a CWRU `.mat` file (named by its number, e.g. `105.mat`), a one-column `.csv`,
-    /// or `hybrid-fdd simulate`'s CSV (its `accel` column is read, fs from `time_s`).
+    /// Recording: a CWRU `.mat` file (named by its number, e.g. `105.mat`), any other MAT-file
+    /// (the signal at the top level or inside structs and cells), a one-column `.csv`, or
+    /// `hybrid-fdd simulate`'s CSV (its `accel` column is read, fs from `time_s`).
     #[arg(long)]
     pub input: Option<PathBuf>,
-    /// Channel of a `.mat` file: DE, FE or BA.
+    /// Channel: of a CWRU `.mat` file DE, FE or BA; of another MAT-file a variable path, a
+    /// struct element's `Name` or a last path component (by default its only long vector); of
+    /// a text file a column name or number.
     #[arg(long, default_value = "DE")]
     pub channel: String,
     /// Sampling rate, Hz, of a recording that stores none (a text file without a time column).
@@ -80,10 +83,10 @@ pub struct Args {
 /// Flags of `hybrid-fdd calibrate` (and `cargo xtask calibrate`).
 #[derive(clap::Args, Debug)]
 pub struct CalibrateArgs {
-    /// Healthy recording (`.mat` or `.csv`).
+    /// Healthy recording (`.mat` or text, read as `close-loop --input`).
     #[arg(long)]
     pub input: PathBuf,
-    /// Channel of a `.mat` file: DE, FE or BA.
+    /// Channel, as `close-loop --channel`.
     #[arg(long, default_value = "DE")]
     pub channel: String,
     /// Sampling rate, Hz, of a recording that stores none (as `close-loop --fs`: a CWRU file's

@@ -11,8 +11,10 @@ use rayon::prelude::*;
 /// Flags of `diagnose`.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct Args {
-    /// Recording: a CWRU `.mat` file (named by its number, e.g. `130.mat`), a one-column `.csv`,
-    /// or a directory: every `.mat`/`.csv`/`.tsv` in it is diagnosed, in parallel, one report per
+    /// Recording: a CWRU `.mat` file (named by its number, e.g. `130.mat`), any other MAT-file
+    /// (v5–v7, the signal at the top level or inside structs and cells: MFPT's `bearing.gs`,
+    /// Paderborn's `X.Y(k).Data`), a delimited text file (`.csv`, `.tsv`, `.txt`, or any name
+    /// whose content is text, such as IMS's date-named files), or a directory: every `.mat`/`.csv`/`.tsv` in it is diagnosed, in parallel, one report per
     /// file (named by its stem; by stem and extension, `x_csv.json`, when two files share a stem)
     /// and `summary.csv` listing each file's report; the exit status is non-zero when any file
     /// failed (after all reports and the summary are written).
@@ -33,13 +35,15 @@ pub struct Args {
 /// The flags `diagnose` and `train-classifier` share: channel, rate, speed, bearing, baseline.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct RecordingFlags {
-    /// Channel: of a `.mat` file DE, FE or BA; of a CSV/TSV a column name or number (1 = first;
-    /// by default `accel`, the only column, or the second of `time,signal`).
+    /// Channel: of a CWRU `.mat` file DE, FE or BA; of another MAT-file a variable path
+    /// (`bearing.gs`), a struct element's `Name` (`vibration_1`) or a last path component, by
+    /// default its only vector of at least 1024 samples; of a text file a column name or number
+    /// (1 = first; by default `accel`, the only column, or the second of `time,signal`).
     #[arg(long, default_value = "DE")]
     pub channel: String,
     /// Sampling rate, Hz, of recordings that store none (a text file without a time column, a
-    /// `.mat` file that is not a CWRU record). A CWRU `.mat` file's rate and a time column's
-    /// always win: for a single file, a `--fs` more than 0.1 % (`.mat`) or 1 % (time column)
+    /// MAT-file without a scalar `fs`, `sr`, `sample_rate` or `sampling_rate` beside its signal).
+    /// A CWRU `.mat` file's rate, a stored rate and a time column's always win: for a single file, a `--fs` more than 0.1 % (`.mat`) or 1 % (time column)
     /// away from it is an error; in a directory batch (and `train-classifier`'s labelled list)
     /// `--fs` applies only to the files that store no rate.
     #[arg(long)]
@@ -184,24 +188,28 @@ pub fn load_with(
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
-    match ext.as_str() {
+    let kind = match ext.as_str() {
+        "mat" => "mat",
+        "csv" | "txt" | "tsv" => "text",
+        // no or another extension (IMS names its files by date, `2004.02.12.10.32.39`): what
+        // the first bytes are
+        _ => sniff(path)?,
+    };
+    match kind {
         "mat" => {
-            let end = match channel.to_ascii_uppercase().as_str() {
-                "DE" => bearing_data::SensorEnd::DriveEnd,
-                "FE" => bearing_data::SensorEnd::FanEnd,
-                "BA" => bearing_data::SensorEnd::Base,
-                other => bail!(
-                    "{}: unknown channel `{other}` of a .mat file (DE, FE or BA)",
-                    path.display()
-                ),
-            };
             let bytes =
                 std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+            let end = match channel.to_ascii_uppercase().as_str() {
+                "DE" => Some(bearing_data::SensorEnd::DriveEnd),
+                "FE" => Some(bearing_data::SensorEnd::FanEnd),
+                "BA" => Some(bearing_data::SensorEnd::Base),
+                _ => None,
+            };
             let number = path
                 .file_stem()
                 .and_then(|s| s.to_str())
                 .and_then(|s| s.parse::<u32>().ok());
-            if let Some(number) = number
+            if let (Some(number), Some(end)) = (number, end)
                 && let Ok(rec) = bearing_data::parse_record(&bytes, number)
             {
                 let fs_hz = resolve_rate(
@@ -225,37 +233,139 @@ pub fn load_with(
                     fault_size_in: bearing_data::entry(number).and_then(|e| e.fault_diameter_in()),
                 });
             }
-            let set = bearing_data::read_variable_sets(&bytes)
-                .and_then(|sets| bearing_data::select_set(sets, None))
-                .with_context(|| path.display().to_string())?;
-            let x = set
-                .channel(end)
-                .with_context(|| format!("{} has no {channel} channel", path.display()))?
-                .to_vec();
-            let fs = fs.with_context(|| {
-                format!(
-                    "{}: --fs is required for a .mat file that is not a CWRU record",
-                    path.display()
-                )
-            })?;
-            Ok(Loaded {
-                samples: x,
-                fs_hz: fs,
-                rpm: set.rpm,
-                // CWRU-style variables of another file: the CWRU statement, no unit claimed
-                unit: SampleUnit {
-                    code: "unknown".into(),
-                    ..SampleUnit::cwru()
-                },
-                fault_size_in: None,
-            })
+            // CWRU-style variables (`X###_DE_time`) in a file of another name
+            if let Some(end) = end
+                && let Ok(set) = bearing_data::read_variable_sets(&bytes)
+                    .and_then(|sets| bearing_data::select_set(sets, None))
+            {
+                let x = set
+                    .channel(end)
+                    .with_context(|| format!("{} has no {channel} channel", path.display()))?
+                    .to_vec();
+                let fs = fs.with_context(|| {
+                    format!(
+                        "{}: --fs is required for a .mat file that is not a CWRU record",
+                        path.display()
+                    )
+                })?;
+                return Ok(Loaded {
+                    samples: x,
+                    fs_hz: fs,
+                    rpm: set.rpm,
+                    // CWRU-style variables of another file: the CWRU statement, no unit claimed
+                    unit: SampleUnit {
+                        code: "unknown".into(),
+                        ..SampleUnit::cwru()
+                    },
+                    fault_size_in: None,
+                });
+            }
+            load_generic_mat(path, &bytes, channel, end.is_some(), fs, flag)
         }
-        "csv" | "txt" | "tsv" => load_csv(path, channel, fs, flag),
-        other => bail!(
-            "{}: unsupported input extension `{other}` (.mat, .csv, .tsv or .txt)",
-            path.display()
-        ),
+        _ => load_csv(path, channel, fs, flag),
     }
+}
+
+/// What a file without a known extension holds: `"mat"` for a MATLAB MAT-file header, `"text"`
+/// for UTF-8 text; anything else is an error.
+fn sniff(path: &Path) -> anyhow::Result<&'static str> {
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
+        .with_context(|| format!("reading {}", path.display()))?;
+    if head.starts_with(b"MATLAB") {
+        return Ok("mat");
+    }
+    // a cut in the middle of a multi-byte character at the 4096th byte is still text
+    let valid = match std::str::from_utf8(&head) {
+        Ok(_) => true,
+        Err(e) => e.error_len().is_none(),
+    };
+    if valid && !head.is_empty() && !head.contains(&0) {
+        return Ok("text");
+    }
+    bail!(
+        "{}: neither a MAT-file nor text (extensions read: .mat, .csv, .tsv, .txt; other names are read by content)",
+        path.display()
+    )
+}
+
+/// Any other MAT-file (v5–v7, structs, struct arrays, cells; `bearing_data::read_mat_tree`): the
+/// signal named by `channel` (a path such as `bearing.gs`, a struct element's `Name` such as
+/// `vibration_1`, or a last path component); with the default channel (`DE`, `FE`, `BA`, which
+/// only a CWRU file has), the only real vector of at least 1024 samples. The rate stored beside
+/// the signal (`fs`, `sr`, `sample_rate`, …) wins over `--fs` as a CWRU record's does; a scalar
+/// `rpm` beside it is the speed.
+///
+/// # Errors
+/// The file's structure, no or several fitting signals (listed), no rate stored and no `--fs`,
+/// a `--fs` that disagrees with the stored rate.
+fn load_generic_mat(
+    path: &Path,
+    bytes: &[u8],
+    channel: &str,
+    cwru_channel: bool,
+    fs: Option<f64>,
+    flag: FsFlag,
+) -> anyhow::Result<Loaded> {
+    let name = path.display();
+    let leaves = bearing_data::read_mat_tree(bytes).with_context(|| name.to_string())?;
+    let signal = match bearing_data::select_signal(&leaves, Some(channel)) {
+        Ok(s) => s,
+        // `DE` (the default), `FE` or `BA` of a file that is not CWRU's: the only signal
+        Err(_) if cwru_channel => {
+            let s = bearing_data::select_signal(&leaves, None).with_context(|| {
+                format!("{name}: not a CWRU file, so --channel {channel} names nothing")
+            })?;
+            eprintln!(
+                "{name}: not a CWRU file; took its only signal `{}`{}",
+                s.path,
+                s.alias
+                    .as_ref()
+                    .map_or(String::new(), |a| format!(" ({a})"))
+            );
+            s
+        }
+        Err(e) => return Err(anyhow::Error::new(e).context(name.to_string())),
+    };
+    let stored = bearing_data::sampling_rate_near(&leaves, &signal.path);
+    let fs_hz = resolve_rate(
+        path,
+        fs,
+        stored,
+        MAT_RATE_TOLERANCE,
+        "the sampling rate stored in the file",
+        flag,
+    )?
+    .with_context(|| {
+        format!(
+            "{name}: the file stores no sampling rate (a scalar fs, sr, sample_rate or sampling_rate); give --fs"
+        )
+    })?;
+    let parent = signal.path.rsplit_once('.').map_or("", |(p, _)| p);
+    let rpm = leaves
+        .iter()
+        .filter(|l| l.last_name().eq_ignore_ascii_case("rpm") && l.parent() == parent)
+        .find_map(|l| l.scalar().filter(|v| v.is_finite() && *v > 0.0));
+    if let Some((i, _)) = signal
+        .samples
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.is_finite())
+    {
+        bail!("{name}: sample {i} of `{}` is not finite", signal.path);
+    }
+    Ok(Loaded {
+        samples: signal.samples,
+        fs_hz,
+        rpm,
+        unit: SampleUnit {
+            code: "unknown".into(),
+            statement: format!("MAT-file `{}` (unit not stated in the file)", signal.path),
+        },
+        fault_size_in: None,
+    })
 }
 
 /// Time-column names read as seconds.

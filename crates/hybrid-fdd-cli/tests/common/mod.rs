@@ -127,16 +127,20 @@ pub fn write_time_signal(path: &Path, name: &str, x: &[f64], fs: f64, sep: &str)
     std::fs::write(path, body).expect("write");
 }
 
-/// A little-endian MAT v5 file laid out as the CWRU files are: `X{n:03}_DE_time` (N×1 double)
-/// and `X{n:03}RPM` (a 1×1 uint16 small element).
-pub fn write_cwru_mat(path: &Path, number: u32, de: &[f64], rpm: u16) {
-    let mut out = Vec::new();
-    let mut text = b"MATLAB 5.0 MAT-file, Platform: PCWIN, Created on: test fixture".to_vec();
-    text.resize(116, b' ');
-    out.extend_from_slice(&text);
+/// The 128-byte header of a little-endian MAT v5 file.
+fn mat_header() -> Vec<u8> {
+    let mut out = b"MATLAB 5.0 MAT-file, Platform: PCWIN, Created on: test fixture".to_vec();
+    out.resize(116, b' ');
     out.extend_from_slice(&[0u8; 8]);
     out.extend_from_slice(&0x0100u16.to_le_bytes());
     out.extend_from_slice(b"IM");
+    out
+}
+
+/// A little-endian MAT v5 file laid out as the CWRU files are: `X{n:03}_DE_time` (N×1 double)
+/// and `X{n:03}RPM` (a 1×1 uint16 small element).
+pub fn write_cwru_mat(path: &Path, number: u32, de: &[f64], rpm: u16) {
+    let mut out = mat_header();
     let u32le = |v: u32, b: &mut Vec<u8>| b.extend_from_slice(&v.to_le_bytes());
     for (name, data) in [
         (format!("X{number:03}_DE_time"), Some(de)),
@@ -179,4 +183,96 @@ pub fn write_cwru_mat(path: &Path, number: u32, de: &[f64], rpm: u16) {
 /// A JSON report's field.
 pub fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).expect("report")).expect("JSON")
+}
+
+/// A MATLAB array for [`write_mat`].
+pub enum MatVal {
+    /// A real double array, `rows × cols`, column-major.
+    Num(Vec<f64>, u32, u32),
+    /// A character array (1 × len).
+    Text(String),
+    /// A 1 × n struct array: field names, then one row of field values per element.
+    Struct(Vec<&'static str>, Vec<Vec<MatVal>>),
+}
+
+/// One miMATRIX element (tag included) named `name` (empty inside structs).
+fn mat_element(name: &str, v: &MatVal) -> Vec<u8> {
+    let u32le = |v: u32, b: &mut Vec<u8>| b.extend_from_slice(&v.to_le_bytes());
+    let pad = |b: &mut Vec<u8>| {
+        while b.len() % 8 != 0 {
+            b.push(0);
+        }
+    };
+    let (class, rows, cols) = match v {
+        MatVal::Num(_, r, c) => (6, *r, *c),
+        MatVal::Text(s) => (4, 1, s.len() as u32),
+        MatVal::Struct(_, elems) => (2, 1, elems.len() as u32),
+    };
+    let mut body = Vec::new();
+    for w in [6, 8, class, 0, 5, 8, rows, cols] {
+        u32le(w, &mut body);
+    }
+    u32le(1, &mut body);
+    u32le(name.len() as u32, &mut body);
+    body.extend_from_slice(name.as_bytes());
+    pad(&mut body);
+    match v {
+        MatVal::Num(x, ..) => {
+            u32le(9, &mut body);
+            u32le((x.len() * 8) as u32, &mut body);
+            for a in x {
+                body.extend_from_slice(&a.to_le_bytes());
+            }
+        }
+        MatVal::Text(s) => {
+            u32le(4, &mut body);
+            u32le((s.len() * 2) as u32, &mut body);
+            for c in s.bytes() {
+                body.extend_from_slice(&u16::from(c).to_le_bytes());
+            }
+            pad(&mut body);
+        }
+        MatVal::Struct(fields, elems) => {
+            u32le((4 << 16) | 5, &mut body);
+            u32le(32, &mut body);
+            u32le(1, &mut body);
+            u32le((32 * fields.len()) as u32, &mut body);
+            for f in fields {
+                let mut n = f.as_bytes().to_vec();
+                n.resize(32, 0);
+                body.extend_from_slice(&n);
+            }
+            for e in elems {
+                for v in e {
+                    body.extend_from_slice(&mat_element("", v));
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    u32le(14, &mut out);
+    u32le(body.len() as u32, &mut out);
+    out.extend_from_slice(&body);
+    out
+}
+
+/// A little-endian MAT v5 file of top-level `vars`, each zlib-compressed (as MATLAB's `save`
+/// writes by default) when `compress`.
+pub fn write_mat(path: &Path, vars: &[(&str, MatVal)], compress: bool) {
+    use std::io::Write;
+    let mut out = mat_header();
+    for (name, v) in vars {
+        let el = mat_element(name, v);
+        if compress {
+            let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+            z.write_all(&el).expect("zlib");
+            let z = z.finish().expect("zlib");
+            out.extend_from_slice(&15u32.to_le_bytes());
+            out.extend_from_slice(&(z.len() as u32).to_le_bytes());
+            out.extend_from_slice(&z);
+        } else {
+            out.extend_from_slice(&el);
+        }
+    }
+    std::fs::write(path, out).expect("write");
 }

@@ -1,0 +1,133 @@
+//! Choosing the signal and its stated rate among a MAT-file's leaves ([`super::read_mat_tree`]).
+
+use super::MatLeaf;
+use crate::error::{DataError, Result};
+
+/// A signal chosen from a MAT-file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MatSignal {
+    /// Its path in the file.
+    pub path: String,
+    /// Its `Name`, when the file gives one.
+    pub alias: Option<String>,
+    /// The samples.
+    pub samples: Vec<f64>,
+}
+
+/// The signal named `channel` (a full path, a struct element's `Name`, or a last path component,
+/// case-insensitive), or with `None` the only real vector of at least [`super::MIN_SIGNAL_SAMPLES`]
+/// samples.
+///
+/// # Errors
+/// [`DataError::MatSignal`] saying what the file holds when no leaf, or more than one, fits.
+pub fn select_signal(leaves: &[MatLeaf], channel: Option<&str>) -> Result<MatSignal> {
+    let listing = || {
+        let v: Vec<String> = leaves
+            .iter()
+            .filter_map(|l| {
+                l.vector().map(|x| match &l.alias {
+                    Some(a) => format!("{} ({a}, {} samples)", l.path, x.len()),
+                    None => format!("{} ({} samples)", l.path, x.len()),
+                })
+            })
+            .collect();
+        if v.is_empty() {
+            "no real vector".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    let found: Vec<&MatLeaf> = match channel {
+        Some(c) => {
+            let eq = |s: &str| s.eq_ignore_ascii_case(c);
+            let exact: Vec<&MatLeaf> = leaves
+                .iter()
+                .filter(|l| eq(&l.path) || l.alias.as_deref().is_some_and(eq))
+                .collect();
+            if exact.is_empty() {
+                leaves.iter().filter(|l| eq(l.last_name())).collect()
+            } else {
+                exact
+            }
+        }
+        None => leaves
+            .iter()
+            .filter(|l| {
+                l.vector()
+                    .is_some_and(|x| x.len() >= super::MIN_SIGNAL_SAMPLES)
+            })
+            .collect(),
+    };
+    match found.as_slice() {
+        [l] => {
+            let x = l.vector().ok_or_else(|| DataError::MatSignal {
+                reason: format!(
+                    "`{}` is not a real vector; the file holds {}",
+                    l.path,
+                    listing()
+                ),
+            })?;
+            Ok(MatSignal {
+                path: l.path.clone(),
+                alias: l.alias.clone(),
+                samples: x.to_vec(),
+            })
+        }
+        [] => Err(DataError::MatSignal {
+            reason: match channel {
+                Some(c) => format!("no signal `{c}`; the file holds {}", listing()),
+                None => format!(
+                    "no real vector of at least {} samples; the file holds {}",
+                    super::MIN_SIGNAL_SAMPLES,
+                    listing()
+                ),
+            },
+        }),
+        _ => Err(DataError::MatSignal {
+            reason: format!(
+                "{} signals fit{}; choose one with --channel PATH or NAME: {}",
+                found.len(),
+                channel.map_or(String::new(), |c| format!(" `{c}`")),
+                listing()
+            ),
+        }),
+    }
+}
+
+/// Names read as a sampling rate in Hz.
+const RATE_NAMES: [&str; 6] = [
+    "fs",
+    "sr",
+    "sample_rate",
+    "sampling_rate",
+    "samplerate",
+    "samplingrate",
+];
+
+/// The sampling rate the file states for the signal at `signal_path`: a finite positive scalar
+/// named `fs`, `sr`, `sample_rate`, `sampling_rate`, `samplerate` or `samplingrate` (any case) in
+/// the same struct, else the only such scalar in the
+/// file; `None` when there is none or several disagree.
+pub fn sampling_rate_near(leaves: &[MatLeaf], signal_path: &str) -> Option<f64> {
+    let rates: Vec<(&MatLeaf, f64)> = leaves
+        .iter()
+        .filter(|l| {
+            RATE_NAMES
+                .iter()
+                .any(|n| n.eq_ignore_ascii_case(l.last_name()))
+        })
+        .filter_map(|l| {
+            l.scalar()
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .map(|v| (l, v))
+        })
+        .collect();
+    let parent = signal_path.rsplit_once('.').map_or("", |(p, _)| p);
+    if let Some((_, v)) = rates.iter().find(|(l, _)| l.parent() == parent) {
+        return Some(*v);
+    }
+    match rates.as_slice() {
+        [(_, v)] => Some(*v),
+        _ => None,
+    }
+}

@@ -1,0 +1,119 @@
+//! The generic MAT reader on files shaped like other rigs' (`tests/fixtures/mat/make_fixtures.py`
+//! writes them with scipy): compressed structs, struct arrays with `Name`/`Data`, cells, text,
+//! integer and single classes, complex arrays, and what `select_signal` and
+//! `sampling_rate_near` make of them.
+
+use bearing_data::{DataError, MatValue, read_mat_tree, sampling_rate_near, select_signal};
+
+fn fixture(name: &str) -> Vec<u8> {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/mat")
+        .join(name);
+    std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+fn expected_signal() -> Vec<f64> {
+    (0..2048)
+        .map(|n| ((2.0 * std::f64::consts::PI * 0.01 * n as f64).sin() * 1000.0).round() / 1000.0)
+        .collect()
+}
+
+#[test]
+fn a_compressed_struct_gives_its_fields_and_the_rate_beside_the_signal() {
+    let leaves = read_mat_tree(&fixture("mfpt_like.mat")).unwrap();
+    let paths: Vec<&str> = leaves.iter().map(|l| l.path.as_str()).collect();
+    assert_eq!(
+        paths,
+        ["bearing.gs", "bearing.sr", "bearing.load", "bearing.rate"]
+    );
+    let s = select_signal(&leaves, None).unwrap();
+    assert_eq!(s.path, "bearing.gs");
+    assert_eq!(s.samples, expected_signal());
+    assert_eq!(sampling_rate_near(&leaves, &s.path), Some(48828.0));
+    // by its last path component too
+    assert_eq!(
+        select_signal(&leaves, Some("GS")).unwrap().path,
+        "bearing.gs"
+    );
+}
+
+#[test]
+fn a_struct_arrays_data_is_known_by_its_name() {
+    let leaves = read_mat_tree(&fixture("paderborn_like.mat")).unwrap();
+    let s = select_signal(&leaves, Some("vibration_1")).unwrap();
+    assert_eq!(s.path, "N15_M07_F10_KA01_1.Y(2).Data");
+    assert_eq!(s.alias.as_deref(), Some("vibration_1"));
+    assert_eq!(s.samples, expected_signal());
+    assert!(
+        leaves.iter().any(|l| l.path == "N15_M07_F10_KA01_1.Info"
+            && l.value == MatValue::Text("N15_M07_F10".into()))
+    );
+    // three `Data` vectors: the last component alone is ambiguous, and the error lists them
+    let err = select_signal(&leaves, Some("Data"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("3 signals fit") && err.contains("vibration_1"),
+        "{err}"
+    );
+    // no rate stored: none invented
+    assert_eq!(sampling_rate_near(&leaves, &s.path), None);
+}
+
+#[test]
+fn top_level_variables_of_every_class_are_read() {
+    let leaves = read_mat_tree(&fixture("plain.mat")).unwrap();
+    let get = |p: &str| leaves.iter().find(|l| l.path == p).unwrap();
+    let vib = get("vib").vector().unwrap();
+    // stored as single precision
+    assert!(
+        vib.iter()
+            .zip(expected_signal())
+            .all(|(a, b)| (a - b).abs() < 1e-6)
+    );
+    let counts = get("counts").vector().unwrap();
+    assert_eq!(counts[25], (expected_signal()[25] * 100.0).trunc());
+    assert_eq!(get("fs").scalar(), Some(25600.0));
+    assert_eq!(get("unit").value, MatValue::Text("g".into()));
+    assert!(matches!(get("z").value, MatValue::Complex { .. }));
+    // two vectors long enough: `vib` and `counts`
+    assert!(matches!(
+        select_signal(&leaves, None),
+        Err(DataError::MatSignal { .. })
+    ));
+    let s = select_signal(&leaves, Some("vib")).unwrap();
+    assert_eq!(sampling_rate_near(&leaves, &s.path), Some(25600.0));
+    assert!(
+        select_signal(&leaves, Some("unit")).is_err(),
+        "text is not a signal"
+    );
+    let err = select_signal(&leaves, Some("nope"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.starts_with("no signal `nope`"), "{err}");
+}
+
+#[test]
+fn cells_are_walked_and_two_candidates_need_a_choice() {
+    let leaves = read_mat_tree(&fixture("two_signals.mat")).unwrap();
+    assert!(leaves.iter().any(|l| l.path.starts_with("c{")));
+    let err = select_signal(&leaves, None).unwrap_err().to_string();
+    assert!(err.contains("choose one with --channel"), "{err}");
+    let s = select_signal(&leaves, Some("channel_2")).unwrap();
+    assert_eq!(s.samples[25], -expected_signal()[25]);
+}
+
+#[test]
+fn what_is_not_a_mat_file_is_a_typed_error() {
+    assert!(matches!(
+        read_mat_tree(b"time,accel\n0,1\n"),
+        Err(DataError::MalformedMat { .. })
+    ));
+    let mut hdf = vec![0u8; 0x300];
+    hdf[0x200..0x208].copy_from_slice(b"\x89HDF\r\n\x1a\n");
+    let e = read_mat_tree(&hdf).unwrap_err().to_string();
+    assert!(e.contains("v7.3"), "{e}");
+    // a compressed element cut short
+    let b = fixture("mfpt_like.mat");
+    assert!(read_mat_tree(&b[..b.len() - 40]).is_err());
+}

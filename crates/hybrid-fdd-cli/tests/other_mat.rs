@@ -1,0 +1,122 @@
+//! Recordings from other rigs as their rigs store them: MAT-files with the signal inside a
+//! struct (MFPT's `bearing.gs` beside its rate `bearing.sr`, compressed as MATLAB saves),
+//! inside a struct array with `Name`/`Data` (Paderborn's `X.Y(k)`), and text files named by
+//! date with no extension (IMS). Each is diagnosed as it is.
+
+mod common;
+
+use clap::Parser as _;
+use common::{BEARING, Diagnose, Fault, MatVal, dir, json, machine, s};
+
+fn diagnose(input: &std::path::Path, extra: &[&str]) -> anyhow::Result<serde_json::Value> {
+    let report = input.with_extension("report.json");
+    let mut v = vec![
+        "diagnose",
+        "--input",
+        s(input),
+        "--rpm",
+        "1500",
+        "--bearing",
+        BEARING,
+        "--report",
+        s(&report),
+    ];
+    v.extend_from_slice(extra);
+    hybrid_fdd_cli::diagnose::run(&Diagnose::try_parse_from(v).unwrap().a)?;
+    Ok(json(&report))
+}
+
+#[test]
+fn a_signal_in_a_compressed_struct_is_found_with_its_stored_rate() {
+    let d = dir("other-mat-struct");
+    let x = machine(Fault::Outer, 20_000.0, 1500.0, 2.0, 3);
+    let f = d.join("OuterRaceFault_1.mat");
+    common::write_mat(
+        &f,
+        &[(
+            "bearing",
+            MatVal::Struct(
+                vec!["gs", "sr", "load", "rate"],
+                vec![vec![
+                    MatVal::Num(x.clone(), x.len() as u32, 1),
+                    MatVal::Num(vec![20_000.0], 1, 1),
+                    MatVal::Num(vec![270.0], 1, 1),
+                    MatVal::Num(vec![25.0], 1, 1),
+                ]],
+            ),
+        )],
+        true,
+    );
+    // no --fs, no --channel: the only signal and the rate stored beside it
+    let r = diagnose(&f, &[]).expect("diagnosed");
+    assert_eq!(r["verdict"], "outer", "{r}");
+    // a --fs that disagrees with the stored rate is refused
+    let e = diagnose(&f, &["--fs", "19000"]).unwrap_err();
+    assert!(format!("{e:#}").contains("disagrees"), "{e:#}");
+}
+
+#[test]
+fn a_struct_arrays_signal_is_chosen_by_its_name() {
+    let d = dir("other-mat-named");
+    let x = machine(Fault::Outer, 20_000.0, 1500.0, 2.0, 4);
+    let healthy = machine(Fault::None, 20_000.0, 1500.0, 2.0, 5);
+    let f = d.join("N15_M07_F10_KA01_1.mat");
+    let elem = |name: &str, v: &[f64]| {
+        vec![
+            MatVal::Text(name.into()),
+            MatVal::Num(v.to_vec(), 1, v.len() as u32),
+        ]
+    };
+    common::write_mat(
+        &f,
+        &[(
+            "N15_M07_F10_KA01_1",
+            MatVal::Struct(
+                vec!["Info", "Y"],
+                vec![vec![
+                    MatVal::Text("test rig".into()),
+                    MatVal::Struct(
+                        vec!["Name", "Data"],
+                        vec![
+                            elem("force", &healthy[..4000]),
+                            elem("vibration_1", &x),
+                            elem("vibration_2", &healthy),
+                        ],
+                    ),
+                ]],
+            ),
+        )],
+        false,
+    );
+    // three vectors: the default channel is ambiguous, and the error lists the names
+    let e = format!("{:#}", diagnose(&f, &["--fs", "20000"]).unwrap_err());
+    assert!(e.contains("vibration_1") && e.contains("--channel"), "{e}");
+    let r = diagnose(&f, &["--fs", "20000", "--channel", "vibration_1"]).expect("diagnosed");
+    assert_eq!(r["verdict"], "outer", "{r}");
+    let r = diagnose(&f, &["--fs", "20000", "--channel", "vibration_2"]).expect("diagnosed");
+    assert_eq!(r["verdict"], "normal", "{r}");
+    // no rate stored and no --fs: said
+    let e = format!(
+        "{:#}",
+        diagnose(&f, &["--channel", "vibration_1"]).unwrap_err()
+    );
+    assert!(e.contains("give --fs"), "{e}");
+}
+
+#[test]
+fn a_text_file_without_extension_is_read_by_content() {
+    let d = dir("other-text-noext");
+    let x = machine(Fault::Outer, 20_000.0, 1500.0, 2.0, 6);
+    let f = d.join("2004.02.12.10.32.39");
+    let body: String = x
+        .iter()
+        .map(|v| format!("{v:.6}\t{:.6}\n", 0.5 * v))
+        .collect();
+    std::fs::write(&f, body).unwrap();
+    let r = diagnose(&f, &["--fs", "20000", "--channel", "1"]).expect("diagnosed");
+    assert_eq!(r["verdict"], "outer", "{r}");
+    let bin = d.join("blob.bin");
+    std::fs::write(&bin, [0u8, 159, 146, 150, 0, 1]).unwrap();
+    let e = format!("{:#}", diagnose(&bin, &["--fs", "20000"]).unwrap_err());
+    assert!(e.contains("neither a MAT-file nor text"), "{e}");
+}
