@@ -44,6 +44,23 @@ pub struct EffectEntry {
     /// step whose value this one replaces (`null` otherwise).
     #[serde(default)]
     pub replaces_step: Option<usize>,
+    /// Which held-out test kept the effect (`null` in reports written before it was recorded).
+    #[serde(default)]
+    pub accepted_on: Option<AcceptedOn>,
+}
+
+/// The held-out test an effect passed (`docs/equations/close-loop.md`, "Acceptance").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AcceptedOn {
+    /// It lowered the held-out spectral error by the margin and the minimum improvement.
+    SpectralError,
+    /// A coherent line that removed at least `min_line_power` of the held-out signal's power from
+    /// the time-domain residual without raising the spectral error.
+    CoherentLine,
+    /// A speed step the held-out envelope confirms by itself (its own estimate within
+    /// two steps of its search grid, strong lines), without raising the spectral error.
+    HeldOutEnvelope,
 }
 
 /// A candidate that was evaluated in the last round and not kept.
@@ -326,6 +343,7 @@ mod tests {
                 residual_rms_before: Some(0.25),
                 residual_rms_after: Some(0.2),
                 replaces_step: None,
+                accepted_on: Some(AcceptedOn::SpectralError),
             }],
             rejected: vec![],
             verification: vec![],

@@ -5,8 +5,8 @@ use crate::effect::{Effect, Line};
 use crate::engine::{Ctx, PathPsd, State};
 use crate::machine::MachineModel;
 use crate::report::{
-    Declared, EffectEntry, Ledger, Outcome, PRIMARY_METRIC, Protocol, RejectedCandidate,
-    SECONDARY_METRIC, Spectra,
+    AcceptedOn, Declared, EffectEntry, Ledger, Outcome, PRIMARY_METRIC, Protocol,
+    RejectedCandidate, SECONDARY_METRIC, Spectra,
 };
 use crate::spectrum::Welch;
 use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
@@ -185,7 +185,14 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         // broadband candidates would be fitting estimation noise
         let lines_only = held.lsd <= c.noise_stop_factor * noise;
         let mut cands = candidates(ctx, &st)?;
-        cands.retain(|e| e.fit_lsd.is_finite() && e.fit_lsd < fit_lsd);
+        // a speed step is also judged when it leaves the fitting error within the margin: its
+        // evidence may be in the envelope, which the spectral error barely sees (inner race)
+        cands.retain(|e| {
+            e.fit_lsd.is_finite()
+                && (e.fit_lsd < fit_lsd
+                    || (matches!(e.effect, Effect::SpeedOffset { .. })
+                        && e.fit_lsd <= fit_lsd * (1.0 + c.margin)))
+        });
         if lines_only {
             cands.retain(|e| e.effect.is_line());
         }
@@ -230,8 +237,24 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                     && !is_declared_fault_line(ctx, &st, &cand.effect)
                     && h.lsd <= held.lsd
                     && held.rms * held.rms - h.rms * h.rms >= c.min_line_power;
-                if spectral || coherent {
-                    accepted = Some((cand, h));
+                // a speed step that the held-out envelope confirms on its own (the fault lines
+                // of the held-out residual sit at the new speed) and that does not raise the
+                // spectral error
+                let envelope = match cand.effect {
+                    Effect::SpeedOffset { step, .. } if !spectral && h.lsd <= held.lsd => {
+                        speed::envelope_confirms_speed(ctx, &st, step)
+                    }
+                    _ => None,
+                };
+                if spectral || coherent || envelope.is_some() {
+                    let on = if spectral {
+                        AcceptedOn::SpectralError
+                    } else if coherent {
+                        AcceptedOn::CoherentLine
+                    } else {
+                        AcceptedOn::HeldOutEnvelope
+                    };
+                    accepted = Some((cand, h, on, envelope));
                     break 'judge;
                 }
                 if let Effect::SpeedOffset { ratio, .. } = cand.effect {
@@ -248,7 +271,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                 });
             }
         }
-        let Some((cand, h)) = accepted else {
+        let Some((cand, h, accepted_on, envelope_step)) = accepted else {
             stop_reason = if lines_only && rejected.is_empty() {
                 format!(
                     "the held-out error {:.3} dB is within {:.2} x the {:.3} dB a correct model \
@@ -278,10 +301,14 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         if let Some(k) = replaces_step {
             description += &format!("; replaces step {k}'s value (a setting, not an added term)");
         }
+        let mut parameters = cand.effect.parameters();
+        if let Some(s) = envelope_step {
+            parameters.insert("held_out_envelope_step".into(), s);
+        }
         effects.push(EffectEntry {
             kind,
             frequency_hz: cand.effect.frequency_hz(),
-            parameters: cand.effect.parameters(),
+            parameters,
             placement: cand.effect.placement(),
             description,
             replaces_step,
@@ -293,6 +320,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             fit_error_after: cand.fit_lsd,
             residual_rms_before: obs,
             residual_rms_after: None,
+            accepted_on: Some(accepted_on),
         });
         st = cand.state;
         obs = observer_rms(ctx, &st);
