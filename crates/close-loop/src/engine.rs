@@ -206,6 +206,20 @@ impl Ctx<'_> {
         st.base = base;
     }
 
+    /// The structural path's background PSD (before its level) with the state's modulations:
+    /// an amplitude modulation acts on the structural vibration, the physics and the background
+    /// alike, not on the white floor nor on the sensor lines (`docs/equations/close-loop.md`,
+    /// "Modulation").
+    pub fn background_psd(&self, st: &State) -> Option<Vec<f64>> {
+        let p = st.path.as_ref()?;
+        let df = self.welch.df();
+        let mut s = p.psd.clone();
+        for m in &st.mods {
+            s = m.apply_psd(&s, df);
+        }
+        Some(s)
+    }
+
     /// Path shaping, modulations, then modes applied to the base PSD (before gain and floor).
     pub fn shaped(&self, st: &State) -> Vec<f64> {
         let df = self.welch.df();
@@ -275,7 +289,8 @@ impl Ctx<'_> {
         let g = st.log_gain.exp();
         let fl = st.log_floor.exp();
         let b = st.log_bg.exp();
-        let path = st.path.as_ref().map(|p| p.psd.as_slice());
+        let bg = self.background_psd(st);
+        let path = bg.as_deref();
         shaped
             .iter()
             .zip(lines_psd)
@@ -292,8 +307,9 @@ impl Ctx<'_> {
         let ones = vec![1.0; shaped.len()];
         let mut comps: Vec<&[f64]> = vec![&shaped, &ones];
         let mut warm = vec![st.log_gain, st.log_floor];
-        if let Some(p) = &st.path {
-            comps.push(&p.psd);
+        let bg = self.background_psd(&st);
+        if let Some(p) = &bg {
+            comps.push(p);
             warm.push(st.log_bg);
         }
         let (u, lsd) = fit_weights(

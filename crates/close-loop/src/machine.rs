@@ -281,7 +281,8 @@ pub struct MachineModel {
     pub lines: Vec<MachineLine>,
     /// Channel modes on the physics output.
     pub channel_modes: Vec<Mode>,
-    /// Modulations of the physics output.
+    /// Amplitude modulations of the structural vibration: the physics output and the path's
+    /// background (not the white floor nor the lines; before 2026-11-26, of the physics only).
     pub modulations: Vec<Modulation>,
     /// Random slip fraction of the declared physics at the end of the calibration, when the loop
     /// changed it (absent: the declared model's own).
@@ -591,9 +592,9 @@ impl MachineModel {
     /// calibrated speed ratio applied), every random draw from `seed`: the structural path
     /// driven by white excitation at its calibrated level, the white floor, the lines at their
     /// calibrated amplitudes with seeded random phases, and the declared physics `model`
-    /// (with the calibration's slip, housing mode and shaft forces, modulations and channel
-    /// modes, scaled by the physics gain) — what the model says a recording of this machine
-    /// is. A clean recording: the loop started from this model adds nothing to it (test
+    /// (with the calibration's slip, housing mode and shaft forces and channel modes, scaled by
+    /// the physics gain), the modulations acting on physics and background together — what the
+    /// model says a recording of this machine is. A clean recording: the loop started from this model adds nothing to it (test
     /// `idempotence::simulated_recording_of_the_machine_model_48k`).
     ///
     /// # Errors
@@ -646,9 +647,6 @@ impl MachineModel {
             let op =
                 crate::OperatingPoint::new(rpm, rates, fault)?.with_speed_ratio(self.speed_ratio);
             let mut x = m.as_deref().unwrap_or(model).simulate(&op, n, fs)?;
-            for md in &self.modulations {
-                x = md.apply(&x, 0, fs);
-            }
             for mode in &self.channel_modes {
                 x = mode.apply(&x, fs);
             }
@@ -665,6 +663,11 @@ impl MachineModel {
             for (a, b) in y.iter_mut().zip(&f[SYNTH_WARMUP..]) {
                 *a += b;
             }
+        }
+        // the modulations act on the structural vibration (physics and background), not on the
+        // white floor nor on the lines
+        for md in &self.modulations {
+            y = md.apply(&y, 0, fs);
         }
         let floor_sd = (self.noise_floor_psd * fs / 2.0).max(0.0).sqrt();
         y.iter_mut().for_each(|v| *v += floor_sd * g.sample());

@@ -2,7 +2,7 @@
 //! one that lowers the held-out error by the margin → repeat; stop when none does.
 
 use crate::effect::{Effect, Line};
-use crate::engine::{Ctx, PathPsd, State};
+use crate::engine::{Ctx, PathPsd, Scores, State};
 use crate::machine::MachineModel;
 use crate::report::{
     AcceptedOn, Declared, EffectEntry, Ledger, Outcome, PRIMARY_METRIC, Protocol,
@@ -239,10 +239,12 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                     && held.rms * held.rms - h.rms * h.rms >= c.min_line_power;
                 // a speed step that the held-out envelope confirms on its own (the fault lines
                 // of the held-out residual sit at the new speed) and that does not raise the
-                // spectral error
-                let envelope = match cand.effect {
-                    Effect::SpeedOffset { step, .. } if !spectral && h.lsd <= held.lsd => {
-                        speed::envelope_confirms_speed(ctx, &st, step)
+                // spectral error by more than the smallest improvement counted
+                let unchanged = h.lsd <= held.lsd + c.min_improvement_db;
+                let envelope = match &cand.effect {
+                    Effect::SpeedOffset { step, .. } if !spectral && unchanged => {
+                        speed::envelope_confirms_speed(ctx, &st, *step)
+                            .map(|s| ("held_out_envelope_step", s))
                     }
                     _ => None,
                 };
@@ -289,46 +291,64 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             };
             break;
         };
-        // a speed ratio, a slip or a structural path is a setting of the model, not an added
-        // term: taken again, it corrects the earlier value, and the ledger says which step
-        let kind = cand.effect.kind();
-        let replaces_step = kind
-            .is_setting()
-            .then(|| effects.iter().rposition(|e: &EffectEntry| e.kind == kind))
-            .flatten()
-            .map(|i| i + 1);
-        let mut description = cand.effect.describe();
-        if let Some(k) = replaces_step {
-            description += &format!("; replaces step {k}'s value (a setting, not an added term)");
+        take(
+            ctx,
+            Taken {
+                effects: &mut effects,
+                st: &mut st,
+                obs: &mut obs,
+                fit_lsd: &mut fit_lsd,
+                held: &mut held,
+            },
+            cand,
+            h,
+            accepted_on,
+            envelope_step,
+        );
+    }
+    // the envelope phase: amplitude modulations, judged on the held-out envelope alone
+    for _ in 0..MAX_MODULATIONS {
+        let mut accepted = None;
+        for cand in modulation_candidates(ctx, &st) {
+            let h = ctx.held_scores(&cand.state);
+            let Effect::Modulation { modulation, .. } = &cand.effect else {
+                continue;
+            };
+            let confirmed = if h.lsd <= held.lsd + c.min_improvement_db {
+                modulation::held_out_confirms(ctx, &st, modulation)
+            } else {
+                None
+            };
+            match confirmed {
+                Some(m) => {
+                    accepted = Some((cand, h, m));
+                    break;
+                }
+                None => rejected.push(RejectedCandidate {
+                    kind: cand.effect.kind(),
+                    frequency_hz: cand.effect.frequency_hz(),
+                    fit_error: cand.fit_lsd,
+                    held_out_error: Some(h.lsd),
+                }),
+            }
         }
-        let mut parameters = cand.effect.parameters();
-        if let Some(s) = envelope_step {
-            parameters.insert("held_out_envelope_step".into(), s);
-        }
-        effects.push(EffectEntry {
-            kind,
-            frequency_hz: cand.effect.frequency_hz(),
-            parameters,
-            placement: cand.effect.placement(),
-            description,
-            replaces_step,
-            error_before: held.lsd,
-            error_after: h.lsd,
-            secondary_before: held.rms,
-            secondary_after: h.rms,
-            fit_error_before: fit_lsd,
-            fit_error_after: cand.fit_lsd,
-            residual_rms_before: obs,
-            residual_rms_after: None,
-            accepted_on: Some(accepted_on),
-        });
-        st = cand.state;
-        obs = observer_rms(ctx, &st);
-        if let Some(e) = effects.last_mut() {
-            e.residual_rms_after = obs;
-        }
-        fit_lsd = cand.fit_lsd;
-        held = h;
+        let Some((cand, h, m_ho)) = accepted else {
+            break;
+        };
+        take(
+            ctx,
+            Taken {
+                effects: &mut effects,
+                st: &mut st,
+                obs: &mut obs,
+                fit_lsd: &mut fit_lsd,
+                held: &mut held,
+            },
+            cand,
+            h,
+            AcceptedOn::HeldOutEnvelope,
+            Some(("held_out_modulation_index", m_ho)),
+        );
     }
     let spectra = spectra(ctx, &first, &st);
     let machine = MachineModel::from_state(ctx, &st, &effects, before.lsd, held.lsd);
@@ -425,6 +445,12 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
         .collect()
 }
 
+/// Most amplitude modulations the envelope phase adds after the spectral loop stops, strongest
+/// first (`docs/equations/close-loop.md`, "Modulation"): a fault record's envelope holds many
+/// real lines (cage and shaft sidebands of the fault itself), and the largest excesses over the
+/// model are the ones worth a name.
+pub const MAX_MODULATIONS: usize = 2;
+
 /// A speed step farther than this from the current speed (a fraction) is a far step.
 pub const FAR_SPEED_STEP: f64 = 0.02;
 /// Relative held-out improvement a far speed step must bring (the usual margin is 2 %). A speed
@@ -433,6 +459,65 @@ pub const FAR_SPEED_STEP: f64 = 0.02;
 /// slower, from the rig's machine model), while on short or weakly periodic records a far step
 /// can buy 2–3 % by moving some line onto a peak (174.mat, 1.33 s: ×0.952 for 2.2 %).
 pub const FAR_SPEED_MARGIN: f64 = 0.10;
+
+/// The loop's running state that an accepted effect updates.
+struct Taken<'a> {
+    effects: &'a mut Vec<EffectEntry>,
+    st: &'a mut State,
+    obs: &'a mut Option<f64>,
+    fit_lsd: &'a mut f64,
+    held: &'a mut Scores,
+}
+
+/// Record `cand` (held-out scores `h`, kept by `accepted_on`, with the held-out evidence `extra`
+/// among its parameters) in the ledger and make its state the loop's.
+fn take(
+    ctx: &Ctx<'_>,
+    t: Taken<'_>,
+    cand: Evaluated,
+    h: Scores,
+    accepted_on: AcceptedOn,
+    extra: Option<(&'static str, f64)>,
+) {
+    // a speed ratio, a slip or a structural path is a setting of the model, not an added
+    // term: taken again, it corrects the earlier value, and the ledger says which step
+    let kind = cand.effect.kind();
+    let replaces_step = kind
+        .is_setting()
+        .then(|| t.effects.iter().rposition(|e: &EffectEntry| e.kind == kind))
+        .flatten()
+        .map(|i| i + 1);
+    let mut description = cand.effect.describe();
+    if let Some(k) = replaces_step {
+        description += &format!("; replaces step {k}'s value (a setting, not an added term)");
+    }
+    let mut parameters = cand.effect.parameters();
+    if let Some((key, v)) = extra {
+        parameters.insert(key.into(), v);
+    }
+    *t.st = cand.state;
+    let obs_after = observer_rms(ctx, t.st);
+    t.effects.push(EffectEntry {
+        kind,
+        frequency_hz: cand.effect.frequency_hz(),
+        parameters,
+        placement: cand.effect.placement(),
+        description,
+        replaces_step,
+        error_before: t.held.lsd,
+        error_after: h.lsd,
+        secondary_before: t.held.rms,
+        secondary_after: h.rms,
+        fit_error_before: *t.fit_lsd,
+        fit_error_after: cand.fit_lsd,
+        residual_rms_before: *t.obs,
+        residual_rms_after: obs_after,
+        accepted_on: Some(accepted_on),
+    });
+    *t.obs = obs_after;
+    *t.fit_lsd = cand.fit_lsd;
+    *t.held = h;
+}
 
 /// `cands` with every speed-offset candidate moved ahead of the first slip candidate (their own
 /// order kept; nothing else moves). Random slip smears the model's fault lines, so a slip wide
@@ -775,7 +860,6 @@ fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopErro
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
     out.extend(slip_candidate(ctx, st));
-    out.extend(modulation_candidates(ctx, st));
     Ok(out)
 }
 
