@@ -14,8 +14,10 @@ pub struct Args {
     /// Recording: a CWRU `.mat` file (named by its number, e.g. `130.mat`), any other MAT-file
     /// (v5–v7, the signal at the top level or inside structs and cells: MFPT's `bearing.gs`,
     /// Paderborn's `X.Y(k).Data`), a delimited text file (`.csv`, `.tsv`, `.txt`, or any name
-    /// whose content is text, such as IMS's date-named files), or a directory: every `.mat`/`.csv`/`.tsv` in it is diagnosed, in parallel, one report per
-    /// file (named by its stem; by stem and extension, `x_csv.json`, when two files share a stem)
+    /// whose content is text, such as IMS's date-named files), or a directory: every
+    /// `.mat`/`.csv`/`.tsv` in it (and every MAT or text file named without an extension or with
+    /// an all-digit one, as IMS's) is diagnosed, in parallel, one report per file (named by its
+    /// stem; by stem and extension, `x_csv.json`, when two files share a stem)
     /// and `summary.csv` listing each file's report; the exit status is non-zero when any file
     /// failed (after all reports and the summary are written).
     #[arg(long)]
@@ -1127,7 +1129,9 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
     m
 }
 
-/// Files a directory input expands to (`.mat`, `.csv`, sorted).
+/// Files a directory input expands to, sorted: `.mat`, `.csv`, `.tsv`, and files named without an
+/// extension or with an all-digit one (IMS names its records by date, `2004.02.12.10.32.39`)
+/// whose content is a MAT-file or text ([`sniff`]).
 fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
     if !input.is_dir() {
         return Ok(vec![input.to_path_buf()]);
@@ -1135,17 +1139,25 @@ fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(input)
         .with_context(|| format!("reading {}", input.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
-                ["mat", "csv", "tsv"]
+        .filter(|p| p.is_file())
+        .filter(|p| match p.extension().and_then(|e| e.to_str()) {
+            Some(e)
+                if ["mat", "csv", "tsv"]
                     .iter()
-                    .any(|x| e.eq_ignore_ascii_case(x))
-            })
+                    .any(|x| e.eq_ignore_ascii_case(x)) =>
+            {
+                true
+            }
+            Some(e) if !e.bytes().all(|b| b.is_ascii_digit()) => false,
+            _ => sniff(p).is_ok(),
         })
         .collect();
     v.sort();
     if v.is_empty() {
-        bail!("{} holds no .mat, .csv or .tsv file", input.display());
+        bail!(
+            "{} holds no .mat, .csv or .tsv file (nor a MAT or text file named without an extension)",
+            input.display()
+        );
     }
     Ok(v)
 }

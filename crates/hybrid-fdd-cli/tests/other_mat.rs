@@ -120,3 +120,50 @@ fn a_text_file_without_extension_is_read_by_content() {
     let e = format!("{:#}", diagnose(&bin, &["--fs", "20000"]).unwrap_err());
     assert!(e.contains("neither a MAT-file nor text"), "{e}");
 }
+
+#[test]
+fn a_directory_of_date_named_records_is_a_batch() {
+    let d = dir("other-ims-batch");
+    let input = d.join("2nd_test");
+    std::fs::create_dir_all(&input).unwrap();
+    for (name, fault, seed) in [
+        ("2004.02.12.10.32.39", Fault::None, 7),
+        ("2004.02.12.10.42.39", Fault::Outer, 8),
+    ] {
+        let x = machine(fault, 20_000.0, 1500.0, 2.0, seed);
+        let body: String = x
+            .iter()
+            .map(|v| format!("{v:.6}\t{:.6}\n", 0.5 * v))
+            .collect();
+        std::fs::write(input.join(name), body).unwrap();
+    }
+    // not recordings: another extension, and a binary file without one
+    std::fs::write(input.join("notes.md"), "# test rig\n").unwrap();
+    std::fs::write(input.join("blob"), [0u8, 159, 146, 150]).unwrap();
+    let out = d.join("out");
+    let a = Diagnose::try_parse_from([
+        "diagnose",
+        "--input",
+        s(&input),
+        "--fs",
+        "20000",
+        "--rpm",
+        "1500",
+        "--channel",
+        "1",
+        "--bearing",
+        BEARING,
+        "--report",
+        s(&out),
+    ])
+    .unwrap()
+    .a;
+    hybrid_fdd_cli::diagnose::run(&a).expect("batch");
+    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 3, "{summary}");
+    assert_eq!(
+        json(&out.join("2004.02.12.10.32.json"))["verdict"],
+        "normal"
+    );
+    assert_eq!(json(&out.join("2004.02.12.10.42.json"))["verdict"], "outer");
+}
