@@ -374,6 +374,30 @@ pub fn markdown(rep: &ChapterReport, diss: &[&DissTable]) -> String {
                     }
                 }
             }
+            // the same cells with the energy in dB (SVM chapters, CWRU tables)
+            if t.sources.iter().any(|s| !s.cells_db.is_empty()) {
+                let per_crack: Vec<String> = (0..d.cracks.len())
+                    .map(|ci| {
+                        let v: Vec<String> = t
+                            .sources
+                            .iter()
+                            .map(|s| {
+                                let a = match s.cells_db.get(ci) {
+                                    Some(Cell::Measured(o)) => pct(o.average),
+                                    Some(Cell::NotApplicable(_)) => "n/a".into(),
+                                    None => "–".into(),
+                                };
+                                format!("{} {a}", s.source)
+                            })
+                            .collect();
+                        format!("{} {}: {}", d.cracks[ci], d.crack_unit, v.join(", "))
+                    })
+                    .collect();
+                extra.push(format!(
+                    "Average with the energy in dB (`ours_db`): {}",
+                    per_crack.join("; ")
+                ));
+            }
             for e in extra {
                 let _ = writeln!(m, "- {e}");
             }
