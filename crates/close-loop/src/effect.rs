@@ -258,14 +258,13 @@ pub const MODE_MAX_DAMPING: f64 = 0.7;
 /// Gain range of a fitted mode: a bump up to +200 (46 dB), a notch down to −0.97 (−30 dB).
 pub const MODE_GAIN_RANGE: (f64, f64) = (-0.97, 200.0);
 
-/// Largest modulation depth the fit searches (the golden-section search runs over
-/// [0.02, `MODULATION_MAX_DEPTH`]).
+/// Largest modulation depth (a full modulation of the structural vibration).
 pub const MODULATION_MAX_DEPTH: f64 = 1.0;
 
-/// Whether a fitted modulation's depth ended at the top of its search range
-/// ([`MODULATION_MAX_DEPTH`]): the floor-regularised spectral distance then kept asking for more
-/// sideband power than a depth can give, and the depth is not a measurement (black-box check:
-/// 30–50 % modulations came back at 0.99999).
+/// Whether a modulation's depth reached [`MODULATION_MAX_DEPTH`]: the envelope's modulation
+/// index asked for more than a full modulation of the structural vibration gives, so the depth is
+/// a lower bound. (Until 2026-11-26 the depth was fitted on the spectral distance and 30–50 %
+/// modulations came back at 0.99999.)
 pub fn depth_at_bound(m: &Modulation) -> bool {
     m.depth >= 0.99 * MODULATION_MAX_DEPTH
 }
@@ -513,8 +512,9 @@ impl Effect {
                 modulation.frequency_hz,
                 modulation.depth,
                 if depth_at_bound(modulation) {
-                    " (depth at its search bound: the spectral distance asked for the most \
-                     modulation allowed; the rate is measured, the depth is not)"
+                    " (depth at its bound: the envelope's modulation index asked for more than \
+                     a full modulation of the structural vibration gives; the rate is measured, \
+                     the depth is a lower bound)"
                 } else {
                     ""
                 }

@@ -371,9 +371,8 @@ fn modes_at_their_search_bound_are_flagged() {
     }
 }
 
-/// A fitted modulation whose depth ends at the top of its search range is reported as such (key
-/// `at_search_bound`, and the description says the depth is not a measurement); a depth inside
-/// the range is not.
+/// A modulation whose depth reached its bound is reported as such (key `at_search_bound`, and
+/// the description says the depth is a lower bound); a depth inside the range is not.
 #[test]
 fn modulation_depths_at_their_search_bound_are_flagged() {
     use close_loop::effect::{Effect, MODULATION_MAX_DEPTH, Modulation};
@@ -387,8 +386,8 @@ fn modulation_depths_at_their_search_bound_are_flagged() {
     };
     let inside = effect(0.4);
     assert_eq!(inside.parameters()["at_search_bound"], 0.0);
-    assert!(!inside.describe().contains("search bound"));
+    assert!(!inside.describe().contains("bound"));
     let pinned = effect(0.99999 * MODULATION_MAX_DEPTH);
     assert_eq!(pinned.parameters()["at_search_bound"], 1.0);
-    assert!(pinned.describe().contains("the depth is not"));
+    assert!(pinned.describe().contains("the depth is a lower bound"));
 }
