@@ -1,22 +1,12 @@
-//! The generic MAT reader on files shaped like other rigs' (`tests/fixtures/mat/make_fixtures.py`
-//! writes them with scipy): compressed structs, struct arrays with `Name`/`Data`, cells, text,
-//! integer and single classes, complex arrays, and what `select_signal` and
+//! The generic MAT reader on files shaped like other rigs' (written here by `write_mat`, so
+//! that no `.mat` file is committed): compressed structs, struct arrays with `Name`/`Data`,
+//! cells, text, integer and single classes, complex arrays, and what `select_signal` and
 //! `sampling_rate_near` make of them.
 
+mod common;
+
 use bearing_data::{DataError, MatValue, read_mat_tree, sampling_rate_near, select_signal};
-
-fn fixture(name: &str) -> Vec<u8> {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/mat")
-        .join(name);
-    std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn expected_signal() -> Vec<f64> {
-    (0..2048)
-        .map(|n| ((2.0 * std::f64::consts::PI * 0.01 * n as f64).sin() * 1000.0).round() / 1000.0)
-        .collect()
-}
+use common::mat_fixtures::{expected_signal, fixture};
 
 #[test]
 fn a_compressed_struct_gives_its_fields_and_the_rate_beside_the_signal() {

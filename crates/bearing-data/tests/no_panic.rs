@@ -87,8 +87,7 @@ proptest! {
         cut in any::<prop::sample::Index>(),
     ) {
         let name = ["struct_v5.mat", "plain.mat", "mfpt_like.mat"][which];
-        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mat").join(name);
-        let mut b = std::fs::read(p).expect("fixture");
+        let mut b = common::mat_fixtures::fixture(name);
         for (i, v) in &edits {
             let k = 128 + i.index(b.len() - 128);
             b[k] = *v;

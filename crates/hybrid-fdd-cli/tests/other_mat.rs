@@ -5,8 +5,9 @@
 
 mod common;
 
+use bearing_data::{MatArray, write_mat};
 use clap::Parser as _;
-use common::{BEARING, Diagnose, Fault, MatVal, dir, json, machine, s};
+use common::{BEARING, Diagnose, Fault, dir, json, machine, s};
 
 fn diagnose(input: &std::path::Path, extra: &[&str]) -> anyhow::Result<serde_json::Value> {
     let report = input.with_extension("report.json");
@@ -31,22 +32,25 @@ fn a_signal_in_a_compressed_struct_is_found_with_its_stored_rate() {
     let d = dir("other-mat-struct");
     let x = machine(Fault::Outer, 20_000.0, 1500.0, 2.0, 3);
     let f = d.join("OuterRaceFault_1.mat");
-    common::write_mat(
+    std::fs::write(
         &f,
-        &[(
-            "bearing",
-            MatVal::Struct(
-                vec!["gs", "sr", "load", "rate"],
-                vec![vec![
-                    MatVal::Num(x.clone(), x.len() as u32, 1),
-                    MatVal::Num(vec![20_000.0], 1, 1),
-                    MatVal::Num(vec![270.0], 1, 1),
-                    MatVal::Num(vec![25.0], 1, 1),
-                ]],
-            ),
-        )],
-        true,
-    );
+        write_mat(
+            &[(
+                "bearing",
+                MatArray::Struct(
+                    ["gs", "sr", "load", "rate"].map(String::from).to_vec(),
+                    vec![vec![
+                        MatArray::Double(vec![x.len(), 1], x.clone()),
+                        MatArray::Double(vec![1, 1], vec![20_000.0]),
+                        MatArray::Double(vec![1, 1], vec![270.0]),
+                        MatArray::Double(vec![1, 1], vec![25.0]),
+                    ]],
+                ),
+            )],
+            true,
+        ),
+    )
+    .unwrap();
     // no --fs, no --channel: the only signal and the rate stored beside it
     let r = diagnose(&f, &[]).expect("diagnosed");
     assert_eq!(r["verdict"], "outer", "{r}");
@@ -63,31 +67,34 @@ fn a_struct_arrays_signal_is_chosen_by_its_name() {
     let f = d.join("N15_M07_F10_KA01_1.mat");
     let elem = |name: &str, v: &[f64]| {
         vec![
-            MatVal::Text(name.into()),
-            MatVal::Num(v.to_vec(), 1, v.len() as u32),
+            MatArray::Text(name.into()),
+            MatArray::Double(vec![1, v.len()], v.to_vec()),
         ]
     };
-    common::write_mat(
+    std::fs::write(
         &f,
-        &[(
-            "N15_M07_F10_KA01_1",
-            MatVal::Struct(
-                vec!["Info", "Y"],
-                vec![vec![
-                    MatVal::Text("test rig".into()),
-                    MatVal::Struct(
-                        vec!["Name", "Data"],
-                        vec![
-                            elem("force", &healthy[..4000]),
-                            elem("vibration_1", &x),
-                            elem("vibration_2", &healthy),
-                        ],
-                    ),
-                ]],
-            ),
-        )],
-        false,
-    );
+        write_mat(
+            &[(
+                "N15_M07_F10_KA01_1",
+                MatArray::Struct(
+                    ["Info", "Y"].map(String::from).to_vec(),
+                    vec![vec![
+                        MatArray::Text("test rig".into()),
+                        MatArray::Struct(
+                            ["Name", "Data"].map(String::from).to_vec(),
+                            vec![
+                                elem("force", &healthy[..4000]),
+                                elem("vibration_1", &x),
+                                elem("vibration_2", &healthy),
+                            ],
+                        ),
+                    ]],
+                ),
+            )],
+            false,
+        ),
+    )
+    .unwrap();
     // three vectors: the default channel is ambiguous, and the error lists the names
     let e = format!("{:#}", diagnose(&f, &["--fs", "20000"]).unwrap_err());
     assert!(e.contains("vibration_1") && e.contains("--channel"), "{e}");

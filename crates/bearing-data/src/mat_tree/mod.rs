@@ -25,7 +25,9 @@ use std::io::Read;
 use crate::error::{DataError, Result};
 
 mod select;
+mod write;
 pub use select::{MatSignal, sampling_rate_near, select_signal};
+pub use write::{MatArray, write_mat};
 
 /// Largest decompressed size of one compressed element (bytes): 1 GiB, far above any
 /// single-channel recording, far below what a hostile stream could make us allocate unchecked.

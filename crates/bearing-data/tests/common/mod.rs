@@ -99,3 +99,4 @@ pub fn tiny_cwru(n: u32, rpm: u16) -> Vec<u8> {
         (&format!("X{n:03}RPM"), MatData::SmallU16(rpm)),
     ])
 }
+pub mod mat_fixtures;
