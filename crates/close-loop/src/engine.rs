@@ -335,14 +335,19 @@ impl Ctx<'_> {
         let lp = self.lines_psd(&st.lines, held.clone());
         let model = self.model_psd(st, &shaped, &lp);
         let lsd = regularised_lsd(&self.s_held, &model, self.bins.clone(), self.eps);
-        let yh = &self.y[held.clone()];
-        let d = self.lines_signal(&st.all_lines(), held);
-        let r: Vec<f64> = yh.iter().zip(&d).map(|(a, b)| a - b).collect();
-        let ry = rms(yh);
+        let r = self.held_residual(st);
+        let ry = rms(&self.y[held]);
         Scores {
             lsd,
             rms: if ry > 0.0 { rms(&r) / ry } else { 0.0 },
         }
+    }
+
+    /// Held-out residual y − (all lines of `st`).
+    pub fn held_residual(&self, st: &State) -> Vec<f64> {
+        let held = self.held();
+        let d = self.lines_signal(&st.all_lines(), held.clone());
+        self.y[held].iter().zip(&d).map(|(a, b)| a - b).collect()
     }
 
     /// Fitting-segment residual y − (all lines of `st`).

@@ -256,16 +256,7 @@ fn speed_change_by_resampling_from_the_machine_model_130() {
     for s in [1.03, 1.0 / 1.03] {
         let y = played_faster(r.de(), s);
         let o = run_from(machine, &y, rpm, &cfg);
-        let kinds: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
-        let speed = o
-            .ledger
-            .effects
-            .iter()
-            .position(|e| e.kind == EffectKind::SpeedOffset)
-            .unwrap_or_else(|| panic!("{s}: no speed offset named: {kinds:?}"));
-        if let Some(slip) = kinds.iter().position(|k| *k == EffectKind::Slip) {
-            assert!(speed < slip, "{s}: slip before the speed: {kinds:?}");
-        }
+        let speed = speed_named_before_slip(&o, s);
         // the rig's own fault lines sit ~0.33 % above the logged speed (references.md); the
         // machine model's ratio is folded into the named one
         let ratio = o.ledger.effects[speed].parameters["ratio"];
@@ -273,6 +264,20 @@ fn speed_change_by_resampling_from_the_machine_model_130() {
         assert!((-0.001..0.0045).contains(&rel), "{s}: ratio {ratio}");
         assert!(o.ledger.error_after < o.ledger.error_before);
     }
+}
+
+/// The ledger position of the speed offset `o` names for a record played `s` times faster;
+/// panics when none is named or a slip comes before it.
+fn speed_named_before_slip(o: &Outcome, s: f64) -> usize {
+    let kinds: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
+    let speed = kinds
+        .iter()
+        .position(|k| *k == EffectKind::SpeedOffset)
+        .unwrap_or_else(|| panic!("{s}: no speed offset named: {kinds:?}"));
+    if let Some(slip) = kinds.iter().position(|k| *k == EffectKind::Slip) {
+        assert!(speed < slip, "{s}: slip before the speed: {kinds:?}");
+    }
+    speed
 }
 
 /// 170 (inner race 0.014 in, 1 hp, grade Y) played 2.5 % faster and 2 % slower, from the rig's
@@ -290,16 +295,7 @@ fn inner_race_speed_change_is_named_from_the_envelope_170() {
     for s in [1.025, 1.0 / 1.02] {
         let y = played_faster(r.de(), s);
         let o = run_from_with(machine, &y, rpm, DeclaredFault::Inner, &cfg);
-        let kinds: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
-        let speed = o
-            .ledger
-            .effects
-            .iter()
-            .position(|e| e.kind == EffectKind::SpeedOffset)
-            .unwrap_or_else(|| panic!("{s}: no speed offset named: {kinds:?}"));
-        if let Some(slip) = kinds.iter().position(|k| *k == EffectKind::Slip) {
-            assert!(speed < slip, "{s}: slip before the speed: {kinds:?}");
-        }
+        let speed = speed_named_before_slip(&o, s);
         // CWRU's inner-race lines sit 0.2–0.3 % below the logged speed's BPFI (105, 209: 0.997,
         // 0.998); that ratio is folded into the named one
         let e = &o.ledger.effects[speed];

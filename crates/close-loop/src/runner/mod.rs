@@ -178,6 +178,25 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
     let obs_before = obs;
     let mut effects = Vec::new();
     let mut rejected = Vec::new();
+    // an accepted effect goes into the ledger and its state becomes the loop's ([`take`])
+    macro_rules! take {
+        ($cand:expr, $h:expr, $on:expr, $extra:expr $(,)?) => {
+            take(
+                ctx,
+                Taken {
+                    effects: &mut effects,
+                    st: &mut st,
+                    obs: &mut obs,
+                    fit_lsd: &mut fit_lsd,
+                    held: &mut held,
+                },
+                $cand,
+                $h,
+                $on,
+                $extra,
+            )
+        };
+    }
     let mut stop_reason = format!("reached the maximum of {} effects", c.max_effects);
     for _round in 0..c.max_effects {
         // within the estimator's own scatter, only lines (a detection that stands on its own:
@@ -291,20 +310,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             };
             break;
         };
-        take(
-            ctx,
-            Taken {
-                effects: &mut effects,
-                st: &mut st,
-                obs: &mut obs,
-                fit_lsd: &mut fit_lsd,
-                held: &mut held,
-            },
-            cand,
-            h,
-            accepted_on,
-            envelope_step,
-        );
+        take!(cand, h, accepted_on, envelope_step);
     }
     // the envelope phase: amplitude modulations, judged on the held-out envelope alone
     for _ in 0..MAX_MODULATIONS {
@@ -335,15 +341,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         let Some((cand, h, m_ho)) = accepted else {
             break;
         };
-        take(
-            ctx,
-            Taken {
-                effects: &mut effects,
-                st: &mut st,
-                obs: &mut obs,
-                fit_lsd: &mut fit_lsd,
-                held: &mut held,
-            },
+        take!(
             cand,
             h,
             AcceptedOn::HeldOutEnvelope,

@@ -82,9 +82,7 @@ pub const MODULATION_CONFIRM_FACTOR: f64 = 4.0;
 /// as the model without. A modulation's sidebands barely move the spectral distance of a
 /// broadband signal; the envelope is where it shows. Returns the held-out index.
 pub(super) fn held_out_confirms(ctx: &Ctx<'_>, st: &State, md: &Modulation) -> Option<f64> {
-    let held = ctx.held();
-    let lines = ctx.lines_signal(&st.all_lines(), held.clone());
-    let r: Vec<f64> = ctx.y[held].iter().zip(&lines).map(|(a, b)| a - b).collect();
+    let r = ctx.held_residual(st);
     let fm = md.frequency_hz;
     let (m_ho, scatter) = index_and_scatter(&ModulationIndex::new(&r, ctx.fs).ok()?, fm);
     let mut msig = st.base.signal.clone();

@@ -36,10 +36,7 @@ pub const ENVELOPE_CONFIRM_SCORE: f64 = 8.0;
 /// spectrum, so a speed error barely moves the spectral distance there while it moves every
 /// envelope line; this is the held-out test that sees it. Returns the held-out estimate.
 pub(super) fn envelope_confirms_speed(ctx: &Ctx<'_>, st: &State, step: f64) -> Option<f64> {
-    let held = ctx.held();
-    let lines = ctx.lines_signal(&st.all_lines(), held.clone());
-    let r: Vec<f64> = ctx.y[held].iter().zip(&lines).map(|(a, b)| a - b).collect();
-    let (s, score, grid) = envelope_speed_of(ctx, st, &r)?;
+    let (s, score, grid) = envelope_speed_of(ctx, st, &ctx.held_residual(st))?;
     ((s - step).abs() <= 2.0 * grid && score >= ENVELOPE_CONFIRM_SCORE).then_some(s)
 }
 
