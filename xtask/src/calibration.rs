@@ -235,9 +235,9 @@ fn write(
          6 o'clock spall of that size) and the 48 kHz drive-end records (decimated to 12 kHz). Only the training \
          records' PSDs, mean squares, kurtosis and fault-line prominence are fitted (the severity's \
          strike fraction — the share of the time the defect strikes, in bursts of {} fault periods — \
-         matches the prominence of the fault line in the envelope spectrum, chosen from {:?}; its \
-         random fraction matches the kurtosis; the measurement chain's roll-off, a {}-tap zero-phase FIR, is the median \
-         measured/simulated PSD ratio); no label beyond the catalogued location and size, and no \
+         matches the prominence of the fault line in the envelope spectrum among those from {:?} that \
+         can reach the record's kurtosis; its random fraction matches the kurtosis; the measurement chain's roll-off, a {}-tap zero-phase FIR, is the median \
+         measured/simulated PSD ratio; then each impact path is corrected {} times by what its records' simulated fault spectrum, behind sensor, chain and gate, misses of the measured excess, and the severities refitted); no label beyond the catalogued location and size, and no \
          accuracy. \
          Between calibrated sizes the gain is interpolated log-log; beyond them the nearest \
          calibrated gain is held. Simulated recordings have the measured record's length and speed \
@@ -261,6 +261,7 @@ fn write(
         rig::BURST_PERIODS,
         rig::STRIKE_FRACTIONS,
         model.chain_fir.len(),
+        rig::PATH_REFINEMENTS,
     ));
     md.push_str(
         "| severity | position | size (mm) | gain | random fraction | strike fraction | record |\n|---|---|---|---|---|---|---|\n",

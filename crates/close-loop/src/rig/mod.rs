@@ -49,7 +49,7 @@ use std::f64::consts::PI;
 mod calibrate;
 mod stats;
 
-pub use calibrate::{PRELOADS_M, RADIAL_LOADS_N, TrainingRecord, calibrate_rig};
+pub use calibrate::{PATH_REFINEMENTS, PRELOADS_M, RADIAL_LOADS_N, TrainingRecord, calibrate_rig};
 pub use stats::{BANDS_HZ, Comparison, SignalStats, line_prominence_db, signal_stats};
 
 /// The `format` string of a rig model file.
