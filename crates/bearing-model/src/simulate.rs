@@ -414,7 +414,7 @@ const D7: f64 = 69997945.0 / 29380423.0;
 
 /// β of the PI step-size controller (DOPRI5's default 0.04). Where the step is limited by
 /// stability rather than accuracy (a stiff out-of-band mode, e.g. close-loop's excitation
-/// model with its sprung mass at 20 kHz) the plain controller oscillates around the
+/// model with its heavily damped sprung mass above the output band) the plain controller oscillates around the
 /// stability limit and rejects about one step in nine; with β = 0.04 one in thirty (measured
 /// in close-loop's `examples/excitation_tolerance.rs`).
 const PI_BETA: f64 = 0.04;

@@ -21,6 +21,7 @@ fn run(rig: &RigModel, class: FaultClass, rpm: f64, rtol: f64) -> (Vec<f64>, f64
         12_000.0,
         12_000,
         3,
+        rig.excitation_housing_hz,
         rtol,
     )
     .expect("the calibrated rig's excitation simulates");

@@ -43,6 +43,20 @@ fn committed_rig_loads_round_trips_and_rejects_bad_files() {
     }
     let old = RigModel::from_json(&v.to_string()).unwrap();
     assert!(old.severities.iter().all(|s| s.strike_fraction == 1.0));
+    // one written before the excitation's mount resonance was stored was fitted at 20 kHz
+    assert_eq!(r.excitation_housing_hz, rig::EXCITATION_HOUSING_HZ);
+    v.as_object_mut().unwrap().remove("excitation_housing_hz");
+    let old = RigModel::from_json(&v.to_string()).unwrap();
+    assert_eq!(old.excitation_housing_hz, rig::LEGACY_EXCITATION_HOUSING_HZ);
+    // a mount inside the output band (or not a number) is refused
+    for hz in [1000.0, f64::NAN] {
+        let mut bad = r.clone();
+        bad.excitation_housing_hz = hz;
+        assert!(matches!(
+            RigModel::from_json(&bad.to_json().unwrap_or_else(|_| text.clone())),
+            Err(CloseLoopError::MachineModelFormat { .. })
+        ));
+    }
 }
 
 /// The strike gate is on the asked fraction of the time, in bursts of the asked mean length, with
@@ -609,6 +623,7 @@ fn excitation_tolerance_keeps_the_output_within_1e_3_of_a_tight_integration() {
                 fs,
                 n,
                 11,
+                r.excitation_housing_hz,
                 rtol,
             )
             .expect("simulates")

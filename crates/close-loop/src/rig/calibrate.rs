@@ -3,10 +3,10 @@
 //! the measurement chain.
 
 use super::{
-    BURST_PERIODS, DEPTH_M, Excitation, FORMAT, IMPACT_PATH_ORDER, ImpactPath, Location, RigModel,
-    RigProvenance, SLIP_FRACTION, SMOOTH_HZ, STRIKE_FRACTIONS, Severity, Synthesis, VERSION,
-    WARMUP, apply_fir, background_of, excitation, fault_rate_of, gated, line_prominence_db,
-    mean_square, mix, smooth,
+    BURST_PERIODS, DEPTH_M, EXCITATION_HOUSING_HZ, Excitation, FORMAT, IMPACT_PATH_ORDER,
+    ImpactPath, Location, RigModel, RigProvenance, SLIP_FRACTION, SMOOTH_HZ, STRIKE_FRACTIONS,
+    Severity, Synthesis, VERSION, WARMUP, apply_fir, background_of, excitation, fault_rate_of,
+    gated, line_prominence_db, mean_square, mix, smooth,
 };
 use crate::CloseLoopError;
 use crate::machine::{MachineLine, MachineModel};
@@ -291,6 +291,7 @@ fn fit_paths(
             fs,
             t.y.len().min(len) + WARMUP,
             1000 + i as u64,
+            EXCITATION_HOUSING_HZ,
         )?;
         let s_x = smooth(&welch.try_psd(&x.vertical)?, half);
         ratios.push(excess_log_ratio(&measured[i].0, &background[i].0, &s_x));
@@ -699,6 +700,7 @@ pub fn calibrate_rig(
         chain_fir: Vec::new(),
         background_fir: remainder.clone(),
         background_chain_fir: bg_chain.clone(),
+        excitation_housing_hz: EXCITATION_HOUSING_HZ,
         depth_m: DEPTH_M,
         slip_fraction: SLIP_FRACTION,
         severities,
@@ -742,6 +744,7 @@ pub fn calibrate_rig(
                 fs,
                 t.y.len().min(long) + WARMUP,
                 1000 + (training.len() + j) as u64,
+                EXCITATION_HOUSING_HZ,
             )
         })
         .collect::<Result<_, CloseLoopError>>()?;
@@ -985,6 +988,7 @@ fn fit_radial_load(
                     fs,
                     n + WARMUP,
                     3000 + k as u64,
+                    EXCITATION_HOUSING_HZ,
                 )?;
                 let y = path.filter(&e.vertical);
                 Ok(mean_square(&y[WARMUP.min(y.len() / 2)..]))
@@ -1027,6 +1031,7 @@ fn fit_horizontal(
             rig.fs_hz,
             t.y.len().min((4.0 * rig.fs_hz) as usize) + WARMUP,
             2000 + i as u64,
+            rig.excitation_housing_hz,
         )?;
         let path = rig.impact_path_for(Location::Outer, t.size_mm)?;
         let strike = rig.strike_fraction(Location::Outer, t.size_mm)?;
