@@ -153,19 +153,29 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
     assert!((0.9..1.6).contains(&r), "path residual RMS {r}");
     assert!((2.0..4.0).contains(&k), "path residual kurtosis {k}");
     // as an observer model: the physics observers' one-step predictor removes the resonance
-    let pm = m.observer_model().unwrap();
-    assert!(pm.is_shift_form());
-    let mut obs = observers::build_observer(
-        observers::ObserverKind::Flo,
-        &observers::ModelConfig::CalibratedPath(pm),
-        &observers::ObserverSettings::new(1e-3),
-    )
-    .unwrap();
-    let res = obs.run(&y).unwrap().residual;
-    let ratio = close_loop::metric::rms(&res[n / 2..]) / close_loop::metric::rms(&y[n / 2..]);
+    let flo_ratio = |pm: observers::LinearModel| {
+        assert!(pm.is_shift_form());
+        let mut obs = observers::build_observer(
+            observers::ObserverKind::Flo,
+            &observers::ModelConfig::CalibratedPath(pm),
+            &observers::ObserverSettings::new(1e-3),
+        )
+        .unwrap();
+        let res = obs.run(&y).unwrap().residual;
+        close_loop::metric::rms(&res[n / 2..]) / close_loop::metric::rms(&y[n / 2..])
+    };
+    let path_only = flo_ratio(m.observer_model().unwrap());
     assert!(
-        ratio < 0.5,
-        "FLO on the calibrated path: residual/signal {ratio}"
+        path_only < 0.5,
+        "FLO on the calibrated path: residual/signal {path_only}"
+    );
+    // on the whole machine model (path, floor and the line the loop named, the 1234.5 Hz tone)
+    // that line is predicted too: the path alone leaves it, whitened, in the residual
+    assert!(!m.lines.is_empty());
+    let whole = flo_ratio(m.predictor_model().unwrap());
+    assert!(
+        whole < 0.98 * path_only,
+        "FLO on the whole machine model: residual/signal {whole} against {path_only} on the path"
     );
     let text = m.to_json().unwrap();
     let back = MachineModel::from_json(&text).unwrap();

@@ -148,6 +148,11 @@ pub struct Prepared {
     pub revolution: usize,
     /// Order of the calibrated structural path (AR order p).
     pub path_order: usize,
+    /// Lines (shaft harmonics, tones) of the calibrated machine model the physics observers'
+    /// predictor also carries ([`close_loop::machine::MachineModel::predictor_model`]).
+    pub path_lines: usize,
+    /// Order of the physics observers' one-step predictor (the path's plus two per line).
+    pub predictor_order: usize,
     /// Structural modes of the calibrated path (complex pole pairs).
     pub path_modes: usize,
     /// Held-out error of the calibration loop on the fit segment, before → after (dB), and
@@ -214,7 +219,7 @@ impl Prepared {
         } else {
             None
         };
-        let (path, path_modes, calibration_error) = if physics {
+        let (path, path_modes, calibration_error, path_order, path_lines) = if physics {
             let cfg = close_loop::LoopConfig::default().check()?;
             let machine = close_loop::machine::calibrate(
                 healthy,
@@ -223,14 +228,16 @@ impl Prepared {
                 bearing_model::Bearing::Skf6205,
                 &cfg,
             )?;
-            let (path, path_modes) = match &machine.path {
-                Some(_) => (
-                    machine.observer_model()?,
+            let (path, path_modes, path_order, path_lines) = match &machine.path {
+                Some(p) => (
+                    machine.predictor_model()?,
                     machine
                         .structural_modes
                         .iter()
                         .filter(|m| m.frequency_hz > 0.0)
                         .count(),
+                    p.order(),
+                    machine.lines.len(),
                 ),
                 // the declared model already explained the segment: the loop added no path,
                 // so the path is identified from the segment directly
@@ -241,7 +248,7 @@ impl Prepared {
                         cfg.get().max_path_order,
                     )?;
                     let modes = p.modes().iter().filter(|m| m.frequency_hz > 0.0).count();
-                    (observers::LinearModel::from_ar(&p.ar)?, modes)
+                    (observers::LinearModel::from_ar(&p.ar)?, modes, p.order(), 0)
                 }
             };
             let err = (
@@ -249,15 +256,17 @@ impl Prepared {
                 machine.provenance.error_after,
                 machine.path.is_some(),
             );
-            (Some(path), path_modes, Some(err))
+            (Some(path), path_modes, Some(err), path_order, path_lines)
         } else {
-            (None, 0, None)
+            (None, 0, None, 0, 0)
         };
         Ok(Self {
             arx,
             fal,
             revolution: (fs * 60.0 / rpm).round().max(1.0) as usize,
-            path_order: path.as_ref().map_or(0, |p| p.order()),
+            path_order,
+            path_lines,
+            predictor_order: path.as_ref().map_or(0, |p| p.order()),
             path_modes,
             calibration_error,
             path,

@@ -211,11 +211,13 @@ pub fn run_chapter(
         }
         if let Some((before, after, by_loop)) = p.calibration_error {
             notes.push(format!(
-                "Physics observers run on the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, as a one-step predictor (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
+                "Physics observers run on the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, and its {} lines (shaft harmonics and tones), together as the one-step predictor of the whole model, AR order {} (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
                 inputs::FIT_SECONDS,
                 if by_loop { "" } else { " (the loop added none — the declared model already explained the segment — so the path is identified from the segment directly)" },
                 p.path_order,
-                p.path_modes
+                p.path_modes,
+                p.path_lines,
+                p.predictor_order
             ));
         }
     }
