@@ -1,7 +1,9 @@
 //! Throughput of each observer in samples per second on one core (criterion): the ten kinds on
 //! the physics mode (12 kHz), on the 8-state reference ARX-Laguerre model, on a 16-state
-//! identified-size ARX-Laguerre model, and on a calibrated-path (shift-form AR) model of 64 and
-//! 128 states — the size of the structural path the loop calibrates on CWRU 97.
+//! identified-size ARX-Laguerre model, and on a calibrated-path (shift-form AR) model of 64, 128
+//! and 156 states — the size of the structural path the loop calibrates on CWRU 97, and of the
+//! whole machine model's predictor the chapters' physics observers run on (the path plus two
+//! states per line, `close_loop::machine::MachineModel::predictor_model`).
 #![allow(missing_docs)]
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -85,7 +87,7 @@ fn bench(c: &mut Criterion) {
 
     // Calibrated structural path: a shift-form AR(p) (the predictor is deadbeat, so its cost and
     // output do not depend on the coefficients' stability; these are bounded and decaying).
-    for p in [64usize, 128] {
+    for p in [64usize, 128, 156] {
         let ar: Vec<f64> = (0..p)
             .map(|i| -0.5 * 0.95f64.powi(i as i32) * (0.3 * i as f64).cos())
             .collect();
