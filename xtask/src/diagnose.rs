@@ -414,8 +414,9 @@ fn write_outputs(rows: &[Row], trained: &str, out: &Path) -> anyhow::Result<()> 
          - **self**: AR model fitted on the recording itself (AR pre-whitening), no baseline.\n\
          - **machine model**: the machine model calibrated on 97.mat by the closed loop \
          (`close_loop::machine::calibrate`, from the declared healthy 5-DOF model; at 48 kHz, and \
-         at 12 kHz on 97 decimated by 4): its structural path is the healthy model and its \
-         held-out path residual the reference statistics (`--baseline rig.json`).\n\
+         at 12 kHz on 97 decimated by 4): the whole model — structural path, floor and lines — \
+         is the healthy model, whitening with its one-step predictor, and its held-out residual \
+         through that predictor the reference statistics (`--baseline rig.json`).\n\
          - Drive-end channel, speed stored in the file (nominal for 3001–3008, which store none), \
          SKF 6205 kinematics for every record (3001–3008 are NTN-equivalent bearings whose \
          geometry CWRU does not give). Samples are in file units (the data README states none; \

@@ -303,6 +303,15 @@ pub struct MachineModel {
     /// Kurtosis (not excess) of that residual.
     #[serde(default)]
     pub path_residual_kurtosis: Option<f64>,
+    /// RMS of the calibration recording's held-out part through the whole model's one-step
+    /// predictor ([`MachineModel::predictor_path`]: path, floor and lines), what a diagnosis
+    /// against this machine compares with when it whitens with that predictor; absent in models
+    /// written before it (a diagnosis then whitens with the path alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predictor_residual_rms: Option<f64>,
+    /// Kurtosis (not excess) of that residual.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predictor_residual_kurtosis: Option<f64>,
 }
 
 impl MachineModel {
@@ -359,7 +368,7 @@ impl MachineModel {
             .as_ref()
             .and_then(|p| path_residual_stats(p, &ctx.y[ctx.n_fit..]))
             .unzip();
-        Self {
+        let mut m = Self {
             format: FORMAT.to_string(),
             version: VERSION,
             fs_hz: ctx.fs,
@@ -407,7 +416,24 @@ impl MachineModel {
             },
             path_residual_rms,
             path_residual_kurtosis,
-        }
+            predictor_residual_rms: None,
+            predictor_residual_kurtosis: None,
+        };
+        m.set_predictor_stats(&ctx.y[ctx.n_fit..]);
+        m
+    }
+
+    /// Measure [`MachineModel::predictor_residual_rms`] and its kurtosis on `held_out` (left
+    /// `None` without a path or when nothing finite is left).
+    fn set_predictor_stats(&mut self, held_out: &[f64]) {
+        let stats = self
+            .predictor_path()
+            .ok()
+            .and_then(|p| path_residual_stats(&p, held_out));
+        (
+            self.predictor_residual_rms,
+            self.predictor_residual_kurtosis,
+        ) = stats.unzip();
     }
 
     /// Shaft rate of the calibration recording, Hz (declared speed × the calibrated ratio).
@@ -443,19 +469,18 @@ impl MachineModel {
         })
     }
 
-    /// The whole calibrated machine as an observer model: the one-step predictor (AR of the
-    /// structural path's order plus two per line, Levinson) of the stationary process the
-    /// machine model describes
-    /// at its calibration speed — the structural path at its calibrated level, the white floor
-    /// and every line (shaft harmonics and tones, each a sinusoid of its calibrated amplitude,
-    /// whose autocorrelation `A²/2 · cos(2π f m / fs)` is added exactly). The physics observers
-    /// (SMO, HOSTSMO, FLO, VSO, PFLO) run on it ([`observers::ModelConfig::CalibratedPath`]).
-    /// A linear predictor needs no line's phase: a sinusoid is predicted from its own past.
-    /// [`MachineModel::observer_model`] is the path alone.
+    /// The whole calibrated machine as a one-step predictor: the AR model (the structural
+    /// path's order plus two per line, Levinson; its excitation variance the innovation
+    /// variance) of the stationary process the machine model describes at its calibration
+    /// speed — the structural path at its calibrated level, the white floor and every line
+    /// (shaft harmonics and tones, each a sinusoid of its calibrated amplitude, whose
+    /// autocorrelation `A²/2 · cos(2π f m / fs)` is added exactly). A linear predictor needs no
+    /// line's phase: a sinusoid is predicted from its own past. The path alone is
+    /// [`MachineModel::path`].
     ///
     /// # Errors
-    /// As [`MachineModel::observer_model`]; [`CloseLoopError::Model`] when the recursion fails.
-    pub fn predictor_model(&self) -> Result<observers::LinearModel, CloseLoopError> {
+    /// [`CloseLoopError::Model`] when the model holds no structural path or the recursion fails.
+    pub fn predictor_path(&self) -> Result<StructuralPath, CloseLoopError> {
         let path = self.path.as_ref().ok_or_else(|| CloseLoopError::Model {
             reason: "the machine model holds no structural path to run an observer on".into(),
         })?;
@@ -477,9 +502,26 @@ impl MachineModel {
                 *v += 0.5 * a * a * (2.0 * std::f64::consts::PI * f * m as f64 / fs).cos();
             }
         }
-        let (ar, _) = crate::path::levinson(&r)?;
-        observers::LinearModel::from_ar(&ar).map_err(|e| CloseLoopError::Observer {
-            reason: e.to_string(),
+        let (ar, e) = crate::path::levinson(&r)?;
+        Ok(StructuralPath {
+            fs_hz: fs,
+            ar,
+            excitation_variance: e,
+        })
+    }
+
+    /// The whole calibrated machine as an observer model: [`MachineModel::predictor_path`] in
+    /// shift form, what the physics observers (SMO, HOSTSMO, FLO, VSO, PFLO) run on
+    /// ([`observers::ModelConfig::CalibratedPath`]). [`MachineModel::observer_model`] is the
+    /// path alone.
+    ///
+    /// # Errors
+    /// As [`MachineModel::predictor_path`]; [`CloseLoopError::Observer`] for an invalid model.
+    pub fn predictor_model(&self) -> Result<observers::LinearModel, CloseLoopError> {
+        observers::LinearModel::from_ar(&self.predictor_path()?.ar).map_err(|e| {
+            CloseLoopError::Observer {
+                reason: e.to_string(),
+            }
         })
     }
 
@@ -624,6 +666,7 @@ impl MachineModel {
         self.path_residual_rms = Some(rms);
         self.path_residual_kurtosis = Some(kurtosis);
         self.path = Some(p);
+        self.set_predictor_stats(held_out);
         Ok(true)
     }
 }

@@ -152,6 +152,10 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
     let k = m.path_residual_kurtosis.unwrap();
     assert!((0.9..1.6).contains(&r), "path residual RMS {r}");
     assert!((2.0..4.0).contains(&k), "path residual kurtosis {k}");
+    // through the whole model's predictor the named tone is predicted too
+    let rp = m.predictor_residual_rms.unwrap();
+    assert!(rp < r, "predictor residual RMS {rp} against the path's {r}");
+    assert!(m.predictor_residual_kurtosis.unwrap().is_finite());
     // as an observer model: the physics observers' one-step predictor removes the resonance
     let flo_ratio = |pm: observers::LinearModel| {
         assert!(pm.is_shift_form());

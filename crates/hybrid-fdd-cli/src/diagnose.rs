@@ -716,28 +716,54 @@ impl BaselineSource {
         self.machine.as_deref().map(|m| m.units.as_str())
     }
 
-    /// The baseline from a machine model: its path's prediction-error filter and the residual
-    /// statistics measured when it was calibrated. The rate is the model's (the library reports
-    /// a recording at another rate as its typed mismatch error).
+    /// The baseline from a machine model: the prediction-error filter of the whole model's
+    /// one-step predictor (structural path, floor and lines,
+    /// `close_loop::machine::MachineModel::predictor_path`) and the residual statistics measured
+    /// through it when it was calibrated; for a model written before those statistics existed,
+    /// the path's own filter and statistics. The rate is the model's (the library reports a
+    /// recording at another rate as its typed mismatch error).
     fn prepare_machine(&self, m: &close_loop::machine::MachineModel) -> anyhow::Result<Prepared> {
         let name = self.path.display();
         let path = m.path.as_ref().with_context(|| {
             format!("baseline machine model {name} holds no structural path to whiten with")
         })?;
-        let (Some(rms), Some(kurt)) = (m.path_residual_rms, m.path_residual_kurtosis) else {
-            anyhow::bail!(
-                "baseline machine model {name} has no path residual statistics (written by an older version): recalibrate it with `hybrid-fdd calibrate` (or `cargo xtask calibrate`)"
-            );
+        let (ar, rms, kurt, what) = match (m.predictor_residual_rms, m.predictor_residual_kurtosis)
+        {
+            (Some(rms), Some(kurt)) => {
+                let p = m
+                    .predictor_path()
+                    .with_context(|| format!("baseline machine model {name}"))?;
+                let what = format!(
+                    "the whole model (structural path of AR order {} and {} lines) as the healthy model, its one-step predictor of AR order {}",
+                    path.ar.len(),
+                    m.lines.len(),
+                    p.ar.len()
+                );
+                (p.ar, rms, kurt, what)
+            }
+            _ => {
+                let (Some(rms), Some(kurt)) = (m.path_residual_rms, m.path_residual_kurtosis)
+                else {
+                    anyhow::bail!(
+                        "baseline machine model {name} has no path residual statistics (written by an older version): recalibrate it with `hybrid-fdd calibrate` (or `cargo xtask calibrate`)"
+                    );
+                };
+                let what = format!(
+                    "structural path of AR order {} as the healthy model (a model written before the whole model's residual statistics)",
+                    path.ar.len()
+                );
+                (path.ar.clone(), rms, kurt, what)
+            }
         };
         let w = diagnosis::ArWhitener::from_coefficients(
-            path.ar.iter().map(|a| -a).collect(),
+            ar.iter().map(|a| -a).collect(),
             m.fs_hz,
             "baseline machine model",
         )?;
         let samples = m.provenance.fit_samples[1];
         let b = Baseline::from_whitener(w, rms, kurt, samples)?;
         let note = format!(
-            "machine model {name} (calibrated on {}, {} Hz, units {}): structural path of AR order {} as the healthy model",
+            "machine model {name} (calibrated on {}, {} Hz, units {}): {what}",
             if m.provenance.recording.is_empty() {
                 "an unnamed recording"
             } else {
@@ -745,7 +771,6 @@ impl BaselineSource {
             },
             m.fs_hz,
             m.units,
-            path.ar.len()
         );
         Ok(Arc::new((b, note)))
     }

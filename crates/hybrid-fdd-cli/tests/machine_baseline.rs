@@ -1,5 +1,5 @@
 //! A calibrated machine model as the diagnosis baseline (`--baseline rig.json`): loaded and
-//! validated, its structural path is the healthy model, a healthy recording of the same rig
+//! validated, its whole model (path, floor, lines) is the healthy model, a healthy recording of the same rig
 //! reads normal, and a recording of other units or another rate is refused with a typed error.
 
 use close_loop::LoopConfig;
@@ -78,8 +78,30 @@ fn machine_model_is_a_diagnosis_baseline() {
     let src = BaselineSource::load(&json, "DE", None).unwrap();
     assert_eq!(src.machine_units(), Some("g"));
     let prepared = src.at(FS).unwrap();
-    assert_eq!(prepared.0.whitener.order, order);
+    // it whitens with the whole model's one-step predictor: the path's order plus two per line
+    assert!(m.predictor_residual_rms.is_some() && m.predictor_residual_kurtosis.is_some());
+    assert_eq!(
+        prepared.0.whitener.order,
+        order + 2 * m.lines.len(),
+        "{}",
+        prepared.1
+    );
     assert!(prepared.1.contains("machine model"), "{}", prepared.1);
+    assert!(prepared.1.contains("whole model"), "{}", prepared.1);
+    // a model written before the predictor's residual statistics whitens with its path alone
+    let mut older = m.clone();
+    (
+        older.predictor_residual_rms,
+        older.predictor_residual_kurtosis,
+    ) = (None, None);
+    let older_json = dir.join("older.json");
+    std::fs::write(&older_json, older.to_json().unwrap()).unwrap();
+    let p_older = BaselineSource::load(&older_json, "DE", None)
+        .unwrap()
+        .at(FS)
+        .unwrap();
+    assert_eq!(p_older.0.whitener.order, order, "{}", p_older.1);
+    assert!(p_older.1.contains("structural path"), "{}", p_older.1);
 
     let plan = Plan {
         channel: "DE".into(),
