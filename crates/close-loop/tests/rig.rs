@@ -473,6 +473,25 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         got.radial_load_n,
         truth.radial_load_n
     );
+    // the training records' band energies come back (the impact paths are closed on their
+    // records): each of the four bands within ×1.5 of the truth rig's, on another seed
+    for (loc, size) in specs {
+        let syn = Synthesis::new(loc.class(), size, 1797.0, (10.0 * fs) as usize, 60);
+        let bands = |r: &RigModel| {
+            rig::signal_stats(&r.synthesize(&syn).unwrap(), fs, None)
+                .unwrap()
+                .band_energy
+        };
+        let (a, b) = (bands(&truth), bands(&got));
+        for k in 0..4 {
+            assert!(
+                (b[k] / a[k]).ln().abs() < 1.5f64.ln(),
+                "{loc:?} {size} mm band {k}: recovered {:.3e} vs truth {:.3e}",
+                b[k],
+                a[k]
+            );
+        }
+    }
     for (loc, size) in specs {
         // held out: the training speed and 1730 rpm, other seeds; a gated train's level varies
         // from burst pattern to burst pattern, so the levels are means over three 10 s
