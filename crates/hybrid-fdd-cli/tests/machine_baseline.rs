@@ -49,6 +49,17 @@ fn loaded(samples: Vec<f64>, fs_hz: f64, units: &'static str) -> Loaded {
     }
 }
 
+/// `m` written to `dir/name.json`, loaded as a baseline and prepared at [`FS`].
+fn prepared_from(
+    dir: &std::path::Path,
+    name: &str,
+    m: &close_loop::machine::MachineModel,
+) -> anyhow::Result<hybrid_fdd_cli::diagnose::Prepared> {
+    let json = dir.join(format!("{name}.json"));
+    std::fs::write(&json, m.to_json().unwrap()).unwrap();
+    BaselineSource::load(&json, "DE", None).unwrap().at(FS)
+}
+
 #[test]
 fn machine_model_is_a_diagnosis_baseline() {
     let cfg = LoopConfig::default().check().unwrap();
@@ -94,12 +105,7 @@ fn machine_model_is_a_diagnosis_baseline() {
         older.predictor_residual_rms,
         older.predictor_residual_kurtosis,
     ) = (None, None);
-    let older_json = dir.join("older.json");
-    std::fs::write(&older_json, older.to_json().unwrap()).unwrap();
-    let p_older = BaselineSource::load(&older_json, "DE", None)
-        .unwrap()
-        .at(FS)
-        .unwrap();
+    let p_older = prepared_from(&dir, "older", &older).unwrap();
     assert_eq!(p_older.0.whitener.order, order, "{}", p_older.1);
     assert!(p_older.1.contains("structural path"), "{}", p_older.1);
 
@@ -129,12 +135,7 @@ fn machine_model_is_a_diagnosis_baseline() {
     // a machine model without a path cannot whiten
     let mut bare = m.clone();
     bare.path = None;
-    let bare_json = dir.join("bare.json");
-    std::fs::write(&bare_json, bare.to_json().unwrap()).unwrap();
-    let e = BaselineSource::load(&bare_json, "DE", None)
-        .unwrap()
-        .at(FS)
-        .unwrap_err();
+    let e = prepared_from(&dir, "bare", &bare).unwrap_err();
     assert!(format!("{e:#}").contains("no structural path"), "{e:#}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -752,9 +752,12 @@ pub fn calibrate_rig(
     // one from 6): fitted as the reference paths are, on the excess over the rig's background
     // against what the sensor sees of their excitation
     let mut own_paths: Vec<ImpactPath> = Vec::with_capacity(positioned.len());
+    // every training record's smoothed measured PSD, the positioned ones after the references
+    let mut measured_all: Vec<Vec<f64>> = measured.iter().map(|m| m.0.clone()).collect();
     for (j, (t, sim)) in positioned.iter().zip(&sims).enumerate() {
         let n = t.y.len().min(long);
         let s_y = smooth(&welch.try_psd(t.y)?, half);
+        measured_all.push(s_y.clone());
         let s_b = smooth(
             &welch.try_psd(&bg_of(t.rpm, n, 7 + (training.len() + j) as u64))?,
             half,
@@ -795,13 +798,12 @@ pub fn calibrate_rig(
     // spectrum misses of the measured one, behind everything fitted since it was first drawn
     // (sensor, chain, gate, mix), and the severities are fitted again through it
     let everyone: Vec<TrainingRecord<'_>> = training.iter().chain(&positioned).copied().collect();
-    let mut measured_all: Vec<Vec<f64>> = measured.iter().map(|m| m.0.clone()).collect();
-    for t in &positioned {
-        measured_all.push(smooth(&welch.try_psd(t.y)?, half));
-    }
+    // what each record's fault must add: its measured excess over the rig's background behind
+    // the chain (neither changes between rounds)
+    let excess = measured_excess(&rig, &everyone, &measured_all, &welch, half)?;
     let strikes_all: Vec<f64> = rig.severities.iter().map(|s| s.strike_fraction).collect();
     for _ in 0..PATH_REFINEMENTS {
-        if !refine_paths(&mut rig, &everyone, &measured_all, &welch, half)? {
+        if !refine_paths(&mut rig, &everyone, &excess, &welch, half)? {
             break;
         }
         let paths = rig.impact_paths.clone();
@@ -854,6 +856,47 @@ pub const PATH_REFINEMENTS: usize = 2;
 /// Largest change of an impact path's power response in one round of [`refine_paths`], dB.
 const MAX_PATH_STEP_DB: f64 = 10.0;
 
+/// Samples of a training record simulated by [`refine_paths`]: its length, at most 4 s.
+fn refine_len(rig: &RigModel, t: &TrainingRecord<'_>) -> usize {
+    t.y.len().min((4.0 * rig.fs_hz) as usize)
+}
+
+/// Seed of the `i`-th training record's simulation in [`refine_paths`] (its background in
+/// [`measured_excess`] is the same realisation).
+fn refine_seed(i: usize) -> u64 {
+    5000 + i as u64
+}
+
+/// Each record's smoothed measured PSD (`measured`) over the rig's background behind the chain
+/// at its speed and length ([`refine_len`], seed [`refine_seed`]), at least a tenth of the
+/// measured, as the paths were first fitted: what [`refine_paths`] holds each record's
+/// simulated fault part against.
+fn measured_excess(
+    rig: &RigModel,
+    records: &[TrainingRecord<'_>],
+    measured: &[Vec<f64>],
+    welch: &Welch,
+    half: usize,
+) -> Result<Vec<Vec<f64>>, CloseLoopError> {
+    records
+        .iter()
+        .zip(measured)
+        .enumerate()
+        .map(|(i, (t, meas))| {
+            let bg = apply_fir(
+                &rig.chain_fir,
+                &rig.background(t.rpm, refine_len(rig, t), refine_seed(i)),
+            );
+            let s_b = smooth(&welch.try_psd(&bg)?, half);
+            Ok(meas
+                .iter()
+                .zip(&s_b)
+                .map(|(a, b)| (a - b).max(0.1 * a))
+                .collect())
+        })
+        .collect()
+}
+
 /// One round of closing the loop on the impact paths: for each training record the fault part of
 /// its simulation (the rig's fault signal behind the chain, at the record's speed and length up
 /// to 4 s) against the measured excess over the rig's background (smoothed PSDs, the excess at
@@ -867,33 +910,33 @@ const MAX_PATH_STEP_DB: f64 = 10.0;
 fn refine_paths(
     rig: &mut RigModel,
     records: &[TrainingRecord<'_>],
-    measured: &[Vec<f64>],
+    excess: &[Vec<f64>],
     welch: &Welch,
     half: usize,
 ) -> Result<bool, CloseLoopError> {
-    let fs = rig.fs_hz;
     let nb = welch.n_bins();
     let mut sum: Vec<(Vec<f64>, usize)> = vec![(vec![0.0; nb], 0); rig.impact_paths.len()];
-    for (i, (t, meas)) in records.iter().zip(measured).enumerate() {
+    for (i, (t, target)) in records.iter().zip(excess).enumerate() {
         let Ok(p) = rig.impact_path_for_at(t.location, t.size_mm, t.outer_angle_rad) else {
             continue;
         };
         let Some(k) = rig.impact_paths.iter().position(|q| std::ptr::eq(q, p)) else {
             continue;
         };
-        let n = t.y.len().min((4.0 * fs) as usize);
-        let seed = 5000 + i as u64;
-        let mut syn = Synthesis::new(t.location.class(), t.size_mm, t.rpm, n, seed);
+        let mut syn = Synthesis::new(
+            t.location.class(),
+            t.size_mm,
+            t.rpm,
+            refine_len(rig, t),
+            refine_seed(i),
+        );
         syn.outer_angle_rad = t.outer_angle_rad;
         let fault = apply_fir(&rig.chain_fir, &rig.fault_signal(&syn)?);
-        let bg = apply_fir(&rig.chain_fir, &rig.background(t.rpm, n, seed));
         let s_f = smooth(&welch.try_psd(&fault)?, half);
-        let s_b = smooth(&welch.try_psd(&bg)?, half);
-        let r: Vec<f64> = meas
+        let r: Vec<f64> = target
             .iter()
-            .zip(&s_b)
             .zip(&s_f)
-            .map(|((a, b), f)| ((a - b).max(0.1 * a).max(1e-300) / f.max(1e-300)).ln())
+            .map(|(a, f)| (a.max(1e-300) / f.max(1e-300)).ln())
             .collect();
         if !r.iter().all(|v| v.is_finite()) {
             continue;
@@ -916,7 +959,7 @@ fn refine_paths(
             .zip(&acc)
             .map(|(o, c)| o * (c / count as f64).clamp(-cap, cap).exp())
             .collect();
-        p.path = impact_path_of(&shape, welch, fs)?;
+        p.path = impact_path_of(&shape, welch, rig.fs_hz)?;
         changed = true;
     }
     Ok(changed)
