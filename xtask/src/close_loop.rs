@@ -166,6 +166,28 @@ fn all_real(
         "\nGrade-Y records with the error at least halved: {halved} of {}.\n",
         y.len()
     ));
+    // speed or defect rate: which the shaft lines called each speed step
+    let (mut defect, mut speed_read, mut speed_unread) = (0usize, 0usize, 0usize);
+    for (.., o) in &rows {
+        for e in &o.ledger.effects {
+            match e.kind {
+                EffectKind::DefectRate => defect += 1,
+                EffectKind::SpeedOffset if e.parameters.get("shaft_measured") == Some(&1.0) => {
+                    speed_read += 1
+                }
+                EffectKind::SpeedOffset => speed_unread += 1,
+                _ => {}
+            }
+        }
+    }
+    md.push_str(&format!(
+        "
+A step of the fault lines' rate is a `speed_offset` only if the record's shaft lines \
+         moved with it (`docs/equations/close-loop.md`, \"Speed or defect rate\"): {defect} \
+         `defect_rate` effects (the fault's rate off its geometry's at the shaft's measured \
+         speed, with the effective contact angle), {speed_read} speed offsets read from the \
+         shaft lines, {speed_unread} where the shaft lines are too weak to tell the two apart.\n"
+    ));
     let (mut at_bound, mut resonances) = (0usize, 0usize);
     for (.., o) in &rows {
         for e in o

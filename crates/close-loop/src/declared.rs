@@ -144,6 +144,17 @@ pub trait DeclaredModel {
         None
     }
 
+    /// The radial preload of every ball, m (a negative radial clearance; 0 = none), if the model
+    /// has ball contacts.
+    fn contact_preload_m(&self) -> Option<f64> {
+        None
+    }
+
+    /// The model with every ball preloaded by `preload_m` (≥ 0; `None` when it has no contacts).
+    fn with_contact_preload(&self, _preload_m: f64) -> Option<Box<dyn DeclaredModel>> {
+        None
+    }
+
     /// The model's own measured-channel mode (frequency Hz, damping ratio), if it has one.
     fn housing_mode(&self) -> Option<(f64, f64)> {
         None

@@ -28,13 +28,27 @@ pub enum EffectKind {
     LineComb,
     /// Random ball slip other than declared: the spread of the impact times.
     Slip,
+    /// The declared fault's impacts run at another rate than its geometry gives at the shaft's
+    /// measured speed (the effective contact angle or pitch ratio differs from the catalogue's).
+    DefectRate,
+    /// The balls' radial preload other than declared: how much of the circumference the load
+    /// zone spans, hence how strongly the shaft (inner race) or the cage (ball) modulates the
+    /// fault's impacts.
+    ContactPreload,
 }
 
 impl EffectKind {
     /// A setting of the model (the speed ratio, the slip, the structural path): taking it again
     /// replaces its value rather than adding a term.
     pub fn is_setting(self) -> bool {
-        matches!(self, Self::SpeedOffset | Self::Slip | Self::StructuralPath)
+        matches!(
+            self,
+            Self::SpeedOffset
+                | Self::Slip
+                | Self::StructuralPath
+                | Self::DefectRate
+                | Self::ContactPreload
+        )
     }
 
     /// The JSON spelling ("tone", "shaft_harmonic", …).
@@ -49,9 +63,17 @@ impl EffectKind {
             Self::ShaftComb => "shaft_comb",
             Self::LineComb => "line_comb",
             Self::Slip => "slip",
+            Self::DefectRate => "defect_rate",
+            Self::ContactPreload => "contact_preload",
         }
     }
 }
+
+/// Largest contact angle a deep-groove ball bearing's radial clearance lets it run at under
+/// axial load, degrees (the free contact angle cos α₀ = 1 − P_d/(2(f_o + f_i − 1)·d): a 6205
+/// with ISO 5753 normal clearance, P_d ≤ 20 µm, f ≈ 0.52, reaches about 14°). A defect rate
+/// that asks for more is described as not the geometry alone.
+pub const MAX_PLAUSIBLE_CONTACT_ANGLE_DEG: f64 = 15.0;
 
 /// Where an effect is put: into the physics (the declared model is re-simulated with it) or into
 /// the measurement channel (a term applied to the model's output).
@@ -204,8 +226,36 @@ pub enum Effect {
     SpeedOffset {
         /// True speed / declared speed (cumulative).
         ratio: f64,
-        /// Change relative to the model before this effect.
+        /// Change of the fault's impact rate relative to the model before this effect.
         step: f64,
+        /// The fault's impact rate over its geometry's at this speed: 1 unless the recording's
+        /// shaft lines measured the speed apart from the fault lines
+        /// ([`crate::spectrum::measure_shaft_speed`]).
+        defect_rate: f64,
+        /// The speed was read from the recording's shaft lines (`false`: the whole step of the
+        /// fault lines is taken as the speed; the shaft lines were too weak to tell).
+        shaft_measured: bool,
+    },
+    /// The declared fault's impact rate differs from the one its geometry gives at the shaft's
+    /// measured speed: the fault lines move, the shaft lines stay.
+    DefectRate {
+        /// Impact rate / the geometry's at the shaft's speed (cumulative).
+        ratio: f64,
+        /// Change of the impact rate relative to the model before this effect.
+        step: f64,
+        /// Shaft speed / declared speed, as the model's lines have it (the recording's shaft
+        /// lines agree with it within [`crate::spectrum::SHAFT_AGREE`]).
+        shaft_ratio: f64,
+        /// The fault's rate as a multiple of the shaft rate: the geometry's (declared) order.
+        order: f64,
+        /// The fault's fundamental at the true speed, Hz (order × ratio × true fr).
+        frequency_hz: f64,
+        /// The pitch ratio γ = d·cos α / D that gives this rate (the geometry's γ when the
+        /// bearing gives none).
+        effective_pitch_ratio: Option<f64>,
+        /// The contact angle that gives `effective_pitch_ratio` with the catalogue's d and D
+        /// (`None` when no angle does: γ above d / D, or no geometry).
+        contact_angle_deg: Option<f64>,
     },
     /// Amplitude modulation of the modelled vibration.
     Modulation {
@@ -226,6 +276,17 @@ pub enum Effect {
         orders: Vec<f64>,
         /// The fitted lines.
         lines: Vec<Line>,
+    },
+    /// A re-simulated radial preload of the balls.
+    ContactPreload {
+        /// Fitted preload, m (every ball compressed by it at the centred position).
+        preload_m: f64,
+        /// Declared preload, m.
+        declared_m: f64,
+        /// The fault's rate moved with it by this step (a defect rate judged jointly: the
+        /// preload's clean fault comb and the rate that lines it up are one change of the
+        /// spectrum, neither of which lowers the error alone), and the resulting defect rate.
+        rate: Option<(f64, f64)>,
     },
     /// A re-simulated slip fraction.
     Slip {
@@ -288,7 +349,31 @@ impl Effect {
                 | Self::ShaftComb { .. }
                 | Self::LineComb { .. }
                 | Self::SpeedOffset { .. }
+                | Self::DefectRate { .. }
         )
+    }
+
+    /// The step a speed or defect-rate effect makes in the rate the fault's impacts run at
+    /// (`None` for every other effect).
+    pub fn impact_rate_step(&self) -> Option<f64> {
+        match self {
+            Self::SpeedOffset { step, .. } | Self::DefectRate { step, .. } => Some(*step),
+            _ => None,
+        }
+    }
+
+    /// The speed ratio the declared physics is simulated at after a speed or defect-rate effect
+    /// (true shaft speed × defect rate, over the declared speed).
+    pub fn physics_ratio(&self) -> Option<f64> {
+        match self {
+            Self::SpeedOffset {
+                ratio, defect_rate, ..
+            } => Some(ratio * defect_rate),
+            Self::DefectRate {
+                ratio, shaft_ratio, ..
+            } => Some(ratio * shaft_ratio),
+            _ => None,
+        }
     }
 
     /// A line subtracted phase-coherently in the measurement channel (a tone, a shaft harmonic
@@ -316,6 +401,8 @@ impl Effect {
             Self::ShaftComb { .. } => EffectKind::ShaftComb,
             Self::LineComb { .. } => EffectKind::LineComb,
             Self::Slip { .. } => EffectKind::Slip,
+            Self::DefectRate { .. } => EffectKind::DefectRate,
+            Self::ContactPreload { .. } => EffectKind::ContactPreload,
         }
     }
 
@@ -323,10 +410,12 @@ impl Effect {
     pub fn placement(&self) -> Placement {
         match self {
             Self::SpeedOffset { .. }
+            | Self::DefectRate { .. }
             | Self::ShaftHarmonic { force: Some(_), .. }
             | Self::Resonance { housing: true, .. }
             | Self::StructuralPath { .. }
-            | Self::Slip { .. } => Placement::Physics,
+            | Self::Slip { .. }
+            | Self::ContactPreload { .. } => Placement::Physics,
             _ => Placement::Measurement,
         }
     }
@@ -337,7 +426,8 @@ impl Effect {
         match self {
             Self::Tone { line } | Self::ShaftHarmonic { line, .. } => Some(line.frequency_hz),
             Self::Resonance { mode, .. } => Some(mode.frequency_hz),
-            Self::SpeedOffset { .. } | Self::Slip { .. } => None,
+            Self::SpeedOffset { .. } | Self::Slip { .. } | Self::ContactPreload { .. } => None,
+            Self::DefectRate { frequency_hz, .. } => Some(*frequency_hz),
             Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
             Self::StructuralPath { modes, .. } => dominant(modes).map(|m| m.frequency_hz),
             Self::ShaftComb { shaft_hz, .. } => Some(*shaft_hz),
@@ -384,9 +474,42 @@ impl Effect {
                     20.0 * (1.0 + mode.gain).abs().max(1e-12).log10(),
                 );
             }
-            Self::SpeedOffset { ratio, step } => {
+            Self::SpeedOffset {
+                ratio,
+                step,
+                defect_rate,
+                shaft_measured,
+            } => {
                 m.insert("ratio".into(), *ratio);
                 m.insert("step".into(), *step);
+                if *shaft_measured {
+                    m.insert("defect_rate_ratio".into(), *defect_rate);
+                }
+                m.insert(
+                    "shaft_measured".into(),
+                    if *shaft_measured { 1.0 } else { 0.0 },
+                );
+            }
+            Self::DefectRate {
+                ratio,
+                step,
+                shaft_ratio,
+                order,
+                effective_pitch_ratio,
+                contact_angle_deg,
+                ..
+            } => {
+                m.insert("ratio".into(), *ratio);
+                m.insert("step".into(), *step);
+                m.insert("shaft_ratio".into(), *shaft_ratio);
+                m.insert("order".into(), *order);
+                m.insert("measured_order".into(), order * ratio);
+                if let Some(g) = effective_pitch_ratio {
+                    m.insert("effective_pitch_ratio".into(), *g);
+                }
+                if let Some(a) = contact_angle_deg {
+                    m.insert("contact_angle_deg".into(), *a);
+                }
             }
             Self::Modulation {
                 modulation,
@@ -432,6 +555,18 @@ impl Effect {
             Self::Slip { fraction, declared } => {
                 m.insert("fraction".into(), *fraction);
                 m.insert("declared_fraction".into(), *declared);
+            }
+            Self::ContactPreload {
+                preload_m,
+                declared_m,
+                rate,
+            } => {
+                m.insert("preload_um".into(), preload_m * 1e6);
+                m.insert("declared_preload_um".into(), declared_m * 1e6);
+                if let Some((step, ratio)) = rate {
+                    m.insert("defect_rate_step".into(), *step);
+                    m.insert("defect_rate_ratio".into(), *ratio);
+                }
             }
             Self::LineComb { spacing_hz, lines } => {
                 m.insert("spacing_hz".into(), *spacing_hz);
@@ -502,7 +637,52 @@ impl Effect {
                     ""
                 }
             ),
-            Self::SpeedOffset { ratio, .. } => format!("speed ratio {ratio:.5} (true / declared)"),
+            Self::SpeedOffset {
+                ratio,
+                defect_rate,
+                shaft_measured,
+                ..
+            } => {
+                if *shaft_measured {
+                    format!(
+                        "speed ratio {ratio:.5} (true / declared, read from the shaft lines); \
+                         the fault's impacts at {defect_rate:.5} x its geometry's rate"
+                    )
+                } else {
+                    format!(
+                        "speed ratio {ratio:.5} (true / declared; the shaft lines are too weak \
+                         to tell a speed change from a defect-rate offset)"
+                    )
+                }
+            }
+            Self::DefectRate {
+                ratio,
+                shaft_ratio,
+                order,
+                frequency_hz,
+                effective_pitch_ratio,
+                contact_angle_deg,
+                ..
+            } => {
+                let mut d = format!(
+                    "defect rate {ratio:.5} x the geometry's: {:.4} x fr ({frequency_hz:.2} Hz) \
+                     instead of {order:.4} x fr, the shaft lines at speed ratio {shaft_ratio:.5}",
+                    order * ratio
+                );
+                if let Some(g) = effective_pitch_ratio {
+                    d += &format!("; effective d cos(a) / D = {g:.4}");
+                }
+                if let Some(a) = contact_angle_deg {
+                    d += &format!(" (contact angle {a:.1} deg)");
+                    if *a > MAX_PLAUSIBLE_CONTACT_ANGLE_DEG {
+                        d += &format!(
+                            "; beyond the {MAX_PLAUSIBLE_CONTACT_ANGLE_DEG:.0} deg a deep-groove \
+                             bearing's clearance allows: not the geometry alone"
+                        );
+                    }
+                }
+                d
+            }
             Self::Modulation {
                 modulation,
                 rate,
@@ -533,6 +713,30 @@ impl Effect {
                 100.0 * fraction,
                 100.0 * declared
             ),
+            Self::ContactPreload {
+                preload_m,
+                declared_m,
+                rate,
+            } => {
+                let mut d = format!(
+                    "radial preload of every ball {:.2} um (declared {:.2} um): the load zone \
+                     {} the whole circumference",
+                    preload_m * 1e6,
+                    declared_m * 1e6,
+                    if *preload_m > 0.0 {
+                        "spans"
+                    } else {
+                        "need not span"
+                    }
+                );
+                if let Some((step, ratio)) = rate {
+                    d += &format!(
+                        "; judged with the fault's rate moved by {step:.5} (defect rate \
+                         {ratio:.5} x the geometry's)"
+                    );
+                }
+                d
+            }
             Self::LineComb { spacing_hz, lines } => {
                 let f: Vec<String> = lines
                     .iter()

@@ -34,7 +34,12 @@ impl std::fmt::Debug for ModelRef {
 pub(crate) struct State {
     /// The physics model with the physics effects put in (`None`: the declared model as given).
     pub model: Option<ModelRef>,
+    /// The declared model simulated at the speed ratio its fault impacts run at.
     pub base: Arc<Base>,
+    /// The fault's impact rate over the rate the declared geometry gives at the shaft's speed
+    /// (1 until a defect-rate effect is taken): the physics runs at `base.ratio`, the shaft at
+    /// `base.ratio / defect_rate` ([`State::shaft_ratio`]).
+    pub defect_rate: f64,
     /// Steady-state responses to shaft forces that are in the simulation (`base`) already: they
     /// enter the time-domain residual, not the PSD.
     pub physics_lines: Vec<Line>,
@@ -96,6 +101,8 @@ pub(crate) struct Ctx<'a> {
     /// the candidates of every round re-try the same models (a slip fraction, the declared
     /// physics at the current speed), and the 5-DOF simulation is most of a round's time.
     pub bases: std::sync::Mutex<std::collections::HashMap<(String, u64), Arc<Base>>>,
+    /// The shaft speed the fitting segment's own shaft lines show (`None`: too weak to read).
+    pub shaft: Option<crate::spectrum::ShaftSpeed>,
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,
     pub cfg: &'a CheckedConfig,
@@ -109,6 +116,11 @@ pub(crate) struct Scores {
 }
 
 impl State {
+    /// The shaft's speed over the declared one: where the shaft-synchronous lines and rates sit.
+    pub fn shaft_ratio(&self) -> f64 {
+        self.base.ratio / self.defect_rate
+    }
+
     /// Sensor lines and physics lines together: the model's phase-coherent prediction.
     pub fn all_lines(&self) -> Vec<Line> {
         self.lines

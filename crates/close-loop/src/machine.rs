@@ -264,6 +264,11 @@ pub struct MachineModel {
     pub declared_fault: String,
     /// True speed / declared speed.
     pub speed_ratio: f64,
+    /// The declared fault's impact rate over the rate its geometry gives at the true speed (a
+    /// `defect_rate` effect: the effective contact angle or pitch ratio differs from the
+    /// catalogue's); 1 when the loop took none (and then not written).
+    #[serde(default = "unit_ratio", skip_serializing_if = "is_unit_ratio")]
+    pub defect_rate_ratio: f64,
     /// Gain on the declared physics output.
     pub physics_gain: f64,
     /// Housing mode of the physics model (Hz, ζ) when the loop moved it.
@@ -293,6 +298,10 @@ pub struct MachineModel {
     /// changed it (absent: the declared model's own).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slip_fraction: Option<f64>,
+    /// Radial preload of every ball in the declared physics at the end of the calibration, m,
+    /// when the loop changed it (absent: the declared model's own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_preload_m: Option<f64>,
     /// Where it came from.
     pub provenance: Provenance,
     /// RMS of the calibration recording's held-out part through the path's prediction-error
@@ -322,7 +331,7 @@ impl MachineModel {
         before: f64,
         after: f64,
     ) -> Self {
-        let fr = ctx.op.shaft_hz() * st.base.ratio;
+        let fr = ctx.op.shaft_hz() * st.shaft_ratio();
         let mut lines: Vec<MachineLine> = Vec::new();
         // a line the loop names a shaft harmonic (integer order up to `max_harmonic_order`,
         // half order up to 5½, within the harmonic tolerance) moves with the speed; any other
@@ -383,7 +392,8 @@ impl MachineModel {
             model: ctx.model.name().to_string(),
             declared_rpm: ctx.op.rpm,
             declared_fault: ctx.op.fault.name().to_string(),
-            speed_ratio: st.base.ratio,
+            speed_ratio: st.shaft_ratio(),
+            defect_rate_ratio: st.defect_rate,
             physics_gain: st.log_gain.exp(),
             housing_mode,
             shaft_forces,
@@ -407,6 +417,10 @@ impl MachineModel {
                 .model_of(st)
                 .slip_fraction()
                 .filter(|s| Some(*s) != ctx.model.slip_fraction()),
+            contact_preload_m: ctx
+                .model_of(st)
+                .contact_preload_m()
+                .filter(|p| Some(*p) != ctx.model.contact_preload_m()),
             provenance: Provenance {
                 recording: String::new(),
                 error_before: before,
@@ -544,6 +558,7 @@ impl MachineModel {
         let positive = [
             ("fs_hz", m.fs_hz),
             ("speed_ratio", m.speed_ratio),
+            ("defect_rate_ratio", m.defect_rate_ratio),
             ("declared_rpm", m.declared_rpm),
         ];
         for (name, v) in positive {
@@ -714,6 +729,9 @@ impl MachineModel {
             if let Some(frac) = self.slip_fraction {
                 m = m.as_deref().unwrap_or(model).with_slip_fraction(frac).or(m);
             }
+            if let Some(p) = self.contact_preload_m {
+                m = m.as_deref().unwrap_or(model).with_contact_preload(p).or(m);
+            }
             if let Some([f, z]) = self.housing_mode {
                 m = m.as_deref().unwrap_or(model).with_housing_mode(f, z).or(m);
             }
@@ -732,8 +750,8 @@ impl MachineModel {
                 }
             })?);
             let fault = crate::parse_fault(&self.declared_fault)?;
-            let op =
-                crate::OperatingPoint::new(rpm, rates, fault)?.with_speed_ratio(self.speed_ratio);
+            let op = crate::OperatingPoint::new(rpm, rates, fault)?
+                .with_speed_ratio(self.speed_ratio * self.defect_rate_ratio);
             let mut x = m.as_deref().unwrap_or(model).simulate(&op, n, fs)?;
             for mode in &self.channel_modes {
                 x = mode.apply(&x, fs);
@@ -772,4 +790,14 @@ impl MachineModel {
         }
         Ok(y)
     }
+}
+
+/// serde default of [`MachineModel::defect_rate_ratio`].
+fn unit_ratio() -> f64 {
+    1.0
+}
+
+/// A ratio of exactly 1 is not written ([`MachineModel::defect_rate_ratio`]).
+fn is_unit_ratio(r: &f64) -> bool {
+    *r == 1.0
 }

@@ -25,6 +25,9 @@ pub struct PhysicsModel {
     pub harmonics: Vec<ShaftHarmonic>,
     /// Seed of slip draws.
     pub seed: u64,
+    /// Radial clearance of every ball, m (negative: a preload, the load zone spanning the whole
+    /// circumference); `None` = the parameter set's (0 for [`ParamSet::CwruRig`]).
+    pub clearance_m: Option<f64>,
 }
 
 impl Default for PhysicsModel {
@@ -37,6 +40,7 @@ impl Default for PhysicsModel {
             housing: None,
             harmonics: Vec::new(),
             seed: 1,
+            clearance_m: None,
         }
     }
 }
@@ -75,6 +79,9 @@ impl PhysicsModel {
         }
         for h in &self.harmonics {
             s = s.with_harmonic(*h);
+        }
+        if let Some(c) = self.clearance_m {
+            s.spec.contact.clearance_m = c;
         }
         s.spec.validate().map_err(|e| CloseLoopError::Model {
             reason: e.to_string(),
@@ -147,6 +154,24 @@ impl DeclaredModel for PhysicsModel {
         let mut m = self.clone();
         m.slip_fraction = fraction;
         Some(Box::new(m))
+    }
+
+    fn contact_preload_m(&self) -> Option<f64> {
+        let c = self.clearance_m.unwrap_or_else(|| {
+            Scenario::new(self.set, self.bearing, 1797.0)
+                .spec
+                .contact
+                .clearance_m
+        });
+        Some((-c).max(0.0))
+    }
+
+    fn with_contact_preload(&self, preload_m: f64) -> Option<Box<dyn DeclaredModel>> {
+        (preload_m.is_finite() && preload_m >= 0.0).then(|| {
+            let mut m = self.clone();
+            m.clearance_m = Some(-preload_m);
+            Box::new(m) as Box<dyn DeclaredModel>
+        })
     }
 
     fn housing_mode(&self) -> Option<(f64, f64)> {

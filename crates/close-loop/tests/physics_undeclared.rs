@@ -216,3 +216,21 @@ fn physics_slip_is_set_once() {
         PhysicsModel::default().slip_fraction
     );
 }
+
+/// An inner-race fault whose balls are all preloaded by 2 µm (the load zone spans the whole
+/// circumference, so the shaft barely modulates the impacts), declared without preload: the
+/// loop names the contact preload (placement physics) from the rig's grid, near the truth.
+#[test]
+fn physics_contact_preload() {
+    let truth = PhysicsModel {
+        clearance_m: Some(-2e-6),
+        ..PhysicsModel::default()
+    };
+    let y = recording_fault(&truth, RPM, DeclaredFault::Inner, |x| x);
+    let o = run_fault(&y, DeclaredFault::Inner);
+    let e = first(&o, EffectKind::ContactPreload);
+    assert_eq!(e.placement, close_loop::Placement::Physics);
+    let p = e.parameters["preload_um"];
+    assert!((1.0..=4.0).contains(&p), "{:?}", e.parameters);
+    assert!(e.error_after < e.error_before);
+}

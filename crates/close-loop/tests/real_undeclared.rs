@@ -87,41 +87,48 @@ fn tone_and_shaft_order_added_to_209() {
     assert!(h.error_after < h.error_before);
 }
 
-/// 130 (outer race 0.007 in @6, 0 hp, grade Y) resampled so that it plays 1.5 % faster: the loop,
-/// told the logged speed, names a speed offset of 1.5 % (on top of the rig's ~0.33 %).
+/// 130 (outer race 0.007 in @6, 0 hp, grade Y) from the rig's machine model, untouched and
+/// resampled so that it plays 1.5 % faster. Untouched, its shaft lines sit at the logged speed
+/// (within 0.02 %) while its BPFO lines sit 0.32 % above the 6205's 3.5848 × fr: the loop names
+/// a defect rate (an effective contact angle of about 9°), not a speed offset. Played faster,
+/// the shaft lines move too: it names a speed offset of 1.5 %, read from the shaft lines, with
+/// the same defect rate beside it.
 #[test]
-fn speed_change_by_resampling_130() {
+fn defect_rate_and_speed_change_by_resampling_130() {
     let Some(dir) = data_dir() else { return };
+    let cfg = LoopConfig::default().check().unwrap();
+    let machine = rig_12k(&dir);
     let r = load_record(&dir, 130, &LoadOptions::default()).unwrap();
     let rpm = r.rpm().value;
     let x = r.de();
-    let control = run(x, rpm, DeclaredFault::Outer);
-    let ratio0 = control
+    let control = run_from(machine, x, rpm, &cfg);
+    let kinds: Vec<EffectKind> = control.ledger.effects.iter().map(|e| e.kind).collect();
+    assert!(!kinds.contains(&EffectKind::SpeedOffset), "{kinds:?}");
+    let d = control
         .ledger
         .effects
         .iter()
-        .filter(|e| e.kind == EffectKind::SpeedOffset)
-        .map(|e| e.parameters["ratio"])
-        .next_back()
-        .unwrap_or(1.0);
+        .find(|e| e.kind == EffectKind::DefectRate)
+        .unwrap_or_else(|| panic!("no defect rate named: {kinds:?}"));
+    let q0 = d.parameters["ratio"];
+    assert!((1.002..1.0045).contains(&q0), "{:?}", d.parameters);
+    assert!((d.parameters["shaft_ratio"] - 1.0).abs() < 1e-3);
+    let angle = d.parameters["contact_angle_deg"];
+    assert!((6.0..13.0).contains(&angle), "{angle}");
     let s = 1.015;
     let y = played_faster(x, s);
-    let o = run(&y, rpm, DeclaredFault::Outer);
-    let ratio = o
+    let o = run_from(machine, &y, rpm, &cfg);
+    let e = o
         .ledger
         .effects
         .iter()
-        .filter(|e| e.kind == EffectKind::SpeedOffset)
-        .map(|e| e.parameters["ratio"])
-        .next_back()
+        .rfind(|e| e.kind == EffectKind::SpeedOffset)
         .expect("no speed offset named");
-    // the rig's own fault lines sit ~0.33 % above the logged speed (references.md), so the
-    // named ratio is 1.015 × (1 … 1.0045)
-    let rel = ratio / s - 1.0;
-    assert!(
-        (-0.001..0.0045).contains(&rel),
-        "ratio {ratio}, control {ratio0}"
-    );
+    let ratio = e.parameters["ratio"];
+    assert_eq!(e.parameters["shaft_measured"], 1.0, "{:?}", e.parameters);
+    assert!((ratio / s - 1.0).abs() < 1e-3, "ratio {ratio}");
+    let q = e.parameters["defect_rate_ratio"];
+    assert!((q / q0 - 1.0).abs() < 1e-3, "defect rate {q}, control {q0}");
 }
 
 /// `x` played `s` times faster: y(k) = x(s·k), linear interpolation (the band of interest is
@@ -257,11 +264,14 @@ fn speed_change_by_resampling_from_the_machine_model_130() {
         let y = played_faster(r.de(), s);
         let o = run_from(machine, &y, rpm, &cfg);
         let speed = speed_named_before_slip(&o, s);
-        // the rig's own fault lines sit ~0.33 % above the logged speed (references.md); the
-        // machine model's ratio is folded into the named one
-        let ratio = o.ledger.effects[speed].parameters["ratio"];
+        // the speed is read from the shaft lines: the rig's BPFO, 0.32 % above the 6205's
+        // order, is the defect rate beside it, not part of the speed
+        let e = &o.ledger.effects[speed];
+        let ratio = e.parameters["ratio"];
         let rel = ratio / s - 1.0;
-        assert!((-0.001..0.0045).contains(&rel), "{s}: ratio {ratio}");
+        assert!((-0.001..0.001).contains(&rel), "{s}: {:?}", e.parameters);
+        let q = e.parameters["defect_rate_ratio"];
+        assert!((1.002..1.0045).contains(&q), "{s}: {:?}", e.parameters);
         assert!(o.ledger.error_after < o.ledger.error_before);
     }
 }
@@ -296,11 +306,16 @@ fn inner_race_speed_change_is_named_from_the_envelope_170() {
         let y = played_faster(r.de(), s);
         let o = run_from_with(machine, &y, rpm, DeclaredFault::Inner, &cfg);
         let speed = speed_named_before_slip(&o, s);
-        // CWRU's inner-race lines sit 0.2–0.3 % below the logged speed's BPFI (105, 209: 0.997,
-        // 0.998); that ratio is folded into the named one
+        // the speed is read from the shaft lines; CWRU's inner-race lines, 0.05–0.3 % below
+        // the 6205's BPFI (169, 209, 105: 0.9996, 0.998, 0.997), are the defect rate beside it
         let e = &o.ledger.effects[speed];
         let rel = e.parameters["ratio"] / s - 1.0;
-        assert!((-0.005..0.001).contains(&rel), "{s}: {:?}", e.parameters);
+        assert!((-0.001..0.001).contains(&rel), "{s}: {:?}", e.parameters);
+        assert_eq!(
+            e.parameters["shaft_measured"], 1.0,
+            "{s}: {:?}",
+            e.parameters
+        );
         assert!(e.accepted_on.is_some());
         assert!(o.ledger.error_after < o.ledger.error_before);
     }

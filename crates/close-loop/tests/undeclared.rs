@@ -145,6 +145,79 @@ fn speed_offset_is_found() {
     assert!(o.ledger.error_after < o.ledger.error_before);
 }
 
+/// The fault's impacts run 0.4 % faster than the 6205's geometry gives while the shaft lines
+/// (orders 1, 3, 5, added at the declared speed) stay: the loop names a defect rate, not a speed
+/// offset (an effective contact angle, as CWRU's outer-race records show, references.md).
+#[test]
+fn defect_rate_is_named_when_the_shaft_lines_stay() {
+    let fr = RPM / 60.0;
+    // the truth's impacts at 1.004 × the declared rate, its own 1× line off (it would turn at
+    // the impacts' speed); the shaft lines added at the declared speed
+    let n = (SECONDS * FS) as usize;
+    let truth = PhenomenologicalModel {
+        shaft_amplitude: 0.0,
+        ..model().with_seed(77)
+    };
+    let o_true = OperatingPoint::new(
+        RPM * 1.004,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Outer,
+    )
+    .unwrap();
+    let mut y = close_loop::DeclaredModel::simulate(&truth, &o_true, n, FS).unwrap();
+    for k in [1.0, 3.0, 5.0] {
+        add_tone(&mut y, FS, k * fr, 0.03, 0.3 * k);
+    }
+    add_noise(&mut y, 0.01, 4242);
+    let o = run(&y, DeclaredFault::Outer);
+    let e = rate_step_named(&o, EffectKind::DefectRate, EffectKind::SpeedOffset, 1.004);
+    assert!((e.parameters["shaft_ratio"] - 1.0).abs() < 1e-3);
+    // BPFO = n/2·(1 − γ): 0.4 % more needs γ 1.6 % below the 6205's 0.2034, i.e. cos α = 0.984
+    let a = e.parameters["contact_angle_deg"];
+    assert!((9.0..12.0).contains(&a), "{a}");
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+/// The same recording with the shaft lines at the true speed too (the machine simply runs
+/// 0.4 % faster): a speed offset, read from the shaft lines.
+#[test]
+fn speed_offset_is_named_when_the_shaft_lines_move() {
+    let fr = RPM * 1.004 / 60.0;
+    let y = recording(DeclaredFault::Outer, RPM * 1.004, |mut x| {
+        for k in [1.0, 3.0, 5.0] {
+            add_tone(&mut x, FS, k * fr, 0.03, 0.3 * k);
+        }
+        x
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let e = rate_step_named(&o, EffectKind::SpeedOffset, EffectKind::DefectRate, 1.004);
+    assert_eq!(e.parameters["shaft_measured"], 1.0);
+    assert!((e.parameters["defect_rate_ratio"] - 1.0).abs() < 0.001);
+}
+
+/// The one effect of kind `named` (and none of kind `not`) in `o`, its `ratio` within 0.1 % of
+/// `ratio`.
+fn rate_step_named(
+    o: &Outcome,
+    named: EffectKind,
+    not: EffectKind,
+    ratio: f64,
+) -> &close_loop::EffectEntry {
+    assert!(!kinds(o).contains(&not), "{:?}", kinds(o));
+    let e = o
+        .ledger
+        .effects
+        .iter()
+        .find(|e| e.kind == named)
+        .unwrap_or_else(|| panic!("no {} named: {:?}", named.as_str(), kinds(o)));
+    assert!(
+        (e.parameters["ratio"] / ratio - 1.0).abs() < 0.001,
+        "{:?}",
+        e.parameters
+    );
+    e
+}
+
 #[test]
 fn modulation_is_found() {
     let fr = RPM / 60.0;

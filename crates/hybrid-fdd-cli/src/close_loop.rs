@@ -232,6 +232,32 @@ pub fn effect_list(o: &Outcome) -> String {
                 close_loop::Placement::Physics => "P",
                 close_loop::Placement::Measurement => "M",
             };
+            if e.kind == close_loop::EffectKind::DefectRate {
+                let angle = e
+                    .parameters
+                    .get("contact_angle_deg")
+                    .map_or(String::new(), |a| format!(", contact angle {a:.1} deg"));
+                return format!(
+                    "{} x{:.4} ({:.4} x fr{angle}) ({p})",
+                    e.kind.as_str(),
+                    e.parameters.get("ratio").copied().unwrap_or(f64::NAN),
+                    e.parameters
+                        .get("measured_order")
+                        .copied()
+                        .unwrap_or(f64::NAN),
+                );
+            }
+            if e.kind == close_loop::EffectKind::ContactPreload {
+                let rate = e
+                    .parameters
+                    .get("defect_rate_ratio")
+                    .map_or(String::new(), |q| format!(", defect rate x{q:.4}"));
+                return format!(
+                    "{} {:.1} um{rate} ({p})",
+                    e.kind.as_str(),
+                    e.parameters.get("preload_um").copied().unwrap_or(f64::NAN),
+                );
+            }
             let order = e
                 .parameters
                 .get("order")

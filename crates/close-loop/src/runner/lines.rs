@@ -106,7 +106,7 @@ pub(super) fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Eval
     peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
     let xw = hann_windowed(&resid);
     let refiner = PeakRefiner::new(&xw, ctx.fs);
-    let fr = ctx.op.shaft_hz() * st.base.ratio;
+    let fr = ctx.op.shaft_hz() * st.shaft_ratio();
     let mut out = Vec::new();
     // combs: every standing line refined once, then grouped
     let refined: Vec<(f64, f64)> = peaks

@@ -118,8 +118,17 @@ pub fn close_loop_from(
     }
     let s_fit = welch.try_psd(&y[..n_fit])?;
     let eps = crate::metric::floor_of(&s_fit, k_lo..k_hi + 1, c.floor_db);
+    let shaft = crate::spectrum::measure_shaft_speed(
+        &y[..n_fit],
+        fs,
+        op.shaft_hz(),
+        &crate::impact_orders(op.fault, &op.bearing),
+        c.line_frequency_hz,
+        c.max_speed_offset,
+    );
     let ctx = Ctx {
         y,
+        shaft,
         fs,
         n_fit,
         eps,
@@ -153,6 +162,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             model: None,
             physics_lines: Vec::new(),
             base: ctx.make_base(1.0)?,
+            defect_rate: 1.0,
             modes: Vec::new(),
             mods: Vec::new(),
             lines: Vec::new(),
@@ -209,7 +219,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         cands.retain(|e| {
             e.fit_lsd.is_finite()
                 && (e.fit_lsd < fit_lsd
-                    || (matches!(e.effect, Effect::SpeedOffset { .. })
+                    || (e.effect.impact_rate_step().is_some()
                         && e.fit_lsd <= fit_lsd * (1.0 + c.margin)))
         });
         if lines_only {
@@ -241,8 +251,8 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             for cand in versions {
                 let h = ctx.held_scores(&cand.state);
                 // a speed step beyond ± FAR_SPEED_STEP must explain much more (FAR_SPEED_MARGIN)
-                let margin = match cand.effect {
-                    Effect::SpeedOffset { step, .. } if (step - 1.0).abs() > FAR_SPEED_STEP => {
+                let margin = match cand.effect.impact_rate_step() {
+                    Some(step) if (step - 1.0).abs() > FAR_SPEED_STEP => {
                         c.margin.max(FAR_SPEED_MARGIN)
                     }
                     _ => c.margin,
@@ -260,9 +270,9 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                 // of the held-out residual sit at the new speed) and that does not raise the
                 // spectral error by more than the smallest improvement counted
                 let unchanged = h.lsd <= held.lsd + c.min_improvement_db;
-                let envelope = match &cand.effect {
-                    Effect::SpeedOffset { step, .. } if !spectral && unchanged => {
-                        speed::envelope_confirms_speed(ctx, &st, *step)
+                let envelope = match cand.effect.impact_rate_step() {
+                    Some(step) if !spectral && unchanged => {
+                        speed::envelope_confirms_speed(ctx, &st, step)
                             .map(|s| ("held_out_envelope_step", s))
                     }
                     _ => None,
@@ -278,7 +288,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                     accepted = Some((cand, h, on, envelope));
                     break 'judge;
                 }
-                if let Effect::SpeedOffset { ratio, .. } = cand.effect {
+                if let Some(ratio) = cand.effect.physics_ratio() {
                     ctx.rejected_ratios
                         .lock()
                         .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -533,7 +543,7 @@ fn speed_before_slip(cands: Vec<Evaluated>) -> Vec<Evaluated> {
     };
     let (mut speed, mut rest): (Vec<_>, Vec<_>) = (Vec::new(), Vec::new());
     for (i, e) in cands.into_iter().enumerate() {
-        if i > first_slip && matches!(e.effect, Effect::SpeedOffset { .. }) {
+        if i > first_slip && e.effect.impact_rate_step().is_some() {
             speed.push(e);
         } else {
             rest.push(e);
@@ -657,7 +667,8 @@ fn segments(n: usize, nperseg: usize) -> usize {
 ///
 /// Gains, floor and path level are fitted afresh by the caller ([`Ctx::calibrate`]).
 fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError> {
-    let ratio = m.speed_ratio;
+    // the physics runs at the fault's impact rate, the lines at the shaft's
+    let ratio = m.speed_ratio * m.defect_rate_ratio;
     let mut model: Option<Arc<dyn DeclaredModel>> = None;
     fn current<'m>(
         model: &'m Option<Arc<dyn DeclaredModel>>,
@@ -670,6 +681,11 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
     }
     if let Some(frac) = m.slip_fraction
         && let Some(x) = current(&model, ctx.model).with_slip_fraction(frac)
+    {
+        model = Some(Arc::from(x));
+    }
+    if let Some(p) = m.contact_preload_m
+        && let Some(x) = current(&model, ctx.model).with_contact_preload(p)
     {
         model = Some(Arc::from(x));
     }
@@ -710,7 +726,7 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         }
         _ => (unforced, Vec::new()),
     };
-    let fr = ctx.op.shaft_hz() * ratio;
+    let fr = ctx.op.shaft_hz() * m.speed_ratio;
     let mut resid = ctx.y[..ctx.n_fit].to_vec();
     for l in &physics_lines {
         negated(l).add_to(&mut resid, 0, ctx.fs);
@@ -753,6 +769,7 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         model: model.map(crate::engine::ModelRef),
         physics_lines,
         base,
+        defect_rate: m.defect_rate_ratio,
         modes: m.channel_modes.clone(),
         mods: m.modulations.clone(),
         lines,
@@ -858,6 +875,7 @@ fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopErro
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
     out.extend(slip_candidate(ctx, st));
+    out.extend(preload_candidate(ctx, st));
     Ok(out)
 }
 
@@ -874,4 +892,4 @@ use lines::{fit_line, line_candidates, shaft_force_candidate};
 pub const LINE_GROWTH_LIMIT: f64 = 2.0;
 use modulation::modulation_candidates;
 use resonance::resonance_candidates;
-use speed::{slip_candidate, speed_candidates};
+use speed::{preload_candidate, slip_candidate, speed_candidates};

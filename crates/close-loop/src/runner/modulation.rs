@@ -107,7 +107,7 @@ fn index_and_scatter(ix: &ModulationIndex, fm: f64) -> (f64, f64) {
 
 pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     let c = ctx.cfg.get();
-    let fr = ctx.op.shaft_hz() * st.base.ratio;
+    let fr = ctx.op.shaft_hz() * st.shaft_ratio();
     let resid = ctx.fit_residual(st);
     // a residual without an envelope spectrum (cannot happen on checked, finite data) offers
     // no modulation candidate

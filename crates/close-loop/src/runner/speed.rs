@@ -83,6 +83,15 @@ fn envelope_speed_of(ctx: &Ctx<'_>, st: &State, resid: &[f64]) -> Option<(f64, f
     Some((s, v, step))
 }
 
+/// Speed steps from the line pattern ([`spectral_speed_step`]) and from the envelope
+/// ([`envelope_speed_step`]): the declared model re-simulated with its fault's impacts moved by
+/// the step. Whether the step is the shaft's speed or the fault's own rate is read from the
+/// recording's shaft lines (`Ctx::shaft`, [`crate::spectrum::measure_shaft_speed`]): with a
+/// declared fault and shaft lines that stay within [`crate::spectrum::SHAFT_AGREE`] of the
+/// model's shaft speed, the step is a [`Effect::DefectRate`] and the model's shaft lines stay;
+/// when they moved, it is a [`Effect::SpeedOffset`] to the measured speed (the lines move with
+/// it) with the rest of the step as the fault's rate; without readable shaft lines (or without
+/// a declared fault) the whole step is taken as the speed, as before.
 pub(super) fn speed_candidates(
     ctx: &Ctx<'_>,
     st: &State,
@@ -97,6 +106,8 @@ pub(super) fn speed_candidates(
     {
         steps.push(s);
     }
+    let orders = crate::impact_orders(ctx.op.fault, &ctx.op.bearing);
+    let measured = ctx.shaft.as_ref().filter(|_| !orders.is_empty());
     let mut out = Vec::new();
     for s in steps {
         if (s - 1.0).abs() < c.min_speed_step || (s - 1.0).abs() > c.max_speed_offset {
@@ -113,20 +124,80 @@ pub(super) fn speed_candidates(
         {
             continue;
         }
+        let shaft_now = st.shaft_ratio();
+        let shaft_new = match measured {
+            Some(m) if (m.ratio / shaft_now - 1.0).abs() > crate::spectrum::SHAFT_AGREE => m.ratio,
+            Some(_) => shaft_now,
+            None => shaft_now * s,
+        };
+        let defect_rate = ratio / shaft_new;
+        let effect = if measured.is_some() && shaft_new == shaft_now {
+            let order = orders[0];
+            let (effective_pitch_ratio, contact_angle_deg) =
+                effective_geometry(ctx, order, defect_rate);
+            Effect::DefectRate {
+                ratio: defect_rate,
+                step: s,
+                shaft_ratio: shaft_now,
+                order,
+                frequency_hz: order * defect_rate * ctx.op.shaft_hz() * shaft_now,
+                effective_pitch_ratio,
+                contact_angle_deg,
+            }
+        } else {
+            Effect::SpeedOffset {
+                ratio: shaft_new,
+                step: s,
+                defect_rate,
+                shaft_measured: measured.is_some(),
+            }
+        };
         let base: Arc<Base> = ctx.make_base_with(ctx.model_of(st), ratio)?;
         let mut s2 = st.clone();
         ctx.rebase(&mut s2, base);
+        s2.defect_rate = defect_rate;
         for l in &mut s2.physics_lines {
-            l.frequency_hz *= s;
+            l.frequency_hz *= shaft_new / shaft_now;
         }
         let (s2, lsd) = ctx.calibrate(s2, true);
         out.push(Evaluated {
-            effect: Effect::SpeedOffset { ratio, step: s },
+            effect,
             state: s2,
             fit_lsd: lsd,
         });
     }
     Ok(out)
+}
+
+/// The pitch ratio γ = d·cos α / D that makes the declared fault's rate `order` × `q` (the
+/// kinematic formulas with the shaft turning and the outer race still: BPFO = n/2·(1 − γ),
+/// BPFI = n/2·(1 + γ), CWRU's ball-defect rate = D/d·(1 − γ²)), and the contact angle that gives
+/// it with the catalogue's d and D. `(None, None)` without a geometry or for an order the
+/// geometry does not give (a bearing given by its four multiples).
+fn effective_geometry(ctx: &Ctx<'_>, order: f64, q: f64) -> (Option<f64>, Option<f64>) {
+    let Some(g) = ctx.op.bearing.geometry else {
+        return (None, None);
+    };
+    let d_over_pd = g.ball_diameter_m / g.pitch_diameter_m;
+    let gamma = d_over_pd * g.contact_angle_rad.cos();
+    let o = ctx.op.bearing.orders;
+    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-9;
+    let gamma_new = if close(order, o.bpfo) {
+        Some(1.0 - q * (1.0 - gamma))
+    } else if close(order, o.bpfi) {
+        Some(q * (1.0 + gamma) - 1.0)
+    } else if close(order, o.ball_defect) {
+        let v = 1.0 - q * (1.0 - gamma * gamma);
+        (v >= 0.0).then(|| v.sqrt())
+    } else {
+        None
+    };
+    let Some(gn) = gamma_new.filter(|v| v.is_finite() && *v > 0.0) else {
+        return (None, None);
+    };
+    let cos_a = gn / d_over_pd;
+    let angle = (cos_a <= 1.0).then(|| cos_a.acos().to_degrees());
+    (Some(gn), angle)
 }
 
 /// Slip fractions tried, relative to the declared model's: the whole range at every step, so
@@ -217,4 +288,63 @@ pub(super) fn spectral_speed_step(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
     }
     let (s, _) = crate::optimize::golden_max(corr, best.0 - step, best.0 + step, 20);
     Some(s)
+}
+
+/// The balls' radial preload (a negative clearance: every ball loaded, the load zone spanning
+/// the whole circumference): the model re-simulated at each of the calibrated rig's preloads
+/// ([`crate::rig::PRELOADS_M`]) but its current
+/// one, the best on the fitting segment kept. It sets how strongly the shaft (inner race) or
+/// the cage (ball) modulates the fault's impacts — a 5-DOF model without preload modulates an
+/// inner-race fault by the load zone far more than CWRU's records show (107: the BPFI ± fr
+/// envelope lines at −1/−2 dB of BPFI simulated, −19/−18 dB measured). Only with a declared
+/// fault and a model with contacts.
+pub(super) fn preload_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
+    let c = ctx.cfg.get();
+    if crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty() {
+        return None;
+    }
+    let declared = ctx.model.contact_preload_m()?;
+    let model = ctx.model_of(st);
+    let current = model.contact_preload_m()?;
+    // the fault's rate the envelope asks for, when the shaft lines say it is a defect rate
+    let rate_step = envelope_speed_step(ctx, st).filter(|s| {
+        (s - 1.0).abs() >= c.min_speed_step
+            && (s - 1.0).abs() <= c.max_speed_offset
+            && ctx.shaft.as_ref().is_some_and(|m| {
+                (m.ratio / st.shaft_ratio() - 1.0).abs() <= crate::spectrum::SHAFT_AGREE
+            })
+    });
+    let mut best: Option<Evaluated> = None;
+    for &p in crate::rig::PRELOADS_M {
+        if (p - current).abs() <= 1e-12 {
+            continue;
+        }
+        let Some(m) = model.with_contact_preload(p) else {
+            continue;
+        };
+        let m: Arc<dyn DeclaredModel> = Arc::from(m);
+        for step in std::iter::once(None).chain(rate_step.map(Some)) {
+            let ratio = st.base.ratio * step.unwrap_or(1.0);
+            let Ok(base) = ctx.make_base_with(m.as_ref(), ratio) else {
+                continue;
+            };
+            let mut s2 = st.clone();
+            s2.model = Some(ModelRef(m.clone()));
+            ctx.rebase(&mut s2, base);
+            s2.defect_rate = ratio / st.shaft_ratio();
+            let (s2, lsd) = ctx.calibrate(s2, false);
+            if best.as_ref().is_none_or(|b| lsd < b.fit_lsd) {
+                best = Some(Evaluated {
+                    effect: Effect::ContactPreload {
+                        preload_m: p,
+                        declared_m: declared,
+                        rate: step.map(|s| (s, s2.defect_rate)),
+                    },
+                    state: s2,
+                    fit_lsd: lsd,
+                });
+            }
+        }
+    }
+    best
 }
