@@ -121,7 +121,11 @@ pub const SECOND_BAND_LINE_DB: f64 = 10.0;
 pub const HARMONICS: usize = 3;
 /// Largest rolling-element slip allowed for (1–2 % is usual).
 pub const SLIP_MAX: f64 = 0.02;
-/// Speed-reference offset: CWRU fault lines sit ~0.33 % above the logged speed's prediction.
+/// Allowance above the kinematic rate: CWRU's outer-race lines sit ~0.33 % above the 6205's BPFO
+/// at the logged speed. The closed loop reads the shaft at the logged speed on those records, so
+/// the offset is the bearing's effective contact angle (a `defect_rate` effect, 7–14°), not the
+/// speed; a rig-specific allowance, kept because the physical one (an angle up to 15°, lowering
+/// BPFI too) cost verdicts (`docs/equations/diagnosis.md`, "Speed").
 pub const SPEED_OFFSET: f64 = 0.0033;
 /// Tolerance on the declared speed itself (± 0.3 %; a speed further off is measured from the
 /// recording when it can be, see [`speed`]).
