@@ -233,4 +233,35 @@ fn physics_contact_preload() {
     let p = e.parameters["preload_um"];
     assert!((1.0..=4.0).contains(&p), "{:?}", e.parameters);
     assert!(e.error_after < e.error_before);
+    // the machine model carries the preload through its JSON, and the loop run from it on the
+    // same recording starts with it: it starts near where the first run ended and does not
+    // name the preload again
+    let text = o.machine.to_json().unwrap();
+    let m = close_loop::machine::MachineModel::from_json(&text).unwrap();
+    assert_eq!(m.contact_preload_m, Some(p * 1e-6));
+    let cfg = LoopConfig::default().check().unwrap();
+    let again = close_loop::close_loop_from(
+        &PhysicsModel::default(),
+        Some(&m),
+        &y,
+        FS,
+        &op_fault(RPM, DeclaredFault::Inner),
+        &cfg,
+    )
+    .unwrap();
+    assert!(
+        again.ledger.error_before < 0.5 * o.ledger.error_before,
+        "{} vs {}",
+        again.ledger.error_before,
+        o.ledger.error_before
+    );
+    assert!(
+        again
+            .ledger
+            .effects
+            .iter()
+            .all(|e| e.kind != EffectKind::ContactPreload),
+        "{:?}",
+        again.ledger.effects
+    );
 }

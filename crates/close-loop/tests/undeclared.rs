@@ -176,6 +176,26 @@ fn defect_rate_is_named_when_the_shaft_lines_stay() {
     let a = e.parameters["contact_angle_deg"];
     assert!((9.0..12.0).contains(&a), "{a}");
     assert!(o.ledger.error_after < o.ledger.error_before);
+    // the machine model keeps the two apart through its JSON (the shaft's speed, the fault's
+    // rate), and the loop run from it on the same recording starts with the rate in place
+    let m = close_loop::machine::MachineModel::from_json(&o.machine.to_json().unwrap()).unwrap();
+    assert!((m.speed_ratio - 1.0).abs() < 1e-3, "{}", m.speed_ratio);
+    assert!((m.defect_rate_ratio / 1.004 - 1.0).abs() < 0.001);
+    let cfg = LoopConfig::default().check().unwrap();
+    let again =
+        close_loop::close_loop_from(&model(), Some(&m), &y, FS, &op(DeclaredFault::Outer), &cfg)
+            .unwrap();
+    assert!(
+        again.ledger.error_before < 0.6 * o.ledger.error_before,
+        "{} vs {}",
+        again.ledger.error_before,
+        o.ledger.error_before
+    );
+    let k = kinds(&again);
+    assert!(
+        !k.contains(&EffectKind::DefectRate) && !k.contains(&EffectKind::SpeedOffset),
+        "{k:?}"
+    );
 }
 
 /// The same recording with the shaft lines at the true speed too (the machine simply runs
