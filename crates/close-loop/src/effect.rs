@@ -230,7 +230,7 @@ pub enum Effect {
         step: f64,
         /// The fault's impact rate over its geometry's at this speed: 1 unless the recording's
         /// shaft lines measured the speed apart from the fault lines
-        /// ([`crate::spectrum::measure_shaft_speed`]).
+        /// (`residual_features::speed::estimate_speed`).
         defect_rate: f64,
         /// The speed was read from the recording's shaft lines (`false`: the whole step of the
         /// fault lines is taken as the speed; the shaft lines were too weak to tell).
@@ -244,7 +244,7 @@ pub enum Effect {
         /// Change of the impact rate relative to the model before this effect.
         step: f64,
         /// Shaft speed / declared speed, as the model's lines have it (the recording's shaft
-        /// lines agree with it within [`crate::spectrum::SHAFT_AGREE`]).
+        /// comb agrees with it within 0.1 %, `SHAFT_AGREE`).
         shaft_ratio: f64,
         /// The fault's rate as a multiple of the shaft rate: the geometry's (declared) order.
         order: f64,

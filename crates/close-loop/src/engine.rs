@@ -101,8 +101,9 @@ pub(crate) struct Ctx<'a> {
     /// the candidates of every round re-try the same models (a slip fraction, the declared
     /// physics at the current speed), and the 5-DOF simulation is most of a round's time.
     pub bases: std::sync::Mutex<std::collections::HashMap<(String, u64), Arc<Base>>>,
-    /// The shaft speed the fitting segment's own shaft lines show (`None`: too weak to read).
-    pub shaft: Option<crate::spectrum::ShaftSpeed>,
+    /// The shaft speed over the declared one that the fitting segment's own shaft-harmonic comb
+    /// shows (`residual_features::speed`; `None`: no comb clear enough to read).
+    pub shaft: Option<f64>,
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,
     pub cfg: &'a CheckedConfig,

@@ -145,15 +145,14 @@ fn speed_offset_is_found() {
     assert!(o.ledger.error_after < o.ledger.error_before);
 }
 
-/// The fault's impacts run 0.4 % faster than the 6205's geometry gives while the shaft lines
-/// (orders 1, 3, 5, added at the declared speed) stay: the loop names a defect rate, not a speed
-/// offset (an effective contact angle, as CWRU's outer-race records show, references.md).
-#[test]
-fn defect_rate_is_named_when_the_shaft_lines_stay() {
-    let fr = RPM / 60.0;
-    // the truth's impacts at 1.004 × the declared rate, its own 1× line off (it would turn at
-    // the impacts' speed); the shaft lines added at the declared speed
-    let n = (SECONDS * FS) as usize;
+/// A recording whose outer-race impacts run 0.4 % faster than the 6205's geometry gives at the
+/// declared speed, with a shaft-harmonic comb (orders 1–10, as a real machine's) at
+/// `shaft` × the declared speed; 8 s, so that the comb resolves the speed to 0.15 %
+/// (`residual_features::speed`). The truth's own 1× line is off (it would turn at the impacts'
+/// speed).
+fn rate_recording(shaft: f64) -> Vec<f64> {
+    let fr = RPM * shaft / 60.0;
+    let n = (8.0 * FS) as usize;
     let truth = PhenomenologicalModel {
         shaft_amplitude: 0.0,
         ..model().with_seed(77)
@@ -165,10 +164,20 @@ fn defect_rate_is_named_when_the_shaft_lines_stay() {
     )
     .unwrap();
     let mut y = close_loop::DeclaredModel::simulate(&truth, &o_true, n, FS).unwrap();
-    for k in [1.0, 3.0, 5.0] {
+    for k in 1..=10 {
+        let k = f64::from(k);
         add_tone(&mut y, FS, k * fr, 0.03, 0.3 * k);
     }
     add_noise(&mut y, 0.01, 4242);
+    y
+}
+
+/// The fault's impacts run 0.4 % faster than the 6205's geometry gives while the shaft lines
+/// stay at the declared speed: the loop names a defect rate, not a speed offset (an effective
+/// contact angle, as CWRU's outer-race records show).
+#[test]
+fn defect_rate_is_named_when_the_shaft_lines_stay() {
+    let y = rate_recording(1.0);
     let o = run(&y, DeclaredFault::Outer);
     let e = rate_step_named(&o, EffectKind::DefectRate, EffectKind::SpeedOffset, 1.004);
     assert!((e.parameters["shaft_ratio"] - 1.0).abs() < 1e-3);
@@ -202,13 +211,7 @@ fn defect_rate_is_named_when_the_shaft_lines_stay() {
 /// 0.4 % faster): a speed offset, read from the shaft lines.
 #[test]
 fn speed_offset_is_named_when_the_shaft_lines_move() {
-    let fr = RPM * 1.004 / 60.0;
-    let y = recording(DeclaredFault::Outer, RPM * 1.004, |mut x| {
-        for k in [1.0, 3.0, 5.0] {
-            add_tone(&mut x, FS, k * fr, 0.03, 0.3 * k);
-        }
-        x
-    });
+    let y = rate_recording(1.004);
     let o = run(&y, DeclaredFault::Outer);
     let e = rate_step_named(&o, EffectKind::SpeedOffset, EffectKind::DefectRate, 1.004);
     assert_eq!(e.parameters["shaft_measured"], 1.0);

@@ -75,7 +75,7 @@
 
 pub mod error;
 pub mod evidence;
-pub mod speed;
+pub use residual_features::speed;
 pub mod trained;
 pub mod whiten;
 
@@ -129,7 +129,7 @@ pub const SLIP_MAX: f64 = 0.02;
 pub const SPEED_OFFSET: f64 = 0.0033;
 /// Tolerance on the declared speed itself (± 0.3 %; a speed further off is measured from the
 /// recording when it can be, see [`speed`]).
-pub const SPEED_TOL: f64 = 0.003;
+pub const SPEED_TOL: f64 = residual_features::speed::SPEED_TOL;
 /// Local median of the envelope spectrum taken over ± this many shaft orders around a line.
 pub const BACKGROUND_HALF_WIDTH_ORDERS: f64 = 2.0;
 /// Welch segments of the squared envelope span at most this many shaft turns (resolution fr/32).

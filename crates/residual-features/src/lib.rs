@@ -31,6 +31,7 @@
 mod error;
 mod features;
 pub mod spectral;
+pub mod speed;
 pub mod stats;
 mod window;
 

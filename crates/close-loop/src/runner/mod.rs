@@ -118,14 +118,22 @@ pub fn close_loop_from(
     }
     let s_fit = welch.try_psd(&y[..n_fit])?;
     let eps = crate::metric::floor_of(&s_fit, k_lo..k_hi + 1, c.floor_db);
-    let shaft = crate::spectrum::measure_shaft_speed(
-        &y[..n_fit],
-        fs,
-        op.shaft_hz(),
-        &crate::impact_orders(op.fault, &op.bearing),
-        c.line_frequency_hz,
-        c.max_speed_offset,
-    );
+    // the shaft speed the segment's own comb shows, refined from its lines (a complete comb; only
+    // a declared fault's rate can differ from it: speed_candidates)
+    let shaft = if crate::impact_orders(op.fault, &op.bearing).is_empty() {
+        None
+    } else {
+        residual_features::speed::estimate_speed(
+            &mut residual_features::SpectralEngine::new(),
+            &y[..n_fit],
+            fs,
+            op.rpm,
+        )
+        .ok()
+        .flatten()
+        .and_then(|m| m.refined_rpm)
+        .map(|r| r / op.rpm)
+    };
     let ctx = Ctx {
         y,
         shaft,

@@ -83,11 +83,16 @@ fn envelope_speed_of(ctx: &Ctx<'_>, st: &State, resid: &[f64]) -> Option<(f64, f
     Some((s, v, step))
 }
 
+/// The shaft has moved with a speed step when the measured shaft speed differs from the speed
+/// of the model's lines by more than this fraction (the comb reads CWRU's 12 kHz records within
+/// ±0.06 % of the logged speed; their fault lines sit 0.2–0.7 % off it).
+pub const SHAFT_AGREE: f64 = 1e-3;
+
 /// Speed steps from the line pattern ([`spectral_speed_step`]) and from the envelope
 /// ([`envelope_speed_step`]): the declared model re-simulated with its fault's impacts moved by
 /// the step. Whether the step is the shaft's speed or the fault's own rate is read from the
-/// recording's shaft lines (`Ctx::shaft`, [`crate::spectrum::measure_shaft_speed`]): with a
-/// declared fault and shaft lines that stay within [`crate::spectrum::SHAFT_AGREE`] of the
+/// recording's shaft-harmonic comb (`Ctx::shaft`, `residual_features::speed`): with a
+/// declared fault and shaft lines that stay within [`SHAFT_AGREE`] of the
 /// model's shaft speed, the step is a [`Effect::DefectRate`] and the model's shaft lines stay;
 /// when they moved, it is a [`Effect::SpeedOffset`] to the measured speed (the lines move with
 /// it) with the rest of the step as the fault's rate; without readable shaft lines (or without
@@ -107,7 +112,7 @@ pub(super) fn speed_candidates(
         steps.push(s);
     }
     let orders = crate::impact_orders(ctx.op.fault, &ctx.op.bearing);
-    let measured = ctx.shaft.as_ref().filter(|_| !orders.is_empty());
+    let measured = ctx.shaft.filter(|_| !orders.is_empty());
     let mut out = Vec::new();
     for s in steps {
         if (s - 1.0).abs() < c.min_speed_step || (s - 1.0).abs() > c.max_speed_offset {
@@ -126,7 +131,7 @@ pub(super) fn speed_candidates(
         }
         let shaft_now = st.shaft_ratio();
         let shaft_new = match measured {
-            Some(m) if (m.ratio / shaft_now - 1.0).abs() > crate::spectrum::SHAFT_AGREE => m.ratio,
+            Some(m) if (m / shaft_now - 1.0).abs() > SHAFT_AGREE => m,
             Some(_) => shaft_now,
             None => shaft_now * s,
         };
@@ -310,9 +315,9 @@ pub(super) fn preload_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> 
     let rate_step = envelope_speed_step(ctx, st).filter(|s| {
         (s - 1.0).abs() >= c.min_speed_step
             && (s - 1.0).abs() <= c.max_speed_offset
-            && ctx.shaft.as_ref().is_some_and(|m| {
-                (m.ratio / st.shaft_ratio() - 1.0).abs() <= crate::spectrum::SHAFT_AGREE
-            })
+            && ctx
+                .shaft
+                .is_some_and(|m| (m / st.shaft_ratio() - 1.0).abs() <= SHAFT_AGREE)
     });
     let mut best: Option<Evaluated> = None;
     for &p in crate::rig::PRELOADS_M {
