@@ -82,7 +82,8 @@ pub enum Taper {
 }
 
 impl Taper {
-    fn weights(self, n: usize) -> Vec<f64> {
+    /// The taper's `n` weights.
+    pub(crate) fn weights(self, n: usize) -> Vec<f64> {
         match self {
             Taper::Rectangular => vec![1.0; n],
             Taper::Hann => (0..n)

@@ -129,10 +129,8 @@ fn refine(
     let n = x.len();
     let xw: Vec<f64> = x
         .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            v * (0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / (n - 1) as f64).cos())
-        })
+        .zip(Taper::Hann.weights(n))
+        .map(|(v, w)| v * w)
         .collect();
     let bin = fs / n as f64;
     let mut pts: Vec<(f64, f64)> = Vec::new();
@@ -333,13 +331,9 @@ mod tests {
         let rpm = 1797.0;
         let truth = 1.0007;
         let fr = rpm / 60.0 * truth;
-        let mut state = 12345u64;
-        let mut uniform = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12345);
+        let mut uniform = move || rng.random::<f64>() - 0.5;
         let x: Vec<f64> = (0..60_000)
             .map(|i| {
                 let t = i as f64 / fs;

@@ -205,6 +205,25 @@ fn effective_geometry(ctx: &Ctx<'_>, order: f64, q: f64) -> (Option<f64>, Option
     (Some(gn), angle)
 }
 
+/// `st` with its physics replaced by `m` simulated at speed ratio `ratio` (its fault's impacts
+/// at `defect_rate` × the geometry's rate at the shaft's speed), gains and floor refitted without
+/// a new path: the state a re-simulated physics candidate (slip, preload) is judged in, and its
+/// fitting error; `None` when the simulation fails.
+fn resimulated(
+    ctx: &Ctx<'_>,
+    st: &State,
+    m: &Arc<dyn DeclaredModel>,
+    ratio: f64,
+    defect_rate: f64,
+) -> Option<(State, f64)> {
+    let base = ctx.make_base_with(m.as_ref(), ratio).ok()?;
+    let mut s2 = st.clone();
+    s2.model = Some(ModelRef(m.clone()));
+    ctx.rebase(&mut s2, base);
+    s2.defect_rate = defect_rate;
+    Some(ctx.calibrate(s2, false))
+}
+
 /// Slip fractions tried, relative to the declared model's: the whole range at every step, so
 /// that the loop takes the best slip at once (each candidate sets the slip, it does not scale the
 /// one already taken) and a second acceptance can only correct the first.
@@ -231,13 +250,9 @@ pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
             continue;
         };
         let m: Arc<dyn DeclaredModel> = Arc::from(m);
-        let Ok(base) = ctx.make_base_with(m.as_ref(), st.base.ratio) else {
+        let Some((s2, lsd)) = resimulated(ctx, st, &m, st.base.ratio, st.defect_rate) else {
             continue;
         };
-        let mut s2 = st.clone();
-        s2.model = Some(ModelRef(m));
-        ctx.rebase(&mut s2, base);
-        let (s2, lsd) = ctx.calibrate(s2, false);
         if best.as_ref().is_none_or(|b| lsd < b.fit_lsd) {
             best = Some(Evaluated {
                 effect: Effect::Slip {
@@ -330,14 +345,10 @@ pub(super) fn preload_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> 
         let m: Arc<dyn DeclaredModel> = Arc::from(m);
         for step in std::iter::once(None).chain(rate_step.map(Some)) {
             let ratio = st.base.ratio * step.unwrap_or(1.0);
-            let Ok(base) = ctx.make_base_with(m.as_ref(), ratio) else {
+            let defect_rate = ratio / st.shaft_ratio();
+            let Some((s2, lsd)) = resimulated(ctx, st, &m, ratio, defect_rate) else {
                 continue;
             };
-            let mut s2 = st.clone();
-            s2.model = Some(ModelRef(m.clone()));
-            ctx.rebase(&mut s2, base);
-            s2.defect_rate = ratio / st.shaft_ratio();
-            let (s2, lsd) = ctx.calibrate(s2, false);
             if best.as_ref().is_none_or(|b| lsd < b.fit_lsd) {
                 best = Some(Evaluated {
                     effect: Effect::ContactPreload {
