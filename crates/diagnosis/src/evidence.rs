@@ -46,6 +46,23 @@ pub struct Line {
     /// ball-defect rate is 3.988 fr) would otherwise take in; it does not count.
     #[serde(default)]
     pub shaft_order: Option<u32>,
+    /// The window's strongest peak when it belongs to the family of a stronger, detected fault
+    /// (a 6203's ball-defect rate lies within 1 % of BPFI − fr): this line is then the strongest
+    /// peak of the window that no such family explains. Absent when the line is the window's
+    /// strongest peak.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passed_over: Option<PassedOver>,
+}
+
+/// A peak a [`Line`]'s search passed over because another fault's family explains it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PassedOver {
+    /// Frequency of the passed-over peak, Hz.
+    pub found_hz: f64,
+    /// Its prominence, dB.
+    pub prominence_db: f64,
+    /// The fault whose family it belongs to.
+    pub by: Hypothesis,
 }
 
 impl Line {
@@ -102,12 +119,24 @@ impl EnvelopeSpectrum {
 
     /// The largest eligible local maximum in bins `k0..=k1` and its prominence over the local
     /// median, dB (`None` when the window holds no local maximum).
-    fn peak_in(&self, k0: usize, k1: usize, fr: f64, guard: bool) -> Option<(f64, f64)> {
+    fn peak_in(
+        &self,
+        k0: usize,
+        k1: usize,
+        fr: f64,
+        guard: bool,
+        exclude: &dyn Fn(f64) -> bool,
+    ) -> Option<(f64, f64)> {
         // a line is a local maximum of the spectrum: the largest bin of a window whose edge
         // cuts the skirt of a strong line outside it is not a line of its own
         let k1 = k1.min(self.power.len().saturating_sub(1));
         let best = (k0.max(1)..=k1)
-            .filter(|&k| k < self.power.len() && !(guard && self.guarded(k, fr)) && self.is_peak(k))
+            .filter(|&k| {
+                k < self.power.len()
+                    && !(guard && self.guarded(k, fr))
+                    && self.is_peak(k)
+                    && !exclude(self.freq(k))
+            })
             .max_by(|&a, &b| self.power[a].total_cmp(&self.power[b]).then(b.cmp(&a)))?;
         let f = self.freq(best);
         let bg = self.background(f, BACKGROUND_HALF_WIDTH_ORDERS * fr);
@@ -134,6 +163,22 @@ impl EnvelopeSpectrum {
         guard: bool,
         baseline: Option<&EnvelopeSpectrum>,
     ) -> Line {
+        self.line_where(label, expected, lo, hi, fr, guard, baseline, &|_| false)
+    }
+
+    /// [`Self::line`] over the window's peaks for which `exclude` is false.
+    #[allow(clippy::too_many_arguments)]
+    fn line_where(
+        &self,
+        label: String,
+        expected: f64,
+        lo: f64,
+        hi: f64,
+        fr: f64,
+        guard: bool,
+        baseline: Option<&EnvelopeSpectrum>,
+        exclude: &dyn Fn(f64) -> bool,
+    ) -> Line {
         let df = self.resolution_hz;
         // when the kinematics put the line itself on a shaft harmonic (the 6203's ball-defect
         // rate is 3.987 fr), the guard would hide it: it applies only to lines clear of one
@@ -143,7 +188,9 @@ impl EnvelopeSpectrum {
         let hi = hi.max(expected + 0.6 * df);
         let k0 = (lo / df).ceil() as usize;
         let k1 = (hi / df).floor() as usize;
-        let (found_hz, prominence_db) = self.peak_in(k0, k1, fr, guard).unwrap_or((expected, 0.0));
+        let (found_hz, prominence_db) = self
+            .peak_in(k0, k1, fr, guard, exclude)
+            .unwrap_or((expected, 0.0));
         let baseline_prominence_db = baseline
             .filter(|b| (b.resolution_hz - df).abs() <= 1e-9 * df && !b.power.is_empty())
             .map(|b| {
@@ -153,6 +200,7 @@ impl EnvelopeSpectrum {
                     (k + 1.5).floor() as usize,
                     fr,
                     false,
+                    &|_| false,
                 )
                 .map_or(0.0, |(_, db)| db)
             });
@@ -172,6 +220,7 @@ impl EnvelopeSpectrum {
             explained_by: None,
             shaft_order: None,
             consistent: true,
+            passed_over: None,
         }
     }
 
@@ -413,15 +462,7 @@ pub(crate) fn evaluate(
             (0.6 * df).max(0.005 * c + (SLIP_MAX + SPEED_TOL) * ftf_hz)
         }),
     };
-    let score_db = harmonics
-        .iter()
-        .map(|l| l.evidence_db.max(0.0))
-        .sum::<f64>()
-        + 0.5
-            * sidebands
-                .iter()
-                .map(|l| l.evidence_db.max(0.0))
-                .sum::<f64>();
+    let score_db = score(&harmonics, &sidebands);
     let mut ev = HypothesisEvidence {
         hypothesis: h,
         fault_hz: f0,
@@ -438,17 +479,74 @@ pub(crate) fn evaluate(
     ev
 }
 
+/// `Σ_h max(0, P_h) + ½ Σ_s max(0, P_s)`, dB: a hypothesis's score from its lines' evidence.
+fn score(harmonics: &[Line], sidebands: &[Line]) -> f64 {
+    let sum = |v: &[Line]| v.iter().map(|l| l.evidence_db.max(0.0)).sum::<f64>();
+    sum(harmonics) + 0.5 * sum(sidebands)
+}
+
 /// Mark the lines of `ev` that the family `fam` of hypothesis `by` explains: within
-/// `max(1 bin, 0.1 %)` of one of its frequencies (unresolvable from it).
-fn mark_explained(ev: &mut HypothesisEvidence, by: Hypothesis, fam: &[(f64, f64)], df: f64) {
+/// `max(1 bin, 0.1 %)` of one of its frequencies (unresolvable from it). An explained line's
+/// window is searched again over the peaks the family does not explain; when one of them is
+/// present it takes the line's place (the passed-over peak is kept in [`Line::passed_over`]),
+/// so two faults whose rates lie within a search window of each other are both read.
+fn mark_explained(
+    ev: &mut HypothesisEvidence,
+    families: &[(Hypothesis, Vec<(f64, f64)>)],
+    env: &EnvelopeSpectrum,
+    baseline: Option<&EnvelopeSpectrum>,
+    fr: f64,
+) {
+    let df = env.resolution_hz;
+    let explainer = |f: f64| {
+        families
+            .iter()
+            .find(|(_, fam)| {
+                fam.iter()
+                    .any(|(g, w)| (f - g).abs() <= df.max(0.001 * f).max(*w))
+            })
+            .map(|(h, _)| *h)
+    };
+    let explains = |f: f64| explainer(f).is_some();
+    let mut changed = false;
     for l in ev.harmonics.iter_mut().chain(ev.sidebands.iter_mut()) {
-        if l.explained_by.is_none()
-            && fam
-                .iter()
-                .any(|(g, w)| (l.found_hz - g).abs() <= df.max(0.001 * l.found_hz).max(*w))
+        let Some(by) = l
+            .explained_by
+            .is_none()
+            .then(|| explainer(l.found_hz))
+            .flatten()
+        else {
+            continue;
+        };
         {
-            l.explained_by = Some(by);
+            let other = env.line_where(
+                l.label.clone(),
+                l.expected_hz,
+                l.search_hz[0],
+                l.search_hz[1],
+                fr,
+                true,
+                baseline,
+                &explains,
+            );
+            if other.present && other.found_hz != l.found_hz {
+                let passed = PassedOver {
+                    found_hz: l.found_hz,
+                    prominence_db: l.prominence_db,
+                    by,
+                };
+                *l = Line {
+                    passed_over: Some(passed),
+                    ..other
+                };
+                changed = true;
+            } else {
+                l.explained_by = Some(by);
+            }
         }
+    }
+    if changed {
+        ev.score_db = score(&ev.harmonics, &ev.sidebands);
     }
 }
 
@@ -457,13 +555,12 @@ fn mark_explained(ev: &mut HypothesisEvidence, by: Hypothesis, fam: &[(f64, f64)
 pub(crate) fn explain_by(
     ev: &mut HypothesisEvidence,
     by: &[(Hypothesis, Vec<(f64, f64)>)],
+    env: &EnvelopeSpectrum,
+    baseline: Option<&EnvelopeSpectrum>,
     fr: f64,
-    df: f64,
 ) {
-    for (h, fam) in by {
-        mark_explained(ev, *h, fam, df);
-    }
-    ev.decide(df, fr);
+    mark_explained(ev, by, env, baseline, fr);
+    ev.decide(env.resolution_hz, fr);
 }
 
 /// Mark lines of weaker hypotheses that a stronger detected hypothesis's family explains, in
@@ -471,19 +568,22 @@ pub(crate) fn explain_by(
 /// `g` when `|f − g| ≤ max(1 bin, 0.1 % of f)` (unresolvable from it). Families: outer `k f₁ + j fr`; inner
 /// `k f₁ + j fr`; ball `k f₁ + j FTF`, `k f₁ + j fr` and the cage harmonics (shaft-rate
 /// modulation of every line is ubiquitous on real machines).
-pub(crate) fn cross_explain(ev: &mut [HypothesisEvidence], fr: f64, ftf_hz: f64, df: f64) {
+pub(crate) fn cross_explain(
+    ev: &mut [HypothesisEvidence],
+    env: &EnvelopeSpectrum,
+    baseline: Option<&EnvelopeSpectrum>,
+    fr: f64,
+    ftf_hz: f64,
+) {
+    let df = env.resolution_hz;
     let mut order: Vec<usize> = (0..ev.len()).collect();
     order.sort_by(|&a, &b| ev[b].score_db.total_cmp(&ev[a].score_db).then(a.cmp(&b)));
-    let mut confirmed: Vec<usize> = Vec::new();
+    let mut confirmed: Vec<(Hypothesis, Vec<(f64, f64)>)> = Vec::new();
     for &i in &order {
-        for &c in &confirmed {
-            let fam = ev[c].family_spans(fr, ftf_hz);
-            let by = ev[c].hypothesis;
-            mark_explained(&mut ev[i], by, &fam, df);
-        }
+        mark_explained(&mut ev[i], &confirmed, env, baseline, fr);
         ev[i].decide(df, fr);
         if ev[i].detected {
-            confirmed.push(i);
+            confirmed.push((ev[i].hypothesis, ev[i].family_spans(fr, ftf_hz)));
         }
     }
 }

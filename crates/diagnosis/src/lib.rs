@@ -34,7 +34,8 @@
 //!    Mauricio et al., MSSP 2020 — the same search for every hypothesis, so no label enters).
 //!    A harmonic counts only at h × the fundamental its strongest harmonic implies (one impact
 //!    train, one fault frequency), and lines of a weaker hypothesis that a stronger detected
-//!    one's family explains (e.g. BPFO + fr near BSF) do not count for it, nor do harmonics found
+//!    one's family explains (e.g. BPFO + fr near BSF) do not count for it — its window is then
+//!    read again past them ([`Line::passed_over`]) — nor do harmonics found
 //!    on an integer shaft order their kinematic rate is not on ([`Line::shaft_order`]).
 //!    A fault not detected in that common band is read in each other impulsive band: where it
 //!    is the strongest signature and has [`MIN_LINES`] harmonics at ≥ [`SECOND_BAND_LINE_DB`]
@@ -84,7 +85,7 @@ use serde::{Deserialize, Serialize};
 
 pub use bearing_model::BearingSpec;
 pub use error::{DiagnosisError, Result};
-pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line};
+pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line, PassedOver};
 pub use trained::{EVIDENCE_FEATURES, Labelled, TrainedDiagnoser};
 pub use whiten::{ArWhitener, OrderScore};
 
@@ -904,8 +905,13 @@ fn diagnose_with(
     }
     let impulsive = chosen.is_some();
     let (bi, mut evidence) = chosen.unwrap_or_else(|| (sk_best, eval_all(sk_best)));
-    let df = spectra[bi].resolution_hz;
-    evidence::cross_explain(&mut evidence, fr, o.ftf * fr, df);
+    evidence::cross_explain(
+        &mut evidence,
+        &spectra[bi],
+        base_spectra[bi].as_ref(),
+        fr,
+        o.ftf * fr,
+    );
     if !impulsive {
         for ev in &mut evidence {
             ev.detected = false;
@@ -936,7 +942,6 @@ fn diagnose_with(
                 if i == bi {
                     continue;
                 }
-                let dfi = spectra[i].resolution_hz;
                 // the common band's faults whose own lines show in this band (detected here on
                 // their own): only their families can explain lines here
                 let here: Vec<(Hypothesis, Vec<(f64, f64)>)> = primary
@@ -945,12 +950,18 @@ fn diagnose_with(
                     .cloned()
                     .collect();
                 let mut ev = ev.clone();
-                evidence::cross_explain(&mut ev, fr, o.ftf * fr, dfi);
+                evidence::cross_explain(
+                    &mut ev,
+                    &spectra[i],
+                    base_spectra[i].as_ref(),
+                    fr,
+                    o.ftf * fr,
+                );
                 if ev.iter().any(|e| e.score_db > ev[hi].score_db) {
                     continue;
                 }
                 let mut e = ev.swap_remove(hi);
-                evidence::explain_by(&mut e, &here, fr, dfi);
+                evidence::explain_by(&mut e, &here, &spectra[i], base_spectra[i].as_ref(), fr);
                 let strong = e
                     .harmonics
                     .iter()

@@ -710,3 +710,73 @@ fn an_outer_race_beside_a_stronger_ball_fault_is_found_in_its_own_band() {
     let d = diagnose(&x, fs, rpm, &spec, None).unwrap();
     assert_eq!(d.verdict, "outer+ball", "{:?} {:#?}", d.scores, d.secondary);
 }
+
+/// Two faults ringing one resonance whose rates lie within a search window of each other: the
+/// inner race's lower sideband BPFI − fr 2 % below the ball-defect rate (a bearing given by its
+/// four multiples, 1200 rpm), inside the ball's slip window, the inner race strongly modulated at
+/// fr. The ball window's strongest peak is that sideband; the ball's own line, about six bins
+/// above it, is read in its place (the passed-over peak recorded), and the verdict is
+/// `inner+ball`; each fault alone keeps its own verdict.
+#[test]
+fn a_ball_line_beside_an_inner_race_sideband_is_read_past_it() {
+    use rand::SeedableRng;
+    let (fs, rpm) = (12_000.0, 1200.0);
+    let fr = rpm / 60.0;
+    let (bpfi, bsf) = (9.9, (9.9 - 1.0) / 0.98);
+    let spec = BearingSpec::parse(&format!("bpfo=6.1,bpfi={bpfi},ftf=0.41,bsf={bsf:.6}")).unwrap();
+    let n = (8.0 * fs) as usize;
+    let record = |inner: bool, ball: bool, seed: u64| -> Vec<f64> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut x = white(n, 0.3, &mut rng);
+        if inner {
+            let w = 2.0 * std::f64::consts::PI * fr;
+            ring_downs(
+                &mut x,
+                fs,
+                bpfi * fr,
+                3000.0,
+                0.04,
+                0.002,
+                0.002,
+                &mut rng,
+                |t| 2.0 * (1.0 + 0.9 * (w * t).cos()),
+            );
+        }
+        if ball {
+            ring_downs(
+                &mut x,
+                fs,
+                bsf * fr,
+                3000.0,
+                0.04,
+                0.002,
+                0.002,
+                &mut rng,
+                |_| 1.0,
+            );
+        }
+        x
+    };
+    let d = diagnose(&record(true, true, 5), fs, rpm, &spec, None).unwrap();
+    let ball = d
+        .evidence
+        .iter()
+        .find(|e| e.hypothesis == diagnosis::Hypothesis::Ball)
+        .unwrap();
+    let h1 = &ball.harmonics[0];
+    let passed = h1
+        .passed_over
+        .expect("BSF×1 passed over the inner sideband");
+    assert_eq!(passed.by, diagnosis::Hypothesis::Inner);
+    assert!(
+        (passed.found_hz - (bpfi - 1.0) * fr).abs() < 0.7,
+        "{passed:?}"
+    );
+    assert!((h1.found_hz - bsf * fr).abs() < 0.7, "{h1:?}");
+    assert!(h1.counts(), "{h1:?}");
+    assert_eq!(d.verdict, "inner+ball", "{:?} {:#?}", d.scores, d.evidence);
+    for (inner, ball, want) in [(true, false, "inner"), (false, true, "ball")] {
+        let d = diagnose(&record(inner, ball, 6), fs, rpm, &spec, None).unwrap();
+        assert_eq!(d.verdict, want, "{:?} {:#?}", d.scores, d.evidence);
+    }
+}
