@@ -424,7 +424,10 @@ fn ceiling(rows: &[Row]) -> String {
             })
             .collect()
     };
-    let (loads, fs48) = (pairs("held out"), pairs("held out (48 kHz record, decimated)"));
+    let (loads, fs48) = (
+        pairs("held out"),
+        pairs("held out (48 kHz record, decimated)"),
+    );
     let own = |role: &str| -> Vec<&Row> {
         rows.iter()
             .filter(|r| r.role == role && fit(&r.class).is_some())
@@ -440,10 +443,19 @@ fn ceiling(rows: &[Row]) -> String {
          the same records (from the summary above):\n\n| records | n | RMS within ×1.5 | all \
          four bands within ×1.5 (per band) | kurtosis within 30 % | median RMS ratio | median \
          |kurtosis error| | median |fault-line prominence error| (dB) |\n|---|---|---|---|---|---|---|---|\n{}{}{}{}",
-        summary_row("12 kHz, 1–3 hp, by its 0 hp record", &loads.iter().collect::<Vec<_>>()),
+        summary_row(
+            "12 kHz, 1–3 hp, by its 0 hp record",
+            &loads.iter().collect::<Vec<_>>()
+        ),
         summary_row("12 kHz, 1–3 hp, simulated", &own("held out")),
-        summary_row("48 kHz, 0 hp, by the 12 kHz 0 hp record", &fs48.iter().collect::<Vec<_>>()),
-        summary_row("48 kHz, 0 hp, simulated", &own("held out (48 kHz record, decimated)")),
+        summary_row(
+            "48 kHz, 0 hp, by the 12 kHz 0 hp record",
+            &fs48.iter().collect::<Vec<_>>()
+        ),
+        summary_row(
+            "48 kHz, 0 hp, simulated",
+            &own("held out (48 kHz record, decimated)")
+        ),
     )
 }
 

@@ -474,19 +474,28 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         truth.radial_load_n
     );
     // the training records' band energies come back (the impact paths are closed on their
-    // records): each of the four bands within ×1.5 of the truth rig's, on another seed
-    for (loc, size) in specs {
-        let syn = Synthesis::new(loc.class(), size, 1797.0, (10.0 * fs) as usize, 60);
-        let bands = |r: &RigModel| {
-            rig::signal_stats(&r.synthesize(&syn).unwrap(), fs, None)
+    // records): each of the four bands of the recovered rig within ×1.5 of the training
+    // record's, the rig's as a mean over three 10 s realisations on other seeds. A sparsely
+    // gated train's band levels vary by up to ×2 from one 10 s realisation to the next (the
+    // 0.356 mm ball, striking on 8 % of its bursts, 1.1e-2 to 2.2e-2 in 2–4 kHz over ten
+    // seeds), so a single realisation of the truth is no reference: the calibration can only
+    // reproduce the realisation it was given
+    for ((loc, size), y) in specs.iter().zip(&ys) {
+        let a = rig::signal_stats(y, fs, None).unwrap().band_energy;
+        let mut b = [0.0; 4];
+        for seed in 60..63 {
+            let syn = Synthesis::new(loc.class(), *size, 1797.0, (10.0 * fs) as usize, seed);
+            let e = rig::signal_stats(&got.synthesize(&syn).unwrap(), fs, None)
                 .unwrap()
-                .band_energy
-        };
-        let (a, b) = (bands(&truth), bands(&got));
+                .band_energy;
+            for k in 0..4 {
+                b[k] += e[k] / 3.0;
+            }
+        }
         for k in 0..4 {
             assert!(
                 (b[k] / a[k]).ln().abs() < 1.5f64.ln(),
-                "{loc:?} {size} mm band {k}: recovered {:.3e} vs truth {:.3e}",
+                "{loc:?} {size} mm band {k}: recovered {:.3e} vs training record {:.3e}",
                 b[k],
                 a[k]
             );
