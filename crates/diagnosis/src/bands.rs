@@ -1,0 +1,172 @@
+//! The filter bank of the fast kurtogram's shape and the squared envelope spectra of its bands
+//! (the recording's, with their spectral kurtosis and rank-CFAR threshold, and the healthy
+//! baseline's in the same bands): step 2 of [`diagnose`](crate::diagnose).
+
+use residual_features::{Band, SpectralEngine, WelchConfig};
+
+use crate::{
+    BAND_DIVISORS, Baseline, EnvelopeSpectrum, HARMONICS, Hypothesis, LINE_THRESHOLD_DB, Result,
+    SEGMENT_TURNS_MAX, SEGMENT_TURNS_MIN, analysis_top_hz, evidence,
+};
+use bearing_model::FaultOrders;
+
+/// The candidate demodulation bands at `fs_hz`: no narrower than `min_width_hz` and with a
+/// lower edge at or above it.
+pub fn candidate_bands(fs_hz: f64, min_width_hz: f64) -> Vec<Band> {
+    let nyq = 0.5 * fs_hz;
+    let mut out = Vec::new();
+    for d in BAND_DIVISORS {
+        let w = nyq / d;
+        if w < min_width_hz {
+            continue;
+        }
+        let step = 0.5 * w;
+        let mut lo = 0.0;
+        while lo + w <= nyq * (1.0 + 1e-12) {
+            // the band must lie above the fault lines and their first harmonics, or its
+            // envelope shows beats between discrete low-frequency components (e.g. the
+            // varying-compliance vibration at BPFO of a healthy bearing), not modulation
+            if lo >= min_width_hz
+                && let Ok(b) = Band::new(lo, (lo + w).min(nyq))
+            {
+                out.push(b);
+            }
+            lo += step;
+        }
+    }
+    out
+}
+
+/// Narrowest band that holds three harmonics of the highest fault line plus a shaft-order
+/// sideband, with 20 % margin: `1.2 (3 max(BPFO, BPFI, BSF) + 1) fr`.
+pub fn min_band_width_hz(orders: &FaultOrders, fr: f64) -> f64 {
+    let top = orders.bpfo.max(orders.bpfi).max(orders.ball_defect);
+    1.2 * (HARMONICS as f64 * top + 1.0) * fr
+}
+
+/// The squared envelope spectra of the residual `e` in `bands` (shaft at `fr` Hz, fault orders `o`),
+/// each with its spectral kurtosis and rank-CFAR line threshold, and the Welch segment length
+/// of each band.
+pub(crate) fn envelope_spectra(
+    engine: &mut SpectralEngine,
+    e: &[f64],
+    fs_hz: f64,
+    fr: f64,
+    o: &FaultOrders,
+    bands: &[Band],
+) -> Result<(Vec<EnvelopeSpectrum>, Vec<usize>)> {
+    let o = *o;
+    let envs = engine.band_squared_envelopes(e, fs_hz, bands)?;
+    let duration_turns = e.len() as f64 / fs_hz * fr;
+    let seg_turns = (duration_turns / 4.0)
+        .clamp(SEGMENT_TURNS_MIN, SEGMENT_TURNS_MAX)
+        .min(duration_turns);
+    let mut spectra = Vec::with_capacity(envs.len());
+    let mut segs = Vec::with_capacity(envs.len());
+    for be in &envs {
+        let s = &be.squared_envelope;
+        let n = s.len() as f64;
+        let m1 = s.iter().sum::<f64>() / n;
+        let m2 = s.iter().map(|v| v * v).sum::<f64>() / n;
+        let sk = if m1 > 0.0 { m2 / (m1 * m1) - 2.0 } else { 0.0 };
+        // `seg_turns` shaft turns, shortened to the nearest even 7-smooth length (≤ 2 %
+        // shorter): an odd or large-prime segment takes a real FFT several times slower
+        let target = (seg_turns / fr * be.rate_hz).round() as usize;
+        let seg = (2 * residual_features::smooth_floor(target / 2)).clamp(16, s.len());
+        segs.push(seg);
+        let cfg = WelchConfig::half_overlap(seg);
+        let psd = engine.welch_psd(s, be.rate_hz, cfg)?;
+        let segments = if s.len() >= seg {
+            1 + (s.len() - seg) / (seg - cfg.overlap)
+        } else {
+            0
+        };
+        let mut sp = EnvelopeSpectrum {
+            band_hz: [be.band.low_hz(), be.band.high_hz()],
+            resolution_hz: psd.resolution_hz,
+            power: psd.values,
+            spectral_kurtosis: if sk.is_finite() { sk } else { 0.0 },
+            segments,
+            line_threshold_db: LINE_THRESHOLD_DB,
+        };
+        // clutter for the rank CFAR: local maxima no kinematic family explains
+        let top_hz = analysis_top_hz(&o, fr);
+        let mut kinematic: Vec<f64> = Hypothesis::ALL
+            .iter()
+            .flat_map(|&h| evidence::evaluate(h, &sp, None, &o, fr).family(fr, o.ftf * fr))
+            .collect();
+        let mut j = 1.0;
+        while j * fr <= top_hz {
+            kinematic.push(j * fr);
+            j += 1.0;
+        }
+        sp.set_threshold(fr, top_hz, &kinematic);
+        spectra.push(sp);
+    }
+    Ok((spectra, segs))
+}
+
+/// The healthy machine's squared envelope spectra in the same bands, at the same resolution
+/// (a baseline recording only; one too short for a band's Welch segment gives none there),
+/// computed once per baseline and band set; `n` empty ones without a baseline recording.
+pub(crate) fn healthy_spectra(
+    engine: &mut SpectralEngine,
+    baseline: Option<&Baseline>,
+    fs_hz: f64,
+    bands: &[Band],
+    segs: &[usize],
+    n: usize,
+) -> Result<std::sync::Arc<Vec<Option<EnvelopeSpectrum>>>> {
+    Ok(
+        match baseline.and_then(|b| b.residual.as_deref().map(|r| (b, r))) {
+            Some((b, br)) => {
+                let mut key = vec![fs_hz.to_bits()];
+                for (band, &seg) in bands.iter().zip(segs) {
+                    key.extend([
+                        band.low_hz().to_bits(),
+                        band.high_hz().to_bits(),
+                        seg as u64,
+                    ]);
+                }
+                match b.spectra.get(&key) {
+                    Some(s) => s,
+                    None => {
+                        let s =
+                            std::sync::Arc::new(baseline_spectra(engine, br, fs_hz, bands, segs)?);
+                        b.spectra.put(key, s.clone());
+                        s
+                    }
+                }
+            }
+            None => std::sync::Arc::new(vec![None; n]),
+        },
+    )
+}
+
+/// The healthy machine's squared envelope spectra in `bands`, one Welch segment length per band
+/// (`None` where the baseline is shorter than the segment).
+fn baseline_spectra(
+    engine: &mut SpectralEngine,
+    residual: &[f64],
+    fs_hz: f64,
+    bands: &[Band],
+    segs: &[usize],
+) -> Result<Vec<Option<EnvelopeSpectrum>>> {
+    let benvs = engine.band_squared_envelopes(residual, fs_hz, bands)?;
+    let mut out = Vec::with_capacity(benvs.len());
+    for (be, &seg) in benvs.iter().zip(segs) {
+        let s = &be.squared_envelope;
+        out.push(if s.len() >= seg {
+            let psd = engine.welch_psd(s, be.rate_hz, WelchConfig::half_overlap(seg))?;
+            Some(EnvelopeSpectrum {
+                band_hz: [be.band.low_hz(), be.band.high_hz()],
+                resolution_hz: psd.resolution_hz,
+                power: psd.values,
+                ..EnvelopeSpectrum::default()
+            })
+        } else {
+            None
+        });
+    }
+    Ok(out)
+}

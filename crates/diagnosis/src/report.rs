@@ -1,0 +1,270 @@
+//! The result of [`diagnose`](crate::diagnose) and its parts, as written into every report,
+//! and the explanation of a verdict against a known label ([`Diagnosis::explain_against`]).
+
+use serde::{Deserialize, Serialize};
+
+use crate::{
+    ArWhitener, CFAR_QUANTILE, EnvelopeSpectrum, HARMONICS, Hypothesis, HypothesisEvidence,
+    LINE_THRESHOLD_DB, Line, MIN_LINES, PERIODIC_LINE_DB, Reference, SECOND_BAND_LINE_DB,
+    SK_SIGMAS, SLIP_MAX, SPEED_OFFSET, SPEED_TOL, speed,
+};
+use bearing_model::FaultOrders;
+
+/// Per-hypothesis scores (dB; see [`HypothesisEvidence::score_db`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Scores {
+    /// Inner race.
+    pub inner: f64,
+    /// Outer race.
+    pub outer: f64,
+    /// Ball.
+    pub ball: f64,
+}
+
+/// The operating point the diagnosis used.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OperatingPoint {
+    /// Sampling rate, Hz.
+    pub fs_hz: f64,
+    /// Declared shaft speed, rpm.
+    pub rpm: f64,
+    /// Shaft frequency fr the analysis used, Hz (`rpm_used` / 60).
+    pub shaft_hz: f64,
+    /// Shaft speed the analysis used, rpm: the declared one, or the measured one when the
+    /// recording's shaft-harmonic comb stands out and differs from it by more than half of
+    /// [`SPEED_TOL`] ([`speed`]).
+    #[serde(default)]
+    pub rpm_used: f64,
+    /// The speed measured from the recording's shaft-harmonic comb (`None` when the recording
+    /// is too short to resolve the search).
+    #[serde(default)]
+    pub measured_speed: Option<speed::SpeedEstimate>,
+    /// Bearing name or normalised spec.
+    pub bearing: String,
+    /// The bearing spec as the user gave it, case kept (`BearingSpec::echo`): what reports echo
+    /// (empty in a report written before it was kept).
+    #[serde(default)]
+    pub bearing_spec: String,
+    /// Fault orders (× fr).
+    pub orders: FaultOrders,
+    /// Fault frequencies at fr, Hz.
+    pub frequencies_hz: FaultOrders,
+}
+
+/// A demodulation band.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BandChoice {
+    /// Lower edge, Hz.
+    pub low_hz: f64,
+    /// Upper edge, Hz.
+    pub high_hz: f64,
+    /// Spectral kurtosis of the band's complex envelope.
+    pub spectral_kurtosis: f64,
+    /// Prominence a line needs in this band's envelope spectrum, dB (6 dB or the rank-CFAR level).
+    pub line_threshold_db: f64,
+    /// How it was chosen.
+    pub chosen_by: String,
+}
+
+/// Energy and kurtosis of the residual against the reference.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Statistics {
+    /// Residual samples analysed.
+    pub residual_samples: usize,
+    /// Residual RMS (units of the input).
+    pub residual_rms: f64,
+    /// Residual kurtosis (3 for Gaussian).
+    pub residual_kurtosis: f64,
+    /// Kurtosis of the input signal.
+    pub signal_kurtosis: f64,
+    /// Residual energy (mean square) / the baseline residual's; `null` when self-referenced.
+    pub energy_ratio: Option<f64>,
+    /// The same in dB.
+    pub energy_ratio_db: Option<f64>,
+    /// Residual kurtosis / the baseline residual's kurtosis, or / 3 (Gaussian) when self-referenced.
+    pub kurtosis_ratio: f64,
+    /// `"baseline residual"` or `"gaussian"`.
+    pub kurtosis_reference: String,
+}
+
+/// The fixed decision constants, written into every report.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Thresholds {
+    /// [`LINE_THRESHOLD_DB`].
+    pub line_db: f64,
+    /// [`MIN_LINES`].
+    pub min_harmonics: usize,
+    /// [`HARMONICS`].
+    pub harmonics_searched: usize,
+    /// [`SLIP_MAX`].
+    pub slip_max: f64,
+    /// [`SPEED_OFFSET`].
+    pub speed_offset: f64,
+    /// [`SPEED_TOL`].
+    pub speed_tolerance: f64,
+    /// [`SK_SIGMAS`].
+    pub sk_sigmas: f64,
+    /// [`CFAR_QUANTILE`].
+    pub cfar_quantile: f64,
+    /// [`SECOND_BAND_LINE_DB`].
+    #[serde(default)]
+    pub second_band_line_db: f64,
+    /// Plain-language rule.
+    pub rule: String,
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Self {
+            line_db: LINE_THRESHOLD_DB,
+            min_harmonics: MIN_LINES,
+            harmonics_searched: HARMONICS,
+            slip_max: SLIP_MAX,
+            speed_offset: SPEED_OFFSET,
+            speed_tolerance: SPEED_TOL,
+            sk_sigmas: SK_SIGMAS,
+            cfar_quantile: CFAR_QUANTILE,
+            second_band_line_db: SECOND_BAND_LINE_DB,
+            rule: format!(
+                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's; when no band is impulsive, a band whose envelope holds {MIN_LINES} harmonics of one fault at >= {PERIODIC_LINE_DB} dB), not explained by a stronger detected fault; against a baseline recording, a line the healthy machine already holds (>= {LINE_THRESHOLD_DB} dB there) counts only by what it has grown; a fault not detected in that common band is added when, in another impulsive band, it scores highest and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB that no common-band fault present in that band explains",
+                100.0 * (1.0 - CFAR_QUANTILE)
+            ),
+        }
+    }
+}
+
+/// A fault found in a band of its own, not in the common band (see [`diagnose`], step 3b).
+///
+/// [`diagnose`]: crate::diagnose
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SecondaryRead {
+    /// The fault.
+    pub hypothesis: Hypothesis,
+    /// The band it was read in.
+    pub band: BandChoice,
+    /// Its evidence in that band.
+    pub evidence: HypothesisEvidence,
+    /// Squared envelope spectrum of that band (for figures; not serialised).
+    #[serde(skip)]
+    pub envelope: EnvelopeSpectrum,
+}
+
+pub(crate) fn band_choice(sp: &EnvelopeSpectrum, chosen_by: String) -> BandChoice {
+    BandChoice {
+        low_hz: sp.band_hz[0],
+        high_hz: sp.band_hz[1],
+        spectral_kurtosis: sp.spectral_kurtosis,
+        line_threshold_db: sp.line_threshold_db,
+        chosen_by,
+    }
+}
+
+/// The result of [`diagnose`].
+///
+/// [`diagnose`]: crate::diagnose
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Diagnosis {
+    /// `normal`, `inner`, `outer`, `ball`, or detected faults joined by `+` (in that order).
+    pub verdict: String,
+    /// Detected hypotheses.
+    pub detected: Vec<Hypothesis>,
+    /// Score per hypothesis, dB.
+    pub scores: Scores,
+    /// Baseline or self.
+    pub reference: Reference,
+    /// Speed, rate, bearing, fault frequencies.
+    pub operating_point: OperatingPoint,
+    /// The AR whitening model used.
+    pub whitening: ArWhitener,
+    /// The band all hypotheses were read in (see `chosen_by`).
+    pub band: BandChoice,
+    /// The band of maximal spectral kurtosis (fast-kurtogram choice), for reference.
+    pub kurtogram_band: BandChoice,
+    /// Evidence per hypothesis (inner, outer, ball).
+    pub evidence: Vec<HypothesisEvidence>,
+    /// Shaft harmonics 1..=3 in `band`'s envelope spectrum.
+    pub shaft_harmonics: Vec<Line>,
+    /// Energy and kurtosis against the reference.
+    pub statistics: Statistics,
+    /// The fixed decision constants.
+    pub thresholds: Thresholds,
+    /// Faults not detected in the common band but found in a band of their own (step 3b of
+    /// [`diagnose`]); they are in `detected` and the verdict, and their scores and lines are
+    /// here (`scores` and `evidence` are the common band's).
+    ///
+    /// [`diagnose`]: crate::diagnose
+    #[serde(default)]
+    pub secondary: Vec<SecondaryRead>,
+    /// Squared envelope spectrum of `band` (for figures; not serialised).
+    #[serde(skip)]
+    pub envelope: EnvelopeSpectrum,
+}
+
+impl Diagnosis {
+    /// Why the verdict differs from a known `label` (`normal`, `inner`, `outer`, `ball`), from
+    /// the evidence: the labelled fault's lines when it was not detected (prominence in dB,
+    /// `ₓ` explained by a stronger fault, `≠` off the common fundamental) against the band's
+    /// line threshold, and the lines of every other fault detected. Empty when they agree.
+    pub fn explain_against(&self, label: &str) -> String {
+        use std::fmt::Write as _;
+        // a fault found in a band of its own is explained by its lines there
+        let lines = |h: &str| {
+            self.secondary
+                .iter()
+                .map(|r| &r.evidence)
+                .chain(&self.evidence)
+                .find(|e| e.hypothesis.name() == h)
+                .map_or(String::new(), |e| {
+                    e.harmonics
+                        .iter()
+                        .chain(&e.sidebands)
+                        .map(|l| {
+                            format!(
+                                "{} {:.1}{}{}{}",
+                                l.label,
+                                l.prominence_db,
+                                if l.evidence_db == l.prominence_db {
+                                    String::new()
+                                } else {
+                                    format!(" (baseline {:.1})", l.prominence_db - l.evidence_db)
+                                },
+                                if l.explained_by.is_some() { "ₓ" } else { "" },
+                                if l.consistent { "" } else { "≠" }
+                            )
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                })
+        };
+        let mut s = String::new();
+        if label != "normal" && !self.detected.iter().any(|h| h.name() == label) {
+            let _ = write!(
+                s,
+                "{label} lines short of the rule (line threshold in band {:.0}–{:.0} Hz: {:.1} dB): {}",
+                self.band.low_hz,
+                self.band.high_hz,
+                self.band.line_threshold_db,
+                lines(label)
+            );
+        }
+        for h in &self.detected {
+            if h.name() != label {
+                if !s.is_empty() {
+                    s += "; ";
+                }
+                let own =
+                    self.secondary
+                        .iter()
+                        .find(|r| r.hypothesis == *h)
+                        .map_or(String::new(), |r| {
+                            format!(
+                                " in its own band {:.0}–{:.0} Hz",
+                                r.band.low_hz, r.band.high_hz
+                            )
+                        });
+                let _ = write!(s, "{} detected{own}: {}", h.name(), lines(h.name()));
+            }
+        }
+        s
+    }
+}
