@@ -71,7 +71,9 @@ fn all_real(
         let t = Instant::now();
         let mut a = base(normal.clone(), out_dir.join(format!("{name}.report.json")));
         a.decimate = dec;
-        a.max_effects = args.max_effects.max(16);
+        a.max_effects = args
+            .max_effects
+            .max(close_loop::machine::CALIBRATE_MAX_EFFECTS);
         let (o, rpm, fs) = calibrate_one(&a)?;
         let mut m = o.machine.clone();
         m.provenance.recording = format!(

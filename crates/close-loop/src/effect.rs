@@ -143,6 +143,19 @@ impl Mode {
         (biquad_response(&b, &a, f, fs) * self.gain + 1.0).norm_sqr()
     }
 
+    /// Multiply the PSD `psd` (bin k at k·`df`) by the power gains of `modes`.
+    pub fn shape_psd(modes: &[Mode], psd: &mut [f64], df: f64, fs: f64) {
+        if modes.is_empty() {
+            return;
+        }
+        for (k, v) in psd.iter_mut().enumerate() {
+            let f = k as f64 * df;
+            for m in modes {
+                *v *= m.power_gain(f, fs);
+            }
+        }
+    }
+
     /// Apply the mode to a time signal.
     pub fn apply(&self, x: &[f64], fs: f64) -> Vec<f64> {
         let (b, a) = bandpass_coefficients(self.frequency_hz, self.damping_ratio, fs);

@@ -219,10 +219,11 @@ impl Ctx<'_> {
         st.base = base;
     }
 
-    /// The structural path's background PSD (before its level) with the state's modulations:
-    /// an amplitude modulation acts on the structural vibration, the physics and the background
-    /// alike, not on the white floor nor on the sensor lines (`docs/equations/close-loop.md`,
-    /// "Modulation").
+    /// The structural path's background PSD (before its level) with the state's modulations and
+    /// channel modes: an amplitude modulation acts on the structural vibration, the physics and
+    /// the background alike, not on the white floor nor on the sensor lines
+    /// (`docs/equations/close-loop.md`, "Modulation"); a mode of the measurement channel shapes
+    /// all vibration the sensor sees, the background as the physics ("Resonance").
     pub fn background_psd(&self, st: &State) -> Option<Vec<f64>> {
         let p = st.path.as_ref()?;
         let df = self.welch.df();
@@ -230,6 +231,7 @@ impl Ctx<'_> {
         for m in &st.mods {
             s = m.apply_psd(&s, df);
         }
+        Mode::shape_psd(&st.modes, &mut s, df, self.fs);
         Some(s)
     }
 
@@ -245,14 +247,7 @@ impl Ctx<'_> {
         for m in &st.mods {
             s = m.apply_psd(&s, df);
         }
-        if !st.modes.is_empty() {
-            for (k, v) in s.iter_mut().enumerate() {
-                let f = k as f64 * df;
-                for m in &st.modes {
-                    *v *= m.power_gain(f, self.fs);
-                }
-            }
-        }
+        Mode::shape_psd(&st.modes, &mut s, df, self.fs);
         s
     }
 

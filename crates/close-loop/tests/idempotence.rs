@@ -33,7 +33,7 @@ fn op(rpm: f64) -> OperatingPoint {
 }
 
 /// 97 (healthy, 48 kHz) decimated to 12 kHz, its rpm, and its calibration with the settings of
-/// `hybrid-fdd calibrate` (16 effects, 60 Hz mains); once per test binary.
+/// `hybrid-fdd calibrate` (`CALIBRATE_MAX_EFFECTS`, 60 Hz mains); once per test binary.
 fn calibrated_97_12k(dir: &Path) -> &'static (Vec<f64>, f64, Outcome) {
     static CAL: std::sync::OnceLock<(Vec<f64>, f64, Outcome)> = std::sync::OnceLock::new();
     CAL.get_or_init(|| {
@@ -41,7 +41,7 @@ fn calibrated_97_12k(dir: &Path) -> &'static (Vec<f64>, f64, Outcome) {
         let y = h.de_at(12_000.0).unwrap().to_vec();
         let rpm = h.rpm().value;
         let cfg = LoopConfig {
-            max_effects: 16,
+            max_effects: close_loop::machine::CALIBRATE_MAX_EFFECTS,
             line_frequency_hz: Some(60.0),
             ..LoopConfig::default()
         }

@@ -119,7 +119,7 @@ pub struct CalibrateArgs {
     #[arg(long, default_value_t = 60.0)]
     pub line_frequency: f64,
     /// Maximum number of effects.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = close_loop::machine::CALIBRATE_MAX_EFFECTS)]
     pub max_effects: usize,
     /// Machine model JSON to write (the loop's ledger, Markdown and figure go beside it as
     /// `<out>.report.json|md|png`).

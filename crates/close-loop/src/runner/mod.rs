@@ -234,7 +234,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             cands.retain(|e| e.effect.is_line());
         }
         cands.sort_by(|a, b| a.fit_lsd.total_cmp(&b.fit_lsd));
-        let cands = speed_before_slip(strong_lines_first(ctx, &st, cands));
+        let cands = declared_first(speed_before_slip(strong_lines_first(ctx, &st, cands)));
         rejected.clear();
         let mut accepted = None;
         'judge: for cand in cands {
@@ -542,6 +542,46 @@ fn take(
 /// held-out error it is taken, and slip is judged again in the next round at the corrected
 /// speed. (130.mat played 1.5 % faster, from the rig's machine model: slip 8 % was taken and the
 /// speed never named.)
+/// The declared model's own corrections are judged before the patches that could stand in for
+/// them. A channel mode reshapes the whole model, the healthy background included: ranked by
+/// the fitting error alone it took a fault's ringing for a resonance of the background, ahead of
+/// the structural path the declared fault's impacts ring, and the effect slots with it (130
+/// played 3 % slower, from the rig's machine model: a 3.2 kHz "resonance" first, four more and
+/// a slip, and no speed). So a channel mode ranked ahead of the fault's own path (while the
+/// fault's physics is not yet behind one) is judged right after it; and a speed offset to the
+/// shaft speed the record's own shaft comb reads (`shaft_measured`: direct evidence, and every
+/// line, impact rate and sideband depends on it) is judged first — after the fault's path,
+/// when that is still to be judged.
+fn declared_first(cands: Vec<Evaluated>) -> Vec<Evaluated> {
+    let is_channel_mode =
+        |e: &Evaluated| matches!(e.effect, Effect::Resonance { housing: false, .. });
+    let (measured, mut rest): (Vec<_>, Vec<_>) = cands.into_iter().partition(|e| {
+        matches!(
+            e.effect,
+            Effect::SpeedOffset {
+                shaft_measured: true,
+                ..
+            }
+        )
+    });
+    let Some(p) = rest
+        .iter()
+        .position(|e| matches!(e.effect, Effect::StructuralPath { physics: true, .. }))
+    else {
+        return measured.into_iter().chain(rest).collect();
+    };
+    // the fault's path, then the measured speed (judged against the fault's physics, which
+    // before its path carries next to nothing; a speed judged and rejected is not tried again),
+    // then the channel modes that were ranked ahead of the path
+    let mut tail = rest.split_off(p).into_iter();
+    let (modes, mut out): (Vec<_>, Vec<_>) = rest.into_iter().partition(is_channel_mode);
+    out.extend(tail.next());
+    out.extend(measured);
+    out.extend(modes);
+    out.extend(tail);
+    out
+}
+
 fn speed_before_slip(cands: Vec<Evaluated>) -> Vec<Evaluated> {
     let Some(first_slip) = cands
         .iter()

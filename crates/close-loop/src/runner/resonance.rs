@@ -32,20 +32,7 @@ pub(super) fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Ve
         })
         .collect();
     let mut out = Vec::new();
-    let (imax, vmax) =
-        sm.iter().enumerate().fold(
-            (0, f64::NEG_INFINITY),
-            |a, (i, &v)| if v > a.1 { (i, v) } else { a },
-        );
-    let (imin, vmin) =
-        sm.iter().enumerate().fold(
-            (0, f64::INFINITY),
-            |a, (i, &v)| if v < a.1 { (i, v) } else { a },
-        );
-    for (i, v) in [(imax, vmax), (imin, vmin)] {
-        if v.abs() < c.broadband_threshold_db {
-            continue;
-        }
+    for (i, v) in band_extrema(&sm, 2 * half, c.broadband_threshold_db) {
         let f0 = ctx.welch.frequency(ctx.bins.start + i);
         // half-width where the smoothed ratio falls to half its extreme (in dB)
         let level = v / 2.0;
@@ -145,6 +132,44 @@ pub(super) fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Ve
         });
     }
     out
+}
+
+/// Most extrema of the band-power ratio tried as resonances in one round.
+pub(super) const RESONANCE_EXTREMA: usize = 3;
+
+/// The extrema of the smoothed band-power ratio `sm` (dB) a resonance is tried at: local maxima
+/// (bumps the model lacks) and minima (dips it has too much of) of at least `threshold` dB,
+/// largest |value| first, each more than `separation` bins from one already taken, at most
+/// [`RESONANCE_EXTREMA`]. Not only the global extremes: a mismatch the channel cannot explain
+/// (a line family, a load-dependent bump) may be larger than a plain missing mode elsewhere, and
+/// it would otherwise take the one resonance slot of every round.
+fn band_extrema(sm: &[f64], separation: usize, threshold: f64) -> Vec<(usize, f64)> {
+    let n = sm.len();
+    let mut ext: Vec<(usize, f64)> = (0..n)
+        .filter(|&i| {
+            let v = sm[i];
+            let l = if i > 0 { sm[i - 1] } else { f64::NAN };
+            let r = if i + 1 < n { sm[i + 1] } else { f64::NAN };
+            v.abs() >= threshold
+                && if v > 0.0 {
+                    !(l > v) && !(r > v)
+                } else {
+                    !(l < v) && !(r < v)
+                }
+        })
+        .map(|i| (i, sm[i]))
+        .collect();
+    ext.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
+    let mut taken: Vec<(usize, f64)> = Vec::new();
+    for (i, v) in ext {
+        if taken.len() == RESONANCE_EXTREMA {
+            break;
+        }
+        if taken.iter().all(|&(j, _)| j.abs_diff(i) > separation) {
+            taken.push((i, v));
+        }
+    }
+    taken
 }
 
 /// Relative distance within which a fitted channel mode is read as the physics model's own

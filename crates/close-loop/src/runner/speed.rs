@@ -113,6 +113,16 @@ pub(super) fn speed_candidates(
     }
     let orders = crate::impact_orders(ctx.op.fault, &ctx.op.bearing);
     let measured = ctx.shaft.filter(|_| !orders.is_empty());
+    // the shaft comb's own speed moves the impacts with the shaft (the defect rate kept): a step
+    // of its own beside the spectral and envelope estimates
+    if let Some(m) = measured
+        && (m / st.shaft_ratio() - 1.0).abs() > SHAFT_AGREE
+    {
+        let s = m / st.shaft_ratio();
+        if steps.iter().all(|p| (p - s).abs() > 1e-4) {
+            steps.push(s);
+        }
+    }
     let mut out = Vec::new();
     for s in steps {
         if (s - 1.0).abs() < c.min_speed_step || (s - 1.0).abs() > c.max_speed_offset {
