@@ -148,13 +148,19 @@ fn band_extrema(sm: &[f64], separation: usize, threshold: f64) -> Vec<(usize, f6
     let mut ext: Vec<(usize, f64)> = (0..n)
         .filter(|&i| {
             let v = sm[i];
-            let l = if i > 0 { sm[i - 1] } else { f64::NAN };
-            let r = if i + 1 < n { sm[i + 1] } else { f64::NAN };
+            // beyond either end nothing blocks the extreme
+            let edge = if v > 0.0 {
+                f64::NEG_INFINITY
+            } else {
+                f64::INFINITY
+            };
+            let l = if i > 0 { sm[i - 1] } else { edge };
+            let r = if i + 1 < n { sm[i + 1] } else { edge };
             v.abs() >= threshold
                 && if v > 0.0 {
-                    !(l > v) && !(r > v)
+                    v >= l && v >= r
                 } else {
-                    !(l < v) && !(r < v)
+                    v <= l && v <= r
                 }
         })
         .map(|i| (i, sm[i]))
