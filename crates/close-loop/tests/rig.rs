@@ -433,8 +433,25 @@ fn calibration_recovers_the_rig_it_is_run_on() {
             .collect::<Vec<_>>(),
         vec![std::f64::consts::FRAC_PI_2]
     );
+    // the strike fraction comes back within one step of the grid it is chosen from — where the
+    // truth pins it: a truth severity whose random fraction sits at its search bound (0.99: even
+    // a wholly random train does not bring the kurtosis down to the record's) strikes a train
+    // that is random all but 1 %, and its strike fraction is not identified by the data (the
+    // 0.178 mm ball, 118's counterpart, where the background chain is read: the committed rig's
+    // own choice moved 0.18 → 0.08 with a small change of the healthy machine's background, and
+    // this calibration reads 0.35). Its level is checked (bands, below); at least three strike
+    // fractions are.
+    let mut checked = 0;
     for s in &got.severities {
-        // the strike fraction comes back within one step of the grid it is chosen from
+        let truth_sev = truth.severities.iter().find(|t| {
+            t.location == s.location
+                && (t.size_mm - s.size_mm).abs() < 1e-3
+                && t.outer_angle_rad.is_some() == s.outer_angle_rad.is_some()
+        });
+        if truth_sev.is_some_and(|t| t.random_fraction >= 0.99 - 1e-9) {
+            continue;
+        }
+        checked += 1;
         let want = match s.outer_angle_rad {
             None => truth.strike_fraction(s.location, s.size_mm).unwrap(),
             Some(a) => truth.strike_fraction_at(s.location, s.size_mm, a).unwrap(),
@@ -449,11 +466,16 @@ fn calibration_recovers_the_rig_it_is_run_on() {
         };
         assert!(
             (step(s.strike_fraction) - step(want)).abs() <= 1,
-            "{:?}: strike fraction {} vs truth {want}",
+            "{:?} {} mm: strike fraction {} vs truth {want}",
             s.location,
+            s.size_mm,
             s.strike_fraction
         );
     }
+    assert!(
+        checked >= 3,
+        "strike fraction checked on {checked} records only"
+    );
     // the 12 o'clock spall's level: the radial load (with the preload it is fitted at; the two
     // trade off, so the level, not the load, is what must come back)
     let top = |k: u64| Synthesis {
