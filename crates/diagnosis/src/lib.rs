@@ -76,6 +76,7 @@
 
 pub mod error;
 pub mod evidence;
+mod lines;
 pub use residual_features::speed;
 pub mod trained;
 pub mod whiten;
