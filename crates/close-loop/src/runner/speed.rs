@@ -102,23 +102,22 @@ pub(super) fn speed_candidates(
     st: &State,
 ) -> Result<Vec<Evaluated>, CloseLoopError> {
     let c = ctx.cfg.get();
-    let mut steps: Vec<f64> = Vec::new();
-    if let Some(s) = spectral_speed_step(ctx, st) {
-        steps.push(s);
-    }
-    if let Some(s) = envelope_speed_step(ctx, st)
-        && steps.iter().all(|p| (p - s).abs() > 1e-4)
-    {
-        steps.push(s);
-    }
     let orders = crate::impact_orders(ctx.op.fault, &ctx.op.bearing);
     let measured = ctx.shaft.filter(|_| !orders.is_empty());
-    // the shaft comb's own speed moves the impacts with the shaft (the defect rate kept): a step
-    // of its own beside the spectral and envelope estimates
-    if let Some(m) = measured
-        && (m / st.shaft_ratio() - 1.0).abs() > SHAFT_AGREE
+    // the spectral and envelope estimates, and the shaft comb's own speed, which moves the
+    // impacts with the shaft (the defect rate kept); each distinct step once
+    let shaft_step = measured
+        .map(|m| m / st.shaft_ratio())
+        .filter(|s| (s - 1.0).abs() > SHAFT_AGREE);
+    let mut steps: Vec<f64> = Vec::new();
+    for s in [
+        spectral_speed_step(ctx, st),
+        envelope_speed_step(ctx, st),
+        shaft_step,
+    ]
+    .into_iter()
+    .flatten()
     {
-        let s = m / st.shaft_ratio();
         if steps.iter().all(|p| (p - s).abs() > 1e-4) {
             steps.push(s);
         }
