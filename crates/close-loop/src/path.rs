@@ -44,6 +44,12 @@ pub struct StructuralPath {
     pub excitation_variance: f64,
 }
 
+/// Half-width, in bins of `df_hi`, of the running median [`identify`] removes lines against:
+/// ±40 Hz, at least 8 bins.
+pub fn line_free_half(df_hi: f64) -> usize {
+    ((40.0 / df_hi).round() as usize).max(8)
+}
+
 /// Replace narrow lines of a one-sided PSD by the running median of its logarithm (half-width
 /// `half` bins) wherever the PSD stands more than `threshold_db` above it.
 pub fn line_free(psd: &[f64], half: usize, threshold_db: f64) -> Vec<f64> {
@@ -251,8 +257,7 @@ pub fn identify(
     tolerance: f64,
     mut score: impl FnMut(&StructuralPath) -> f64,
 ) -> Result<StructuralPath, CloseLoopError> {
-    let half = ((40.0 / df_hi).round() as usize).max(8);
-    let free = line_free(psd_hi, half, 4.0);
+    let free = line_free(psd_hi, line_free_half(df_hi), 4.0);
     let mut fits: Vec<(StructuralPath, f64)> = Vec::new();
     for &p in ORDERS.iter().filter(|&&p| p <= max_order) {
         if let Ok(path) = StructuralPath::from_psd(&free, df_hi, fs, p) {

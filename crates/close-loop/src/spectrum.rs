@@ -336,9 +336,40 @@ pub fn running_median(v: &[f64], half: usize) -> Vec<f64> {
         .collect()
 }
 
+/// A one-sided PSD on the grid k·`df_hi` averaged onto the coarser grid k·`df`, `n_bins` bins:
+/// coarse bin k is the mean of the fine bins within ±df/2 of k·df (the PSD's level is kept; a
+/// Welch PSD with longer segments averaged this way estimates the shorter-segment one).
+pub fn coarsen_psd(psd_hi: &[f64], df_hi: f64, df: f64, n_bins: usize) -> Vec<f64> {
+    let r = df / df_hi;
+    (0..n_bins)
+        .map(|k| {
+            let c = k as f64 * r;
+            let lo = (c - 0.5 * r).ceil().max(0.0) as usize;
+            let hi = ((c + 0.5 * r).floor() as usize).min(psd_hi.len().saturating_sub(1));
+            if lo > hi {
+                return psd_hi.get(c.round() as usize).copied().unwrap_or(0.0);
+            }
+            psd_hi[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Averaging onto a grid 8× coarser keeps a flat level and a ramp's mean per bin.
+    #[test]
+    fn coarsen_psd_keeps_the_level() {
+        let flat = vec![2.0; 8 * 64 + 1];
+        let c = coarsen_psd(&flat, 0.5, 4.0, 65);
+        assert!(c.iter().all(|v| (v - 2.0).abs() < 1e-12), "{c:?}");
+        let ramp: Vec<f64> = (0..=8 * 64).map(f64::from).collect();
+        let c = coarsen_psd(&ramp, 0.5, 4.0, 65);
+        // bin 10 averages fine bins 76..=84, mean 80
+        assert!((c[10] - 80.0).abs() < 1e-12, "{}", c[10]);
+        assert!((c[0] - 2.0).abs() < 1e-12, "{}", c[0]);
+    }
 
     /// The four-lane phasor recurrence equals the DFT summed with an exact phase per sample,
     /// for lengths that are and are not multiples of four and across a renormalisation.

@@ -215,9 +215,33 @@ pub(super) fn line_near_mains(f: f64, fr: f64, c: &crate::LoopConfig) -> bool {
     })
 }
 
+/// Fewest lines that make a harmonic comb: lines at multiples m·Δ of their spacing (m ≤
+/// [`MAX_HARMONIC_COMB_START`] for the lowest), the harmonics of one fundamental — a mains comb
+/// (50, 100, 150 Hz), a motor's electrical frequency. Three equally spaced lines that also sit
+/// on the spacing's own grid are unlikely by chance (the lowest must fall within 0.3 % of Δ·m
+/// of a multiple); an arbitrary equally spaced set needs [`MIN_COMB_LINES`].
+pub(super) const MIN_HARMONIC_COMB_LINES: usize = 3;
+
+/// Highest multiple of the spacing the lowest line of a harmonic comb may sit at.
+pub(super) const MAX_HARMONIC_COMB_START: f64 = 8.0;
+
+/// Fewest lines `set` (at f₀ + m·d, lowest first or not) needs to make a comb: a harmonic comb
+/// (its lowest line at a multiple of d, [`MIN_HARMONIC_COMB_LINES`]) or any equally spaced one
+/// ([`MIN_COMB_LINES`]).
+fn comb_needs(set: &[(f64, f64)], d: f64) -> usize {
+    let lo = set.iter().map(|x| x.0).fold(f64::INFINITY, f64::min);
+    let m0 = (lo / d).round();
+    if (1.0..=MAX_HARMONIC_COMB_START).contains(&m0) && (lo - m0 * d).abs() <= 3e-3 * d * m0 {
+        MIN_HARMONIC_COMB_LINES
+    } else {
+        MIN_COMB_LINES
+    }
+}
+
 /// An equally spaced comb of lines not at shaft orders (an interference or mains comb): the
 /// largest set of standing lines at f₀ + m·Δ (|m| ≤ 8, within 0.3 % of Δ), Δ from 10 Hz up,
-/// over every pair of the strongest lines. Needs [`MIN_COMB_LINES`] lines.
+/// over every pair of the strongest lines. Needs [`MIN_COMB_LINES`] lines, or
+/// [`MIN_HARMONIC_COMB_LINES`] when they are harmonics of Δ ([`comb_needs`]).
 pub(super) fn line_comb_candidate(
     ctx: &Ctx<'_>,
     st: &State,
@@ -277,6 +301,9 @@ pub(super) fn line_comb_candidate(
                     m.abs() <= 8.0 && (f - f0 - m * d).abs() <= tol
                 })
                 .collect();
+            if set.len() < comb_needs(&set, d) {
+                continue;
+            }
             let power = |v: &[(f64, f64)]| v.iter().map(|x| x.1).sum::<f64>();
             if set.len() > best.len() || (set.len() == best.len() && power(&set) > power(&best)) {
                 best = set;
@@ -284,7 +311,7 @@ pub(super) fn line_comb_candidate(
             }
         }
     }
-    if best.len() < MIN_COMB_LINES {
+    if best.is_empty() {
         return None;
     }
     // spacing refined by least squares over the members' offsets

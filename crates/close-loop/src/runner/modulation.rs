@@ -105,6 +105,29 @@ fn index_and_scatter(ix: &ModulationIndex, fm: f64) -> (f64, f64) {
     (ix.at(fm), 0.5 * (off[4] + off[5]))
 }
 
+/// Highest harmonic of a modulating rate whose sideband of the impact rate
+/// [`fault_sideband`] sets aside.
+pub const SIDEBAND_HARMONICS: u32 = 4;
+
+/// Whether `fm` is a sideband of the declared fault's envelope rather than a rate of its own:
+/// within `tol` of |j·f_d − h·f_c| for an impact rate f_d (j = 1, 2), a carrier f_c (the shaft
+/// rate or a modulation the model already holds) and h = 1 … [`SIDEBAND_HARMONICS`]. A shaft-rate
+/// modulation of an impact train that is not a pure cosine (a load zone, a run-out) puts lines at
+/// BPFO − 2·fr, BPFO − 3·fr, … into the envelope; read as modulation rates they would be named
+/// "modulations" at 1.59 × fr that no machine has (235.mat untouched: 47.0 and 17.5 Hz, BPFO −
+/// 2 fr and − 3 fr). A real modulation at exactly such a rate cannot be told from the fault's
+/// own sideband by the envelope; the shaft, twice-shaft and cage rates are always judged.
+pub(super) fn fault_sideband(fm: f64, impact_hz: &[f64], carriers: &[f64], tol: f64) -> bool {
+    impact_hz.iter().any(|&fd| {
+        carriers.iter().any(|&fc| {
+            (1..=2).any(|j| {
+                (1..=SIDEBAND_HARMONICS)
+                    .any(|h| ((f64::from(j) * fd - f64::from(h) * fc).abs() - fm).abs() <= tol)
+            })
+        })
+    })
+}
+
 pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     let c = ctx.cfg.get();
     let fr = ctx.op.shaft_hz() * st.shaft_ratio();
@@ -167,9 +190,23 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
         used.push(k);
         picks.push(k);
     }
+    // the declared fault's impact rates, where the physics runs (its defect rate included)
+    let impact_hz: Vec<f64> = crate::impact_orders(ctx.op.fault, &ctx.op.bearing)
+        .into_iter()
+        .map(|o| o * ctx.op.shaft_hz() * st.base.ratio)
+        .collect();
+    let carriers: Vec<f64> = std::iter::once(fr)
+        .chain(st.mods.iter().map(|m| m.frequency_hz))
+        .collect();
     for k in picks {
         let f0 = k as f64 * de;
         let fm = refine_peak(&envw, ctx.fs, f0 - 1.5 * de, f0 + 1.5 * de);
+        let usual = [1.0, 2.0, ftf]
+            .iter()
+            .any(|o| (o * fr - fm).abs() <= 3.0 * de);
+        if !usual && fault_sideband(fm, &impact_hz, &carriers, 3.0 * de) {
+            continue;
+        }
         // a rate the model already modulates at is a setting taken, not re-fitted here; twice
         // or three times it is that modulation's own envelope harmonic ((1 + μ cos)² holds
         // μ²/2·cos 2ωt)
@@ -229,4 +266,28 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
     // strongest excess over the model first
     out.sort_by(|a, b| b.0.total_cmp(&a.0));
     out.into_iter().map(|(_, e)| e).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// BPFO − 2·fr and 2·BPFO − fr are sidebands; the cage rate and a rate 3 % off are not.
+    #[test]
+    fn fault_sidebands_are_told_from_other_rates() {
+        let fr = 29.5;
+        let bpfo = 3.5848 * fr;
+        let tol = 0.3;
+        assert!(fault_sideband(bpfo - 2.0 * fr, &[bpfo], &[fr], tol));
+        assert!(fault_sideband(2.0 * bpfo - fr, &[bpfo], &[fr], tol));
+        assert!(!fault_sideband(0.39828 * fr, &[bpfo], &[fr], tol));
+        assert!(!fault_sideband(
+            1.03 * (bpfo - 2.0 * fr),
+            &[bpfo],
+            &[fr],
+            tol
+        ));
+        // no declared fault: nothing is a sideband
+        assert!(!fault_sideband(bpfo - 2.0 * fr, &[], &[fr], tol));
+    }
 }
