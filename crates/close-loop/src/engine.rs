@@ -43,6 +43,10 @@ pub(crate) struct State {
     /// Steady-state responses to shaft forces that are in the simulation (`base`) already: they
     /// enter the time-domain residual, not the PSD.
     pub physics_lines: Vec<Line>,
+    /// Shaft harmonics found on this recording and taken into the model (physics or sensor):
+    /// (order, refined frequency in Hz, amplitude). The shaft's speed as the recording shows it
+    /// when its comb cannot be read ([`crate::runner`]'s speed candidates).
+    pub shaft_lines: Vec<(f64, f64, f64)>,
     pub modes: Vec<Mode>,
     pub mods: Vec<Modulation>,
     pub lines: Vec<Line>,

@@ -149,19 +149,17 @@ fn played_faster(x: &[f64], s: f64) -> Vec<f64> {
 /// with the default settings; once per test binary.
 fn rig_12k(dir: &Path) -> &'static close_loop::machine::MachineModel {
     static RIG: std::sync::OnceLock<close_loop::machine::MachineModel> = std::sync::OnceLock::new();
-    RIG.get_or_init(|| {
-        let cfg = LoopConfig::default().check().unwrap();
-        let h = load_record(dir, 97, &LoadOptions::default()).unwrap();
-        let h12 = h.de_at(12_000.0).unwrap();
-        close_loop::machine::calibrate(
-            &h12,
-            12_000.0,
-            h.rpm().value,
-            bearing_model::Bearing::Skf6205,
-            &cfg,
-        )
+    RIG.get_or_init(|| calibrate_97(dir, 12_000.0))
+}
+
+/// 97 (healthy, 48 kHz), at `fs` (decimated when below 48 kHz), calibrated by the loop with the
+/// default settings.
+fn calibrate_97(dir: &Path, fs: f64) -> close_loop::machine::MachineModel {
+    let cfg = LoopConfig::default().check().unwrap();
+    let h = load_record(dir, 97, &LoadOptions::default()).unwrap();
+    let x = h.de_at(fs).unwrap();
+    close_loop::machine::calibrate(&x, fs, h.rpm().value, bearing_model::Bearing::Skf6205, &cfg)
         .unwrap()
-    })
 }
 
 /// The loop on `y` (12 kHz, 6205, outer race declared at `rpm`) started from `machine`.
@@ -641,4 +639,69 @@ fn cage_modulation_is_not_crowded_out_by_the_faults_sidebands_235() {
     assert!(e.description.contains("cage"), "{e:?}");
     let depth = e.parameters["depth"];
     assert!((0.35..=0.525).contains(&depth), "depth {depth}");
+}
+
+/// The rig's machine model at 48 kHz: 97 (healthy, 48 kHz) calibrated by the loop with the
+/// default settings; once per test binary.
+fn rig_48k(dir: &Path) -> &'static close_loop::machine::MachineModel {
+    static RIG: std::sync::OnceLock<close_loop::machine::MachineModel> = std::sync::OnceLock::new();
+    RIG.get_or_init(|| calibrate_97(dir, 48_000.0))
+}
+
+/// 213 (inner race 0.021 in, 0 hp, 48 kHz), from the 48 kHz rig, with a 2× shaft line at 30 % of
+/// the record's RMS. The record's shaft comb cannot be read, and its fault lines sit 0.19 % below
+/// the declared speed's. The line went into the physics, then a speed step of ×0.9981 moved it
+/// and the leftover at the true 2·fr was named a second time, as a sensor line. The fitted line
+/// now reads the shaft's speed: the step is a defect rate, and order 2 is named once, with its
+/// amplitude within 20 %. The untouched record names no 2× line.
+#[test]
+fn a_fitted_shaft_line_keeps_the_shaft_speed_213_48k() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = LoopConfig::default().check().unwrap();
+    let machine = rig_48k(&dir);
+    let r = load_record(&dir, 213, &LoadOptions::default()).unwrap();
+    let fs = r.fs_hz();
+    assert_eq!(fs, 48_000.0);
+    let rpm = r.rpm().value;
+    let x = r.de().to_vec();
+    let a = 0.3 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
+    let mut y = x.clone();
+    add_tone(&mut y, fs, 2.0 * rpm / 60.0, a, 0.4);
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Inner,
+    )
+    .unwrap();
+    let run = |z: &[f64]| {
+        close_loop::close_loop_from(&PhysicsModel::default(), Some(machine), z, fs, &op, &cfg)
+            .unwrap()
+    };
+    let second = |o: &Outcome| -> Vec<close_loop::EffectEntry> {
+        o.ledger
+            .effects
+            .iter()
+            .filter(|e| {
+                e.kind == EffectKind::ShaftHarmonic && e.parameters.get("order") == Some(&2.0)
+            })
+            .cloned()
+            .collect()
+    };
+    let control = run(&x);
+    assert!(second(&control).is_empty(), "{:#?}", control.ledger.effects);
+    let o = run(&y);
+    let named = second(&o);
+    assert_eq!(named.len(), 1, "{named:#?}");
+    assert!(
+        (named[0].parameters["amplitude"] / a - 1.0).abs() < 0.2,
+        "{named:#?}"
+    );
+    assert!(
+        !o.ledger
+            .effects
+            .iter()
+            .any(|e| e.kind == EffectKind::SpeedOffset),
+        "{:#?}",
+        o.ledger.effects
+    );
 }

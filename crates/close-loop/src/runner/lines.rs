@@ -138,6 +138,11 @@ pub(super) fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Eval
         let effect = classify_line(line, fr, c);
         let mut s2 = st.clone();
         s2.lines.push(line);
+        if let Effect::ShaftHarmonic { order, .. } = effect
+            && order.fract() == 0.0
+        {
+            s2.shaft_lines.push((order, f, line.amplitude()));
+        }
         let (s2, lsd) = ctx.calibrate(s2, false);
         out.push(Evaluated {
             effect,
@@ -400,6 +405,11 @@ pub(super) fn shaft_force_candidate(
     s2.model = Some(ModelRef(forced));
     ctx.rebase(&mut s2, base);
     s2.physics_lines.push(resp);
+    s2.shaft_lines.push((
+        f64::from(order),
+        measured.frequency_hz,
+        measured.amplitude(),
+    ));
     let (s2, lsd) = ctx.calibrate(s2, false);
     Some(Evaluated {
         effect: Effect::ShaftHarmonic {

@@ -169,6 +169,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         None => State {
             model: None,
             physics_lines: Vec::new(),
+            shaft_lines: Vec::new(),
             base: ctx.make_base(1.0)?,
             defect_rate: 1.0,
             modes: Vec::new(),
@@ -816,6 +817,7 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
     Ok(State {
         model: model.map(crate::engine::ModelRef),
         physics_lines,
+        shaft_lines: Vec::new(),
         base,
         defect_rate: m.defect_rate_ratio,
         modes: m.channel_modes.clone(),

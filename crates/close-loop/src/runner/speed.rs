@@ -103,7 +103,14 @@ pub(super) fn speed_candidates(
 ) -> Result<Vec<Evaluated>, CloseLoopError> {
     let c = ctx.cfg.get();
     let orders = crate::impact_orders(ctx.op.fault, &ctx.op.bearing);
-    let measured = ctx.shaft.filter(|_| !orders.is_empty());
+    // the shaft's speed: its comb, or, when the comb cannot be read, the strongest shaft
+    // harmonic this recording showed and the model took (a line fitted at k·fr is evidence of
+    // where the shaft turns: 213.mat at 48 kHz with a 2× line added took the line, then a speed
+    // step that moved it, and named the line again as a sensor line)
+    let measured = ctx
+        .shaft
+        .or_else(|| shaft_from_lines(ctx, st))
+        .filter(|_| !orders.is_empty());
     // the spectral and envelope estimates, and the shaft comb's own speed, which moves the
     // impacts with the shaft (the defect rate kept); each distinct step once
     let shaft_step = measured
@@ -181,6 +188,20 @@ pub(super) fn speed_candidates(
         });
     }
     Ok(out)
+}
+
+/// The shaft's speed over the declared one that the strongest shaft harmonic of `st.shaft_lines`
+/// shows (its refined frequency over its order × the declared shaft rate), when that line can be
+/// read to half of [`SHAFT_AGREE`]: a line strong enough to be taken into the model is refined
+/// (zoom DFT) to a small fraction of the fitting segment's 1/T, counted here as 1/(20 T).
+fn shaft_from_lines(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
+    let (order, f, _) = st
+        .shaft_lines
+        .iter()
+        .copied()
+        .max_by(|a, b| a.2.total_cmp(&b.2))?;
+    let precision = ctx.fs / ctx.n_fit as f64 / 20.0;
+    (order >= 1.0 && precision <= 0.5 * SHAFT_AGREE * f).then(|| f / (order * ctx.op.shaft_hz()))
 }
 
 /// The pitch ratio γ = d·cos α / D that makes the declared fault's rate `order` × `q` (the
