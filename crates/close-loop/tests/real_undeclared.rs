@@ -546,6 +546,12 @@ fn resonance_added_to_97_is_named() {
     }
 }
 
+/// A record's stored speed (rpm) and its drive-end signal.
+fn drive_end(dir: &Path, number: u32) -> (f64, Vec<f64>) {
+    let r = load_record(dir, number, &LoadOptions::default()).unwrap();
+    (r.rpm().value, r.de().to_vec())
+}
+
 /// 235 (outer race 0.021 in @6, 1 hp, 12 kHz), from the rig's machine model, with a mains comb
 /// of only three lines added (50, 100, 150 Hz, each at 12 % of the record's RMS; the rig's
 /// declared mains stays 60 Hz): the three are named as one line comb (spacing within 0.5 % of
@@ -560,9 +566,7 @@ fn three_line_mains_comb_is_one_comb_and_leaves_the_path_235() {
     let Some(dir) = data_dir() else { return };
     let cfg = LoopConfig::default().check().unwrap();
     let machine = rig_12k(&dir);
-    let r = load_record(&dir, 235, &LoadOptions::default()).unwrap();
-    let rpm = r.rpm().value;
-    let x = r.de().to_vec();
+    let (rpm, x) = drive_end(&dir, 235);
     let a = 0.12 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
     for k in 1..=3 {
@@ -605,11 +609,9 @@ fn cage_modulation_is_not_crowded_out_by_the_faults_sidebands_235() {
     let Some(dir) = data_dir() else { return };
     let cfg = LoopConfig::default().check().unwrap();
     let machine = rig_12k(&dir);
-    let r = load_record(&dir, 235, &LoadOptions::default()).unwrap();
-    let rpm = r.rpm().value;
+    let (rpm, x) = drive_end(&dir, 235);
     let fr = rpm / 60.0;
     let bpfo = 3.5848 * fr;
-    let x = r.de().to_vec();
     let control = run_from(machine, &x, rpm, &cfg);
     for e in control
         .ledger
@@ -707,17 +709,16 @@ fn a_fitted_shaft_line_keeps_the_shaft_speed_213_48k() {
 }
 
 /// 235 from the rig's machine model with a 733 Hz tone at 25 % of the record's RMS, 11 Hz below
-/// the record's own 744 Hz resonance, and a 3× shaft line as strong: the tone is named (frequency within 0.5 %, amplitude within
-/// 20 %). Before, a 735 Hz mode of ζ 0.011 (+16 dB), ranked ahead of it by the fitting error,
-/// took the tone and the resonance together; the untouched record names no tone there.
+/// the record's own 744 Hz resonance, and a 3× shaft line as strong: the tone is named (frequency
+/// within 0.5 %, amplitude within 20 %). Before, a 735 Hz mode of ζ 0.011 (+16 dB), ranked ahead
+/// of it by the fitting error, took the tone and the resonance together; the untouched record
+/// names no tone there.
 #[test]
 fn tone_beside_the_records_resonance_is_a_tone_235() {
     let Some(dir) = data_dir() else { return };
     let cfg = LoopConfig::default().check().unwrap();
     let machine = rig_12k(&dir);
-    let r = load_record(&dir, 235, &LoadOptions::default()).unwrap();
-    let rpm = r.rpm().value;
-    let x = r.de().to_vec();
+    let (rpm, x) = drive_end(&dir, 235);
     let a = 0.25 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
     let h = std::f64::consts::FRAC_PI_2;
