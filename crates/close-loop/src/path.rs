@@ -44,10 +44,10 @@ pub struct StructuralPath {
     pub excitation_variance: f64,
 }
 
-/// Half-width, in bins of `df_hi`, of the running median [`identify`] removes lines against:
-/// ±40 Hz, at least 8 bins.
-pub fn line_free_half(df_hi: f64) -> usize {
-    ((40.0 / df_hi).round() as usize).max(8)
+/// The line-free PSD a path is identified from: [`line_free`] of the hi-resolution PSD (grid
+/// k·`df_hi`) against its running median over ±40 Hz (at least 8 bins), lines 4 dB above it.
+pub fn path_line_free(psd_hi: &[f64], df_hi: f64) -> Vec<f64> {
+    line_free(psd_hi, ((40.0 / df_hi).round() as usize).max(8), 4.0)
 }
 
 /// Replace narrow lines of a one-sided PSD by the running median of its logarithm (half-width
@@ -255,12 +255,33 @@ pub fn identify(
     fs: f64,
     max_order: usize,
     tolerance: f64,
+    score: impl FnMut(&StructuralPath) -> f64,
+) -> Result<StructuralPath, CloseLoopError> {
+    identify_line_free(
+        &path_line_free(psd_hi, df_hi),
+        df_hi,
+        fs,
+        max_order,
+        tolerance,
+        score,
+    )
+}
+
+/// [`identify`] from a PSD already made line-free by [`path_line_free`].
+///
+/// # Errors
+/// [`CloseLoopError::Model`] if no order can be identified.
+pub fn identify_line_free(
+    free: &[f64],
+    df_hi: f64,
+    fs: f64,
+    max_order: usize,
+    tolerance: f64,
     mut score: impl FnMut(&StructuralPath) -> f64,
 ) -> Result<StructuralPath, CloseLoopError> {
-    let free = line_free(psd_hi, line_free_half(df_hi), 4.0);
     let mut fits: Vec<(StructuralPath, f64)> = Vec::new();
     for &p in ORDERS.iter().filter(|&&p| p <= max_order) {
-        if let Ok(path) = StructuralPath::from_psd(&free, df_hi, fs, p) {
+        if let Ok(path) = StructuralPath::from_psd(free, df_hi, fs, p) {
             let s = score(&path);
             if s.is_finite() {
                 fits.push((path, s));

@@ -546,6 +546,14 @@ fn resonance_added_to_97_is_named() {
     }
 }
 
+/// The effect of `kind` that `o` names within 0.5 % of `f`.
+fn named(o: &Outcome, kind: EffectKind, f: f64) -> Option<&close_loop::EffectEntry> {
+    o.ledger
+        .effects
+        .iter()
+        .find(|e| e.kind == kind && e.frequency_hz.is_some_and(|g| (g / f - 1.0).abs() < 0.005))
+}
+
 /// A record's stored speed (rpm) and its drive-end signal.
 fn drive_end(dir: &Path, number: u32) -> (f64, Vec<f64>) {
     let r = load_record(dir, number, &LoadOptions::default()).unwrap();
@@ -628,15 +636,7 @@ fn cage_modulation_is_not_crowded_out_by_the_faults_sidebands_235() {
     let cage = 0.39828 * fr * 1.0032;
     let y = modulated(&x, 12_000.0, cage, 0.35);
     let o = run_from(machine, &y, rpm, &cfg);
-    let e = o
-        .ledger
-        .effects
-        .iter()
-        .find(|e| {
-            e.kind == EffectKind::Modulation
-                && e.frequency_hz
-                    .is_some_and(|f| (f / cage - 1.0).abs() < 0.005)
-        })
+    let e = named(&o, EffectKind::Modulation, cage)
         .unwrap_or_else(|| panic!("cage modulation not named: {:#?}", o.ledger.effects));
     assert!(e.description.contains("cage"), "{e:?}");
     let depth = e.parameters["depth"];
@@ -726,26 +726,12 @@ fn tone_beside_the_records_resonance_is_a_tone_235() {
     add_tone(&mut y, 12_000.0, 3.0 * rpm / 60.0, a, 0.7 - h);
     let control = run_from(machine, &x, rpm, &cfg);
     assert!(
-        !control
-            .ledger
-            .effects
-            .iter()
-            .any(|e| e.kind == EffectKind::Tone
-                && e.frequency_hz
-                    .is_some_and(|f| (f / 733.0 - 1.0).abs() < 0.005)),
+        named(&control, EffectKind::Tone, 733.0).is_none(),
         "{:#?}",
         control.ledger.effects
     );
     let o = run_from(machine, &y, rpm, &cfg);
-    let e = o
-        .ledger
-        .effects
-        .iter()
-        .find(|e| {
-            e.kind == EffectKind::Tone
-                && e.frequency_hz
-                    .is_some_and(|f| (f / 733.0 - 1.0).abs() < 0.005)
-        })
+    let e = named(&o, EffectKind::Tone, 733.0)
         .unwrap_or_else(|| panic!("733 Hz tone not named: {:#?}", o.ledger.effects));
     assert!((e.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{e:#?}");
 }

@@ -906,16 +906,16 @@ fn identify_path(
     let resid = ctx.fit_residual(st);
     let s_hi = ctx.welch_hi.try_psd(&resid).ok()?;
     let df_hi = ctx.welch_hi.df();
+    let free_hi = crate::path::path_line_free(&s_hi, df_hi);
     let free;
     let score_against = match target {
         PathTarget::Measured => &ctx.s_fit,
         PathTarget::LineFree => {
-            let lf = crate::path::line_free(&s_hi, crate::path::line_free_half(df_hi), 4.0);
-            free = crate::spectrum::coarsen_psd(&lf, df_hi, df, n_bins);
+            free = crate::spectrum::coarsen_psd(&free_hi, df_hi, df, n_bins);
             &free
         }
     };
-    crate::path::identify(&s_hi, df_hi, ctx.fs, c.max_path_order, 0.1, |p| {
+    crate::path::identify_line_free(&free_hi, df_hi, ctx.fs, c.max_path_order, 0.1, |p| {
         let m = p.psd(n_bins, df);
         crate::metric::regularised_lsd(score_against, &m, ctx.bins.clone(), ctx.eps)
     })

@@ -175,7 +175,8 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
     // the three strongest envelope peaks the model lacks, then the rates a modulation usually
     // has (shaft, twice shaft, cage), whose line the model's own may hide from the peak test
     let ftf = ctx.op.bearing.orders.ftf;
-    let named = [1.0, 2.0, ftf]
+    let usual_orders = [1.0, 2.0, ftf];
+    let named = usual_orders
         .map(|o| (o * fr / de).round() as usize)
         .into_iter()
         .filter(|&k| (lo..=hi).contains(&k));
@@ -201,9 +202,7 @@ pub(super) fn modulation_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated>
     for k in picks {
         let f0 = k as f64 * de;
         let fm = refine_peak(&envw, ctx.fs, f0 - 1.5 * de, f0 + 1.5 * de);
-        let usual = [1.0, 2.0, ftf]
-            .iter()
-            .any(|o| (o * fr - fm).abs() <= 3.0 * de);
+        let usual = usual_orders.iter().any(|o| (o * fr - fm).abs() <= 3.0 * de);
         if !usual && fault_sideband(fm, &impact_hz, &carriers, 3.0 * de) {
             continue;
         }
