@@ -735,3 +735,72 @@ fn tone_beside_the_records_resonance_is_a_tone_235() {
         .unwrap_or_else(|| panic!("733 Hz tone not named: {:#?}", o.ledger.effects));
     assert!((e.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{e:#?}");
 }
+
+/// 171 (inner race 0.014 in, 2 hp, 12 kHz), from the rig's machine model with the inner race
+/// declared, played 1 % faster with a 1234 Hz tone at 25 % of the record's RMS in it: the speed
+/// (read from the shaft lines, within 0.1 %) and the tone (at 1246.3 Hz after the resampling,
+/// frequency within 0.5 %, amplitude within 20 %) are both named. The tone was named first;
+/// a correct speed step then raised the held-out spectral error by 0.048 dB of 3.36 dB, over the
+/// 0.03 dB a speed step confirmed by the held-out envelope alone was allowed, and the speed was
+/// never named. The allowance is now the acceptance margin (2 % of the error, at least 0.03 dB).
+#[test]
+fn speed_change_beside_a_tone_is_named_171() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = LoopConfig::default().check().unwrap();
+    let machine = rig_12k(&dir);
+    let (rpm, x) = drive_end(&dir, 171);
+    let a = 0.25 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
+    let mut y = x.clone();
+    add_tone(&mut y, 12_000.0, 1234.0, a, 0.3);
+    let s = 1.01;
+    let y = played_faster(&y, s);
+    let o = run_from_with(machine, &y, rpm, DeclaredFault::Inner, &cfg);
+    let speed = speed_named_before_slip(&o, s);
+    let e = &o.ledger.effects[speed];
+    let rel = e.parameters["ratio"] / s - 1.0;
+    assert!((-0.001..0.001).contains(&rel), "{:?}", e.parameters);
+    let t = named(&o, EffectKind::Tone, 1234.0 * s)
+        .unwrap_or_else(|| panic!("tone not named: {:#?}", o.ledger.effects));
+    assert!((t.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{t:#?}");
+}
+
+/// 246 (outer race 0.021 in @3, 0 hp, 1796 rpm, 12 kHz), from the rig's machine model with the
+/// rig's 60 Hz mains declared, with a 60 Hz comb added (60, 120, 180, 240 Hz, each at 12 % of the
+/// record's RMS): one line comb is named (spacing within 0.5 % of 60 Hz, at least three lines,
+/// amplitude within 20 %); the untouched record names none. 60 Hz is 0.2 % from 2 × fr here, so
+/// the comb's spacing counted as a multiple of the shaft rate (the fault's own comb at another
+/// speed) and only 180 and 240 Hz were named, as two tones.
+#[test]
+fn sixty_hz_comb_beside_the_shaft_harmonics_246() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = LoopConfig {
+        line_frequency_hz: Some(60.0),
+        ..LoopConfig::default()
+    }
+    .check()
+    .unwrap();
+    let machine = rig_12k(&dir);
+    let (rpm, x) = drive_end(&dir, 246);
+    let a = 0.12 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
+    let mut y = x.clone();
+    for k in 1..=4 {
+        add_tone(&mut y, 12_000.0, 60.0 * k as f64, a, 0.7 * k as f64);
+    }
+    let comb = |o: &Outcome| {
+        o.ledger
+            .effects
+            .iter()
+            .find(|e| e.kind == EffectKind::LineComb)
+            .cloned()
+    };
+    let control = run_from(machine, &x, rpm, &cfg);
+    assert!(comb(&control).is_none(), "{:#?}", control.ledger.effects);
+    let o = run_from(machine, &y, rpm, &cfg);
+    let c = comb(&o).unwrap_or_else(|| panic!("no line comb: {:#?}", o.ledger.effects));
+    assert!(
+        (c.parameters["spacing_hz"] / 60.0 - 1.0).abs() < 0.005,
+        "{c:?}"
+    );
+    assert!(c.parameters["lines"] >= 3.0, "{c:?}");
+    assert!((c.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{c:?}");
+}

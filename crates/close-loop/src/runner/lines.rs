@@ -288,13 +288,23 @@ pub(super) fn line_comb_candidate(
             m >= 1.0 && (d / (m * k) - 1.0).abs() <= tol
         })
     };
+    // a spacing at the declared mains frequency or a multiple (within 0.1 %, the tolerance of
+    // `line_near_mains`) is the mains comb even where it falls near a kinematic rate: a 60 Hz
+    // comb on an 1800 rpm machine sits 0.2 % from 2 × fr (246.mat at 1796 rpm with 60, 120,
+    // 180 and 240 Hz added named two tones and no comb)
+    let mains_spacing = |d: f64| {
+        c.line_frequency_hz.is_some_and(|lf| {
+            let m = (d / lf).round();
+            m >= 1.0 && (d / (m * lf) - 1.0).abs() < 1e-3
+        })
+    };
     let mut best: Vec<(f64, f64)> = Vec::new();
     let mut best_spacing = 0.0;
     for i in 0..free.len() {
         for j in 0..free.len() {
             let (f0, f1) = (free[i].0, free[j].0);
             let d = f1 - f0;
-            if d < 10.0 || is_kinematic(d) {
+            if d < 10.0 || (is_kinematic(d) && !mains_spacing(d)) {
                 continue;
             }
             let tol = 3e-3 * d;
