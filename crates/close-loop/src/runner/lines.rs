@@ -357,6 +357,12 @@ pub(super) fn phasor(l: &Line) -> rustfft::num_complex::Complex<f64> {
     rustfft::num_complex::Complex::new(l.a, -l.b)
 }
 
+/// Largest distance, in bins of the fitting segment (1/T), between a measured shaft line and the
+/// line a physics shaft force makes: a line fitted 0.1/T off its frequency leaves 18 % of its
+/// amplitude (1 − sinc² of the offset, in amplitude), a line 0.87/T off (the ×1.003 of a defect
+/// rate at 57 Hz on 5 s) nearly all of it.
+pub(super) const MAX_FORCE_LINE_OFFSET: f64 = 0.1;
+
 /// A shaft harmonic put into the physics: the model is re-simulated with a shaft force of order
 /// k (bearing-model's `ShaftHarmonic`). The force follows from one unit-force run: the transfer
 /// H = C₁ / (1 N) of the line the unit force adds at the sensor (fitted on the difference of the
@@ -373,6 +379,15 @@ pub(super) fn shaft_force_candidate(
 ) -> Option<Evaluated> {
     let model = ctx.model_of(st);
     let f_sim = f64::from(order) * ctx.op.shaft_hz() * st.base.ratio;
+    // the simulated force turns with the physics' shaft, at `base.ratio`: where that is not the
+    // measured line's frequency (a defect rate ≠ 1 runs the physics off the shaft's speed; a
+    // line off the model's order), its response cannot be the line, and the part it misses
+    // came back as a second line of the same order beside it (160 with a 2× line added after a
+    // ×1.003 defect rate: 57.467 Hz measured, 57.64 Hz simulated, a second "2×" at 57.567 Hz)
+    let t_fit = ctx.n_fit as f64 / ctx.fs;
+    if (f_sim - measured.frequency_hz).abs() > MAX_FORCE_LINE_OFFSET / t_fit {
+        return None;
+    }
     let response = |m: &dyn DeclaredModel| -> Option<(Arc<Base>, Line)> {
         let b = ctx.make_base_with(m, st.base.ratio).ok()?;
         let d: Vec<f64> = b

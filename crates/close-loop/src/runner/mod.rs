@@ -225,6 +225,15 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         let mut cands = candidates(ctx, &st)?;
         // a speed step is also judged when it leaves the fitting error within the margin: its
         // evidence may be in the envelope, which the spectral error barely sees (inner race)
+        // the physics' shaft forces turn with its simulated shaft, which runs at the impact rate
+        // (`base.ratio`); a candidate that moves the impacts off the shaft (a defect rate, a
+        // preload's rate step) would move the forces' lines off the measured ones, leaving the
+        // model's record of them (`physics_lines`) wrong: once the physics holds a shaft force,
+        // the defect rate stays (160 + a 2× line: the line into the physics, then a preload of
+        // ×1.003 moved the simulated line by 0.17 Hz, and a second "2×" came back beside it)
+        cands.retain(|e| {
+            st.physics_lines.is_empty() || (e.state.defect_rate / st.defect_rate - 1.0).abs() < 1e-9
+        });
         cands.retain(|e| {
             e.fit_lsd.is_finite()
                 && (e.fit_lsd < fit_lsd
