@@ -882,3 +882,34 @@ fn one_line_per_shaft_order_and_the_cage_modulation_160() {
     named(&o, EffectKind::Modulation, cage)
         .unwrap_or_else(|| panic!("cage modulation not named: {:#?}", o.ledger.effects));
 }
+
+/// 109 (inner race 0.007 in, 0 hp, 48 kHz), from the 48 kHz rig, with a 21 kHz tone (0.44·fs)
+/// at 25 % of the record's RMS: the tone is named (frequency within 0.5 %, amplitude within
+/// 20 %). At 21 kHz the windows that make a line "the declared fault's" (k·BPFI + m·fr, |m| ≤
+/// 3, each ± 0.03 %) cover 55 % of the axis, so the tone was taken for a fault line, lost its
+/// standing as a coherent line behind the record's own fault lines and was never named.
+#[test]
+fn tone_near_the_top_of_the_band_is_named_109_48k() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = LoopConfig::default().check().unwrap();
+    let machine = rig_48k(&dir);
+    let r = load_record(&dir, 109, &LoadOptions::default()).unwrap();
+    let fs = r.fs_hz();
+    assert_eq!(fs, 48_000.0);
+    let rpm = r.rpm().value;
+    let x = r.de().to_vec();
+    let a = 0.25 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
+    let mut y = x.clone();
+    add_tone(&mut y, fs, 21_000.0, a, 0.3);
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Inner,
+    )
+    .unwrap();
+    let o = close_loop::close_loop_from(&PhysicsModel::default(), Some(machine), &y, fs, &op, &cfg)
+        .unwrap();
+    let e = named(&o, EffectKind::Tone, 21_000.0)
+        .unwrap_or_else(|| panic!("21 kHz tone not named: {:#?}", o.ledger.effects));
+    assert!((e.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{e:#?}");
+}
