@@ -1,0 +1,164 @@
+"""Black-box check of `hybrid-fdd close-loop` (issue 11; not part of the pipeline or the tests).
+
+Adds known effects to measured CWRU drive-end recordings, runs the command as a user would,
+from the rig's machine model (`results/close-loop/rig-{12k,48k}.json`, mains 60 Hz, the CLI's
+default), and prints what the loop names beside the truth. The untouched record's entry in
+`results/close-loop/<n>.json` (from `cargo xtask close-loop --all-real`) is the control.
+Findings and fixes: docs/equations/close-loop.md, "A second black-box check".
+
+Usage (after `cargo build --release -p hybrid-fdd-cli`, from the repository root; needs numpy
+and scipy):
+    python3 docs/crosschecks/close_loop_blackbox.py [CASE ...]   (default: every case)
+Data: $HYBRID_FDD_DATA or ../shared/data. Work files go to /tmp/close_loop_blackbox.
+
+Amplitudes are fractions of the record's RMS (a tone of fraction q has amplitude q*sqrt(2)*RMS).
+Two cases are test-design limits, not loop errors: D (a half order of 1796 rpm, 14.97 Hz, beside
+a 15 Hz tone on a 10 s record, 0.1 Hz bins: one line) and Y (a mains comb resampled with the
+record, so it sits on 2 x fr: named as the shaft comb it then is).
+"""
+import csv
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import scipy.io as sio
+import scipy.signal as ss
+
+DATA = os.environ.get("HYBRID_FDD_DATA", "../shared/data") + "/cwru/"
+WORK = "/tmp/close_loop_blackbox"
+CLI = "./target/release/hybrid-fdd"
+MAN = {r["file"]: r for r in csv.DictReader(open(DATA + "MANIFEST.csv"))}
+
+
+def load(n):
+    r = MAN[f"{n}.mat"]
+    m = sio.loadmat(DATA + r["rel_path"])
+    y = m[r["de_var"]].ravel().astype(float)
+    return y, float(r["sample_rate_hz"]), float(r["stored_rpm"] or r["nominal_rpm"])
+
+
+def tone(y, fs, f, frac, ph=0.3):
+    t = np.arange(len(y)) / fs
+    a = frac * np.std(y) * np.sqrt(2)
+    return y + a * np.sin(2 * np.pi * f * t + ph), a
+
+
+def am(y, fs, fm, mu, ph=0.0):
+    t = np.arange(len(y)) / fs
+    return y * (1 + mu * np.cos(2 * np.pi * fm * t + ph))
+
+
+def mode(y, fs, f0, z, c):
+    w = 2 * np.pi * f0 / fs
+    r = np.exp(-z * w)
+    x = ss.lfilter([1], [1, -2 * r * np.cos(w * np.sqrt(1 - z * z)), r * r], y)
+    return y + x / np.std(x) * np.std(y) * c
+
+
+def faster(y, s):
+    n = len(y)
+    return np.interp(np.arange(int((n - 1) / s)) * s, np.arange(n), y)
+
+
+def case(c):
+    """(record, fault, size in, signal, fs, rpm, truth) of one case."""
+    if c == "A":
+        y, fs, rpm = load(144)
+        return 144, "outer", 0.007, am(y, fs, rpm / 60, 0.3), fs, rpm, "AM 30 % at fr"
+    if c == "B":
+        y, fs, rpm = load(199)
+        return 199, "outer", 0.014, mode(y, fs, 1900, 0.02, 0.5), fs, rpm, "mode 1900 Hz"
+    if c == "C":
+        y, fs, rpm = load(171)
+        y2, a4 = tone(y, fs, 4 * rpm / 60, 0.25)
+        y2, a = tone(y2, fs, 1234, 0.25)
+        t = f"4x {a4:.4f}, tone 1246.34 Hz {a:.4f}, speed x1.01"
+        return 171, "inner", 0.014, faster(y2, 1.01), fs, rpm, t
+    if c == "D":
+        y, fs, rpm = load(250)
+        y2, a1 = tone(y, fs, 0.5 * rpm / 60, 0.25)
+        y2, a2 = tone(y2, fs, 15, 0.25)
+        return 250, "outer", 0.021, y2, fs, rpm, f"0.5x {a1:.4f}, 15 Hz {a2:.4f}"
+    if c == "E":
+        y, fs, rpm = load(186)
+        y2, a = tone(y, fs, 5 * rpm / 60, 0.3)
+        return 186, "ball", 0.014, y2, fs, rpm, f"5x {a:.4f}"
+    if c == "F":
+        y, fs, rpm = load(3002)
+        y2, a = tone(y, fs, 4400, 0.25)
+        return 3002, "inner", 0.028, y2, fs, rpm, f"4400 Hz {a:.4f}"
+    if c == "G":
+        y, fs, rpm = load(246)
+        for k in (1, 2, 3, 4):
+            y, a = tone(y, fs, 60 * k, 0.12, ph=0.7 * k)
+        return 246, "outer", 0.021, y, fs, rpm, f"60 Hz comb, 4 lines, {a:.4f}"
+    if c == "H":
+        y, fs, rpm = load(97)
+        return 97, "none", 0, am(y, fs, rpm / 60, 0.25), fs, rpm, "AM 25 % at fr"
+    if c == "I":
+        y, fs, rpm = load(209)
+        return 209, "inner", 0.021, am(y, fs, rpm / 60, 0.3), fs, rpm, "AM 30 % at fr"
+    if c == "J":
+        y, fs, rpm = load(201)
+        return 201, "outer", 0.014, mode(y, fs, 7000, 0.015, 0.5), fs, rpm, "mode 7000 Hz"
+    if c == "N":
+        y, fs, rpm = load(238)
+        y2, a = tone(y, fs, 3 * rpm / 60, 0.25)
+        return 238, "outer", 0.021, faster(y2, 0.98), fs, rpm, f"3x {a:.4f}, speed x0.98"
+    if c == "P":
+        y, fs, rpm = load(97)
+        y, fs = ss.resample_poly(y, 1, 4), 12000.0
+        y, a1 = tone(y, fs, 1.5 * rpm / 60, 0.25)
+        y, a2 = tone(y, fs, 800, 0.2)
+        y, a3 = tone(y, fs, 2500, 0.2)
+        return 97, "none", 0, y, fs, rpm, f"1.5x {a1:.4f}, 800 Hz {a2:.4f}, 2500 Hz {a3:.4f}"
+    if c == "R":
+        y, fs, rpm = load(160)
+        fr = rpm / 60
+        y2, a = tone(am(y, fs, 0.39828 * fr, 0.3, np.pi / 2), fs, 2 * fr, 0.2)
+        return 160, "outer", 0.007, y2, fs, rpm, f"cage AM 30 %, 2x {a:.4f}"
+    if c == "U":
+        y, fs, rpm = load(109)
+        y2, a = tone(y, fs, 21000, 0.25)
+        return 109, "inner", 0.007, y2, fs, rpm, f"21000 Hz {a:.4f}"
+    if c == "V":
+        y, fs, rpm = load(109)
+        y2, a = tone(y, fs, 37, 0.2)
+        return 109, "inner", 0.007, y2, fs, rpm, f"37 Hz {a:.4f}"
+    if c == "X":
+        y, fs, rpm = load(224)
+        y2, a = tone(y, fs, 5300, 0.25)
+        return 224, "ball", 0.021, y2, fs, rpm, f"5300 Hz {a:.4f}"
+    if c == "Y":
+        y, fs, rpm = load(262)
+        for k in (1, 2, 3):
+            y, a = tone(y, fs, 60 * k, 0.12, ph=0.7 * k)
+        return 262, "outer", 0.021, faster(y, 1.015), fs, rpm, "60 Hz comb, speed x1.015"
+    raise SystemExit(f"unknown case {c}")
+
+
+def main():
+    os.makedirs(WORK, exist_ok=True)
+    for c in sys.argv[1:] or list("ABCDEFGHIJNPRUVXY"):
+        n, fault, size, y, fs, rpm, truth = case(c)
+        path = f"{WORK}/{c}{n}.csv"
+        with open(path, "w") as f:
+            f.write("accel\n" + "\n".join(f"{v:.7g}" for v in y))
+        rig = "results/close-loop/rig-%s.json" % ("48k" if fs == 48000 else "12k")
+        args = [CLI, "close-loop", "--input", path, "--fs", str(fs), "--rpm", str(rpm),
+                "--fault", fault, "--machine", rig, "--units", "g",
+                "--report", f"{WORK}/{c}{n}.json"]
+        if fault != "none":
+            args += ["--fault-size-in", str(size)]
+        subprocess.run(args, check=True, capture_output=True)
+        d = json.load(open(f"{WORK}/{c}{n}.json"))
+        print(f"{c} {n}: added {truth}; error {d['error_before']:.3f} -> {d['error_after']:.3f} dB")
+        for e in d["effects"]:
+            p = " ".join(f"{k}={v:.4g}" for k, v in e["parameters"].items() if k != "modes")
+            print(f"   {e['kind']:16s} {e['frequency_hz'] or 0:10.3f} Hz {e['placement']:11s} {p[:110]}")
+
+
+if __name__ == "__main__":
+    main()
