@@ -180,34 +180,53 @@ fn run_from_with(
     fault: DeclaredFault,
     cfg: &close_loop::CheckedConfig,
 ) -> Outcome {
+    run_from_at(machine, y, 12_000.0, rpm, fault, cfg)
+}
+
+/// [`run_from_with`] at the sampling rate `fs`.
+fn run_from_at(
+    machine: &close_loop::machine::MachineModel,
+    y: &[f64],
+    fs: f64,
+    rpm: f64,
+    fault: DeclaredFault,
+    cfg: &close_loop::CheckedConfig,
+) -> Outcome {
     let op = OperatingPoint::new(
         rpm,
         BearingSpec::designated(bearing_model::Bearing::Skf6205),
         fault,
     )
     .unwrap();
-    close_loop::close_loop_from(
-        &PhysicsModel::default(),
-        Some(machine),
-        y,
-        12_000.0,
-        &op,
-        cfg,
-    )
-    .unwrap()
+    close_loop::close_loop_from(&PhysicsModel::default(), Some(machine), y, fs, &op, cfg).unwrap()
+}
+
+/// The shaft harmonics of `order` that `o` names.
+fn shaft_order_named(o: &Outcome, order: f64) -> Vec<close_loop::EffectEntry> {
+    o.ledger
+        .effects
+        .iter()
+        .filter(|e| {
+            e.kind == EffectKind::ShaftHarmonic && e.parameters.get("order") == Some(&order)
+        })
+        .cloned()
+        .collect()
+}
+
+/// The line comb `o` names, if any.
+fn line_comb(o: &Outcome) -> Option<&close_loop::EffectEntry> {
+    o.ledger
+        .effects
+        .iter()
+        .find(|e| e.kind == EffectKind::LineComb)
 }
 
 /// The line comb `o` names, checked to have a 50 Hz spacing (within 0.5 %).
 fn mains_comb_50(o: &Outcome) -> &close_loop::EffectEntry {
-    let comb = o
-        .ledger
-        .effects
-        .iter()
-        .find(|e| e.kind == EffectKind::LineComb)
-        .unwrap_or_else(|| {
-            let k: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
-            panic!("no line comb named: {k:?}")
-        });
+    let comb = line_comb(o).unwrap_or_else(|| {
+        let k: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
+        panic!("no line comb named: {k:?}")
+    });
     assert!(
         (comb.parameters["spacing_hz"] / 50.0 - 1.0).abs() < 0.005,
         "{comb:?}"
@@ -669,26 +688,8 @@ fn a_fitted_shaft_line_keeps_the_shaft_speed_213_48k() {
     let a = 0.3 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
     add_tone(&mut y, fs, 2.0 * rpm / 60.0, a, 0.4);
-    let op = OperatingPoint::new(
-        rpm,
-        BearingSpec::designated(bearing_model::Bearing::Skf6205),
-        DeclaredFault::Inner,
-    )
-    .unwrap();
-    let run = |z: &[f64]| {
-        close_loop::close_loop_from(&PhysicsModel::default(), Some(machine), z, fs, &op, &cfg)
-            .unwrap()
-    };
-    let second = |o: &Outcome| -> Vec<close_loop::EffectEntry> {
-        o.ledger
-            .effects
-            .iter()
-            .filter(|e| {
-                e.kind == EffectKind::ShaftHarmonic && e.parameters.get("order") == Some(&2.0)
-            })
-            .cloned()
-            .collect()
-    };
+    let run = |z: &[f64]| run_from_at(machine, z, fs, rpm, DeclaredFault::Inner, &cfg);
+    let second = |o: &Outcome| shaft_order_named(o, 2.0);
     let control = run(&x);
     assert!(second(&control).is_empty(), "{:#?}", control.ledger.effects);
     let o = run(&y);
@@ -786,17 +787,14 @@ fn sixty_hz_comb_beside_the_shaft_harmonics_246() {
     for k in 1..=4 {
         add_tone(&mut y, 12_000.0, 60.0 * k as f64, a, 0.7 * k as f64);
     }
-    let comb = |o: &Outcome| {
-        o.ledger
-            .effects
-            .iter()
-            .find(|e| e.kind == EffectKind::LineComb)
-            .cloned()
-    };
     let control = run_from(machine, &x, rpm, &cfg);
-    assert!(comb(&control).is_none(), "{:#?}", control.ledger.effects);
+    assert!(
+        line_comb(&control).is_none(),
+        "{:#?}",
+        control.ledger.effects
+    );
     let o = run_from(machine, &y, rpm, &cfg);
-    let c = comb(&o).unwrap_or_else(|| panic!("no line comb: {:#?}", o.ledger.effects));
+    let c = line_comb(&o).unwrap_or_else(|| panic!("no line comb: {:#?}", o.ledger.effects));
     assert!(
         (c.parameters["spacing_hz"] / 60.0 - 1.0).abs() < 0.005,
         "{c:?}"
@@ -832,16 +830,7 @@ fn one_line_per_shaft_order_and_the_cage_modulation_160() {
     let a = 0.2 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
     add_tone(&mut y, 12_000.0, 2.0 * fr, a, 0.3);
-    let second = |o: &Outcome| -> Vec<close_loop::EffectEntry> {
-        o.ledger
-            .effects
-            .iter()
-            .filter(|e| {
-                e.kind == EffectKind::ShaftHarmonic && e.parameters.get("order") == Some(&2.0)
-            })
-            .cloned()
-            .collect()
-    };
+    let second = |o: &Outcome| shaft_order_named(o, 2.0);
     let o = run_from(machine, &y, rpm, &cfg);
     let named2 = second(&o);
     assert_eq!(named2.len(), 1, "{:#?}", o.ledger.effects);
@@ -901,14 +890,7 @@ fn tone_near_the_top_of_the_band_is_named_109_48k() {
     let a = 0.25 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
     add_tone(&mut y, fs, 21_000.0, a, 0.3);
-    let op = OperatingPoint::new(
-        rpm,
-        BearingSpec::designated(bearing_model::Bearing::Skf6205),
-        DeclaredFault::Inner,
-    )
-    .unwrap();
-    let o = close_loop::close_loop_from(&PhysicsModel::default(), Some(machine), &y, fs, &op, &cfg)
-        .unwrap();
+    let o = run_from_at(machine, &y, fs, rpm, DeclaredFault::Inner, &cfg);
     let e = named(&o, EffectKind::Tone, 21_000.0)
         .unwrap_or_else(|| panic!("21 kHz tone not named: {:#?}", o.ledger.effects));
     assert!((e.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{e:#?}");

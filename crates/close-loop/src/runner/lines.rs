@@ -211,13 +211,20 @@ pub(super) fn shaft_comb_candidate(
     })
 }
 
+/// The multiple m·lf (m ≥ 1) of the declared mains frequency nearest `f`; `None` without a
+/// declared mains frequency or when `f` is below half of it.
+pub(super) fn nearest_mains(f: f64, c: &crate::LoopConfig) -> Option<f64> {
+    c.line_frequency_hz.and_then(|lf| {
+        let m = (f / lf).round();
+        (m >= 1.0).then_some(m * lf)
+    })
+}
+
 /// Is `f` nearer a multiple of the declared mains frequency than a shaft order?
 pub(super) fn line_near_mains(f: f64, fr: f64, c: &crate::LoopConfig) -> bool {
-    c.line_frequency_hz.is_some_and(|lf| {
-        let m = (f / lf).round();
-        let k = (f / fr).round();
-        m >= 1.0 && (f - m * lf).abs() < (f - k * fr).abs() && (f / (m * lf) - 1.0).abs() < 1e-3
-    })
+    let k = (f / fr).round();
+    nearest_mains(f, c)
+        .is_some_and(|g| (f - g).abs() < (f - k * fr).abs() && (f / g - 1.0).abs() < 1e-3)
 }
 
 /// Fewest lines that make a harmonic comb: lines at multiples m·Δ of their spacing (m ≤
@@ -292,12 +299,7 @@ pub(super) fn line_comb_candidate(
     // `line_near_mains`) is the mains comb even where it falls near a kinematic rate: a 60 Hz
     // comb on an 1800 rpm machine sits 0.2 % from 2 × fr (246.mat at 1796 rpm with 60, 120,
     // 180 and 240 Hz added named two tones and no comb)
-    let mains_spacing = |d: f64| {
-        c.line_frequency_hz.is_some_and(|lf| {
-            let m = (d / lf).round();
-            m >= 1.0 && (d / (m * lf) - 1.0).abs() < 1e-3
-        })
-    };
+    let mains_spacing = |d: f64| nearest_mains(d, c).is_some_and(|g| (d / g - 1.0).abs() < 1e-3);
     let mut best: Vec<(f64, f64)> = Vec::new();
     let mut best_spacing = 0.0;
     for i in 0..free.len() {
@@ -464,14 +466,7 @@ pub(crate) fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effec
     } else {
         f64::INFINITY
     };
-    let rel_l = c.line_frequency_hz.map_or(f64::INFINITY, |lf| {
-        let m = (f / lf).round();
-        if m >= 1.0 {
-            (f / (m * lf) - 1.0).abs()
-        } else {
-            f64::INFINITY
-        }
-    });
+    let rel_l = nearest_mains(f, c).map_or(f64::INFINITY, |g| (f / g - 1.0).abs());
     let in_range = if is_half {
         order <= MAX_HALF_ORDER
     } else {

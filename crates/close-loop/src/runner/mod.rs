@@ -643,16 +643,16 @@ fn speed_before_slip(cands: Vec<Evaluated>) -> Vec<Evaluated> {
     rest
 }
 
-/// Whether `effect` is a tone on a line of the declared fault's own family at the state's speed
-/// — k·BPFO ± m·fr (outer), k·BPFI ± m·fr (inner), k·(ball-defect rate) ± m·FTF (ball),
-/// k ≥ 1, |m| ≤ 3, within 0.03 % — i.e. a line the declared physics makes but with another
-/// amplitude or phase, not an undeclared tone. Such a line gets no coherent-line privilege
-/// (it is judged by the spectral error alone, as any patch of the declared fault's spectrum).
 /// Largest share of the frequency axis the windows of [`is_declared_fault_line`] may cover for a
 /// line in them to count as the declared fault's: 20 % (below about 33 × the impact rate; at
 /// 12 kHz every fault line of the 6205 up to 5.1 kHz).
 pub const DECLARED_LINE_MAX_COVERAGE: f64 = 0.2;
 
+/// Whether `effect` is a tone on a line of the declared fault's own family at the state's speed
+/// — k·BPFO ± m·fr (outer), k·BPFI ± m·fr (inner), k·(ball-defect rate) ± m·FTF (ball),
+/// k ≥ 1, |m| ≤ 3, within 0.03 % — i.e. a line the declared physics makes but with another
+/// amplitude or phase, not an undeclared tone. Such a line gets no coherent-line privilege
+/// (it is judged by the spectral error alone, as any patch of the declared fault's spectrum).
 fn is_declared_fault_line(ctx: &Ctx<'_>, st: &State, effect: &Effect) -> bool {
     let Effect::Tone { line } = effect else {
         return false;
