@@ -4,7 +4,8 @@ Adds known effects to measured CWRU drive-end recordings, runs the command as a 
 from the rig's machine model (`results/close-loop/rig-{12k,48k}.json`, mains 60 Hz, the CLI's
 default), and prints what the loop names beside the truth. The untouched record's entry in
 `results/close-loop/<n>.json` (from `cargo xtask close-loop --all-real`) is the control.
-Findings and fixes: docs/equations/close-loop.md, "A second black-box check".
+Findings and fixes: docs/equations/close-loop.md, "A second black-box check" (cases A-Y) and
+"A third black-box check" (cases a-l, on records neither the tests nor the earlier cases use).
 
 Usage (after `cargo build --release -p hybrid-fdd-cli`, from the repository root; needs numpy
 and scipy):
@@ -14,7 +15,10 @@ Data: $HYBRID_FDD_DATA or ../shared/data. Work files go to /tmp/close_loop_black
 Amplitudes are fractions of the record's RMS (a tone of fraction q has amplitude q*sqrt(2)*RMS).
 Two cases are test-design limits, not loop errors: D (a half order of 1796 rpm, 14.97 Hz, beside
 a 15 Hz tone on a 10 s record, 0.1 Hz bins: one line) and Y (a mains comb resampled with the
-record, so it sits on 2 x fr: named as the shaft comb it then is).
+record, so it sits on 2 x fr: named as the shaft comb it then is). In the third round, c modulates
+the record's DC offset too (a line at exactly the cage rate), d's "mode" with a negative gain is
+a bump at 2609 Hz, not a notch, and f's 3300 Hz tone lands 2 Hz from the fault's own sideband
+20 x BPFI + 2 x fr.
 """
 import csv
 import json
@@ -58,8 +62,12 @@ def mode(y, fs, f0, z, c):
 
 
 def faster(y, s):
-    n = len(y)
-    return np.interp(np.arange(int((n - 1) / s)) * s, np.arange(n), y)
+    """Play `y` s times faster: band-limited resampling by the ratio nearest 1/s with a
+    denominator up to 2000 (until 2026-11-26 linear interpolation, whose gain ripples at the
+    rate the fractional position wraps: sidebands at fs*|1 - s| around every high line)."""
+    from fractions import Fraction
+    r = Fraction(1 / s).limit_denominator(2000)
+    return ss.resample_poly(y, r.numerator, r.denominator)
 
 
 def case(c):
@@ -136,6 +144,62 @@ def case(c):
         for k in (1, 2, 3):
             y, a = tone(y, fs, 60 * k, 0.12, ph=0.7 * k)
         return 262, "outer", 0.021, faster(y, 1.015), fs, rpm, "60 Hz comb, speed x1.015"
+    # third round (2026-11-26, "A third black-box check"): lower-case letters
+    if c == "a":
+        y, fs, rpm = load(107)
+        y2, a = tone(y, fs, 12, 0.25)
+        return 107, "inner", 0.007, y2, fs, rpm, f"12 Hz {a:.4f}"
+    if c == "b":
+        y, fs, rpm = load(135)
+        y2, a1 = tone(y, fs, 2.5 * rpm / 60, 0.2)
+        y2, a2 = tone(y2, fs, 9000, 0.15)
+        return 135, "outer", 0.007, y2, fs, rpm, f"2.5x {a1:.4f}, 9000 Hz {a2:.4f}"
+    if c == "c":
+        y, fs, rpm = load(97)
+        y, fs = ss.resample_poly(y, 1, 4), 12000.0
+        fc = 0.39828 * rpm / 60
+        return 97, "none", 0, am(y, fs, fc, 0.3), fs, rpm, f"AM 30 % at the cage rate {fc:.3f} Hz"
+    if c == "d":
+        y, fs, rpm = load(97)
+        y, fs = ss.resample_poly(y, 1, 4), 12000.0
+        return 97, "none", 0, mode(y, fs, 2600, 0.02, -0.4), fs, rpm, "mode 2600 Hz, gain -0.4"
+    if c == "e":
+        y, fs, rpm = load(147)
+        y2, a1 = tone(y, fs, 5400, 0.25)
+        y2, a2 = tone(y2, fs, rpm / 60, 0.25)
+        return 147, "outer", 0.007, y2, fs, rpm, f"5400 Hz {a1:.4f}, 1x {a2:.4f}"
+    if c == "f":
+        y, fs, rpm = load(174)
+        y2, a1 = tone(y, fs, 150, 0.15)
+        y2, a2 = tone(y2, fs, 3300, 0.15)
+        y2, a3 = tone(y2, fs, 15000, 0.15)
+        t = f"150 {a1:.4f}, 3300 {a2:.4f}, 15000 Hz {a3:.4f} (x1/0.993 after resampling), speed x0.993"
+        return 174, "inner", 0.014, faster(y2, 0.993), fs, rpm, t
+    if c == "g":
+        y, fs, rpm = load(189)
+        for k in (1, 2, 3, 4):
+            y, a = tone(y, fs, 50 * k, 0.12, ph=0.7 * k)
+        return 189, "ball", 0.014, y, fs, rpm, f"50 Hz comb, 4 lines, {a:.4f} (--line-frequency 50)"
+    if c == "h":
+        y, fs, rpm = load(258)
+        y2, a = tone(y, fs, 0.5 * rpm / 60, 0.25)
+        return 258, "outer", 0.021, y2, fs, rpm, f"0.5x {a:.4f}"
+    if c == "i":
+        y, fs, rpm = load(3006)
+        y2, a = tone(am(y, fs, rpm / 60, 0.2), fs, 250, 0.3)
+        return 3006, "ball", 0.028, y2, fs, rpm, f"AM 20 % at fr, 250 Hz {a:.4f}"
+    if c == "j":
+        y, fs, rpm = load(211)
+        y2, a = tone(y, fs, 2 * rpm / 60, 0.3)
+        return 211, "inner", 0.021, faster(y2, 1.012), fs, rpm, f"2x {a:.4f}, speed x1.012"
+    if c == "k":
+        y, fs, rpm = load(122)
+        return 122, "ball", 0.007, mode(y, fs, 11000, 0.015, 1.0), fs, rpm, "mode 11000 Hz"
+    if c == "l":
+        y, fs, rpm = load(236)
+        for k in (1, 2, 3, 4, 5):
+            y, a = tone(y, fs, 60 * k, 0.1, ph=0.7 * k)
+        return 236, "outer", 0.021, y, fs, rpm, f"60 Hz comb, 5 lines, {a:.4f}"
     raise SystemExit(f"unknown case {c}")
 
 
@@ -149,11 +213,15 @@ def main():
         rig = "results/close-loop/rig-%s.json" % ("48k" if fs == 48000 else "12k")
         args = [CLI, "close-loop", "--input", path, "--fs", str(fs), "--rpm", str(rpm),
                 "--fault", fault, "--machine", rig, "--units", "g",
-                "--report", f"{WORK}/{c}{n}.json"]
+                "--report", f"{WORK}/{c}{n}.report.json"]
+        if c == "g":
+            args += ["--line-frequency", "50"]
         if fault != "none":
             args += ["--fault-size-in", str(size)]
-        subprocess.run(args, check=True, capture_output=True)
-        d = json.load(open(f"{WORK}/{c}{n}.json"))
+        r = subprocess.run(args, capture_output=True, text=True)
+        if r.returncode != 0:
+            raise SystemExit(f"{c}: {' '.join(args)}\n{r.stderr}")
+        d = json.load(open(f"{WORK}/{c}{n}.report.json"))
         print(f"{c} {n}: added {truth}; error {d['error_before']:.3f} -> {d['error_after']:.3f} dB")
         for e in d["effects"]:
             p = " ".join(f"{k}={v:.4g}" for k, v in e["parameters"].items() if k != "modes")

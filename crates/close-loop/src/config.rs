@@ -40,7 +40,9 @@ pub struct LoopConfig {
     pub max_harmonic_order: u32,
     /// Mains frequency of the test rig, if known: a line nearer a multiple of it than of fr is a tone.
     pub line_frequency_hz: Option<f64>,
-    /// At most this many line candidates are evaluated per round.
+    /// At most this many line candidates, the strongest by power, are evaluated per round, and
+    /// up to half as many more that stand ≥ 30 dB over their neighbourhood (plain lines that
+    /// stronger, broader ones crowd out; `runner::lines::PLAIN_LINE_DB`).
     pub max_line_candidates: usize,
     /// Floor of the regularised log-spectral distance, dB relative to the measurement's mean PSD
     /// over the scored band (see [`crate::metric::regularised_lsd`]).

@@ -329,6 +329,8 @@ pub enum Effect {
 
 /// Largest damping ratio a fitted mode may take.
 pub const MODE_MAX_DAMPING: f64 = 0.7;
+/// Smallest damping ratio a fitted mode may take (the damping search's lower bound).
+pub const MODE_MIN_DAMPING: f64 = 0.001;
 /// Gain range of a fitted mode: a bump up to +200 (46 dB), a notch down to −0.97 (−30 dB).
 pub const MODE_GAIN_RANGE: (f64, f64) = (-0.97, 200.0);
 

@@ -48,5 +48,7 @@ pub use declared::{
 };
 pub use effect::{Effect, EffectKind, Placement};
 pub use error::CloseLoopError;
-pub use report::{AcceptedOn, EffectEntry, Ledger, Outcome, Spectra, VerificationPass};
+pub use report::{
+    AcceptedOn, EffectEntry, KINEMATIC_LINE_TOLERANCE, Ledger, Outcome, Spectra, VerificationPass,
+};
 pub use runner::{MIN_NPERSEG, close_loop, close_loop_from, fit_len, min_samples};

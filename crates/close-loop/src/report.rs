@@ -47,7 +47,17 @@ pub struct EffectEntry {
     /// Which held-out test kept the effect (`null` in reports written before it was recorded).
     #[serde(default)]
     pub accepted_on: Option<AcceptedOn>,
+    /// A tone within [`crate::KINEMATIC_LINE_TOLERANCE`] of harmonic 1–3 of one of the bearing's
+    /// kinematic rates at the measured shaft speed: that rate (`"BPFI"`, `"3xBPFO"`, `"FTF"`,
+    /// `"2xball-defect"`), what the line physically sits at (absent otherwise). The CWRU drive
+    /// end's ~160 Hz line, on the healthy record too, is BPFI's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kinematic_rate: Option<String>,
 }
+
+/// Relative distance within which a tone is said to sit at a kinematic rate of the bearing
+/// ([`EffectEntry::kinematic_rate`]): 0.5 %, the frequency accuracy the loop is held to.
+pub const KINEMATIC_LINE_TOLERANCE: f64 = 0.005;
 
 /// The held-out test an effect passed (`docs/equations/close-loop.md`, "Acceptance").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -344,6 +354,7 @@ mod tests {
                 residual_rms_after: Some(0.2),
                 replaces_step: None,
                 accepted_on: Some(AcceptedOn::SpectralError),
+                kinematic_rate: None,
             }],
             rejected: vec![],
             verification: vec![],

@@ -54,6 +54,15 @@ fn kinds(o: &Outcome) -> Vec<EffectKind> {
     o.ledger.effects.iter().map(|e| e.kind).collect()
 }
 
+/// The first effect within 0.5 % of `f` (panics, listing the kinds, when there is none).
+fn near(o: &Outcome, f: f64) -> &close_loop::EffectEntry {
+    o.ledger
+        .effects
+        .iter()
+        .find(|e| e.frequency_hz.is_some_and(|g| (g / f - 1.0).abs() < 0.005))
+        .unwrap_or_else(|| panic!("no effect at {f} Hz: {:?}", kinds(o)))
+}
+
 #[test]
 fn clean_recording_reports_no_effect() {
     let y = recording(DeclaredFault::Outer, RPM, |x| x);
@@ -71,7 +80,29 @@ fn tone_is_found() {
     let e = &o.ledger.effects[0];
     assert_eq!(e.kind, EffectKind::Tone);
     assert!((e.frequency_hz.unwrap() / 1234.5 - 1.0).abs() < 0.01);
+    assert_eq!(e.kinematic_rate, None, "{e:#?}");
     assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
+/// A tone at a kinematic rate of the bearing that the declared fault does not explain (BPFI, 0.2 %
+/// low, on an outer-race record: the CWRU drive end's ~160 Hz line, which the healthy record
+/// holds too) is a tone named with that rate; a tone at no such rate carries none
+/// (`tone_is_found`).
+#[test]
+fn tone_at_a_kinematic_rate_is_named_with_it() {
+    let f = 0.998 * op(DeclaredFault::Outer).bearing.orders.bpfi * RPM / 60.0;
+    let y = recording(DeclaredFault::Outer, RPM, |mut x| {
+        add_tone(&mut x, FS, f, 0.05, 0.4);
+        x
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let e = near(&o, f);
+    assert_eq!(e.kind, EffectKind::Tone);
+    assert_eq!(e.kinematic_rate.as_deref(), Some("BPFI"), "{e:#?}");
+    assert!(
+        (e.parameters["kinematic_ratio"] - 0.998).abs() < 0.001,
+        "{e:#?}"
+    );
 }
 
 /// The tone search covers its whole advertised band: a tone at exactly 0.45·fs, the band's
@@ -84,12 +115,7 @@ fn tone_at_the_upper_band_edge_is_found() {
         x
     });
     let o = run(&y, DeclaredFault::Outer);
-    let e = o
-        .ledger
-        .effects
-        .iter()
-        .find(|e| e.frequency_hz.is_some_and(|g| (g / f - 1.0).abs() < 0.005))
-        .unwrap_or_else(|| panic!("no effect at {f} Hz: {:?}", kinds(&o)));
+    let e = near(&o, f);
     assert_eq!(e.kind, EffectKind::Tone);
     assert!((e.parameters["amplitude"] / 0.05 - 1.0).abs() < 0.2);
     assert!(o.ledger.error_after < o.ledger.error_before);

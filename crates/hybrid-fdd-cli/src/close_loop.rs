@@ -232,6 +232,13 @@ pub fn effect_list(o: &Outcome) -> String {
                 close_loop::Placement::Physics => "P",
                 close_loop::Placement::Measurement => "M",
             };
+            if let Some(rate) = &e.kinematic_rate {
+                return format!(
+                    "{} {:.1} Hz at {rate} ({p})",
+                    e.kind.as_str(),
+                    e.frequency_hz.unwrap_or(f64::NAN)
+                );
+            }
             if e.kind == close_loop::EffectKind::DefectRate {
                 let angle = e
                     .parameters

@@ -553,6 +553,19 @@ fn take(
     if let Some((key, v)) = extra {
         parameters.insert(key.into(), v);
     }
+    let kinematic_rate = match &cand.effect {
+        Effect::Tone { line } => kinematic_rate_of(ctx, &cand.state, line.frequency_hz),
+        _ => None,
+    }
+    .map(|(name, order, ratio)| {
+        parameters.insert("kinematic_order".into(), order);
+        parameters.insert("kinematic_ratio".into(), ratio);
+        description += &format!(
+            "; at {ratio:.4} × {name} ({order:.4} × fr at the measured shaft speed): a kinematic \
+             rate of the bearing"
+        );
+        name
+    });
     *t.st = cand.state;
     let obs_after = observer_rms(ctx, t.st);
     t.effects.push(EffectEntry {
@@ -571,10 +584,40 @@ fn take(
         residual_rms_before: *t.obs,
         residual_rms_after: obs_after,
         accepted_on: Some(accepted_on),
+        kinematic_rate,
     });
     *t.obs = obs_after;
     *t.fit_lsd = cand.fit_lsd;
     *t.held = h;
+}
+
+/// The bearing's kinematic rate (harmonic 1–3 of FTF, BPFO, BPFI or the ball-defect rate, at the
+/// shaft speed of `st`) within [`crate::KINEMATIC_LINE_TOLERANCE`] of `f_hz`, nearest first:
+/// (name, order × fr, f / rate).
+fn kinematic_rate_of(ctx: &Ctx<'_>, st: &State, f_hz: f64) -> Option<(String, f64, f64)> {
+    let fr = ctx.op.shaft_hz() * st.shaft_ratio();
+    let o = &ctx.op.bearing.orders;
+    let rates = [
+        ("FTF", o.ftf),
+        ("BPFO", o.bpfo),
+        ("BPFI", o.bpfi),
+        ("ball-defect", o.ball_defect),
+    ];
+    rates
+        .iter()
+        .flat_map(|&(name, order)| (1..=3).map(move |h| (name, h, h as f64 * order)))
+        .filter(|&(.., order)| order > 0.0 && fr > 0.0)
+        .map(|(name, h, order)| (name, h, order, f_hz / (order * fr)))
+        .filter(|&(.., r)| (r - 1.0).abs() <= crate::KINEMATIC_LINE_TOLERANCE)
+        .min_by(|a, b| (a.3 - 1.0).abs().total_cmp(&(b.3 - 1.0).abs()))
+        .map(|(name, h, order, r)| {
+            let name = if h == 1 {
+                name.to_string()
+            } else {
+                format!("{h}x{name}")
+            };
+            (name, order, r)
+        })
 }
 
 /// `cands` with every speed-offset candidate moved ahead of the first slip candidate (their own

@@ -92,7 +92,9 @@ pub(super) fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Ve
                     })
                     .1
                 },
-                (mode.damping_ratio / 8.0).max(0.001).ln(),
+                (mode.damping_ratio / 8.0)
+                    .max(crate::effect::MODE_MIN_DAMPING)
+                    .ln(),
                 (mode.damping_ratio * 8.0)
                     .min(crate::effect::MODE_MAX_DAMPING)
                     .ln(),
