@@ -5,7 +5,7 @@ from the rig's machine model (`results/close-loop/rig-{12k,48k}.json`, mains 60 
 default), and prints what the loop names beside the truth. The untouched record's entry in
 `results/close-loop/<n>.json` (from `cargo xtask close-loop --all-real`) is the control.
 Findings and fixes: docs/equations/close-loop.md, "A second black-box check" (cases A-Y) and
-"A third black-box check" (cases a-l, on records neither the tests nor the earlier cases use).
+"A third black-box check" (cases a-n, on records neither the tests nor the earlier cases use).
 
 Usage (after `cargo build --release -p hybrid-fdd-cli`, from the repository root; needs numpy
 and scipy):
@@ -200,6 +200,14 @@ def case(c):
         for k in (1, 2, 3, 4, 5):
             y, a = tone(y, fs, 60 * k, 0.1, ph=0.7 * k)
         return 236, "outer", 0.021, y, fs, rpm, f"60 Hz comb, 5 lines, {a:.4f}"
+    if c == "m":
+        y, fs, rpm = load(226)
+        y2, a = tone(y, fs, 0.45 * fs, 0.2)
+        return 226, "ball", 0.021, y2, fs, rpm, f"21600 Hz (0.45 fs) {a:.4f}"
+    if c == "n":
+        y, fs, rpm = load(97)
+        y2, a = tone(y, fs, 10, 0.2)
+        return 97, "none", 0, y2, fs, rpm, f"10 Hz {a:.4f}"
     raise SystemExit(f"unknown case {c}")
 
 

@@ -949,3 +949,55 @@ fn plain_tone_beside_stronger_fault_lines_is_named_135_48k() {
         o.ledger.effects
     );
 }
+
+/// 226 (ball 0.021 in, 0 hp, 48 kHz), from the 48 kHz rig, with a tone at 0.45·fs (21.6 kHz, the
+/// band's upper edge) at 20 % of the record's RMS. Two defects had it: four of the record's lines
+/// at 2557–2620 Hz, all within 0.3 % of "position 0" of a 19 kHz spacing, made a five-line
+/// `line_comb` with the tone (now one member per comb position); and, without that, a mode at
+/// the narrowest damping the search allows (ζ 0.001, 43 Hz wide, more than two bins) took the
+/// tone before it was judged, and a second mode beside it the rest (a strong line now goes
+/// before a mode that narrow on it). The tone is named, amplitude within 20 %, alone.
+#[test]
+fn tone_at_the_band_edge_is_neither_a_comb_nor_a_mode_226_48k() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = mains_60();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../results/close-loop/rig-48k.json");
+    let machine = &close_loop::machine::MachineModel::from_json(
+        &std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
+    )
+    .unwrap();
+    let r = load_record(&dir, 226, &LoadOptions::default()).unwrap();
+    let fs = r.fs_hz();
+    assert_eq!(fs, 48_000.0);
+    let rpm = r.rpm().value;
+    let x = r.de().to_vec();
+    let a = 0.2 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
+    let f = 0.45 * fs;
+    let mut y = x.clone();
+    add_tone(&mut y, fs, f, a, 0.3 - std::f64::consts::FRAC_PI_2);
+    // the record's own size declared, as `hybrid-fdd close-loop --fault-size-in 0.021` does
+    let model = PhysicsModel {
+        fault_size_in: 0.021,
+        ..PhysicsModel::default()
+    };
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        DeclaredFault::Ball,
+    )
+    .unwrap();
+    let o = close_loop::close_loop_from(&model, Some(machine), &y, fs, &op, &cfg).unwrap();
+    let e = named(&o, EffectKind::Tone, f)
+        .unwrap_or_else(|| panic!("{f} Hz tone not named: {:#?}", o.ledger.effects));
+    assert!((e.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{e:#?}");
+    assert!(
+        !o.ledger
+            .effects
+            .iter()
+            .any(|e| (e.kind == EffectKind::Resonance
+                && e.frequency_hz.is_some_and(|g| (g / f - 1.0).abs() < 0.01))
+                || (e.kind == EffectKind::LineComb && e.parameters["highest_hz"] > 0.4 * fs)),
+        "a mode or a comb on the tone: {:#?}",
+        o.ledger.effects
+    );
+}

@@ -334,15 +334,25 @@ pub(super) fn line_comb_candidate(
             if d < 10.0 || (is_kinematic(d) && !mains_spacing(d)) {
                 continue;
             }
+            // one member per comb position m, the nearest: a cluster of lines within the
+            // tolerance of one position is not a comb (226 at 48 kHz with a 21.6 kHz tone: four
+            // lines at 2557–2620 Hz, all "m = 0" within 0.3 % of a 19 kHz spacing, made a
+            // five-line comb with the tone)
             let tol = 3e-3 * d;
-            let set: Vec<(f64, f64)> = free
-                .iter()
-                .copied()
-                .filter(|&(f, _)| {
-                    let m = ((f - f0) / d).round();
-                    m.abs() <= 8.0 && (f - f0 - m * d).abs() <= tol
-                })
-                .collect();
+            let mut at: Vec<(f64, f64, (f64, f64))> = Vec::new(); // (m, distance, line)
+            for &(f, p) in &free {
+                let m = ((f - f0) / d).round();
+                let dist = (f - f0 - m * d).abs();
+                if m.abs() > 8.0 || dist > tol {
+                    continue;
+                }
+                match at.iter_mut().find(|e| e.0 == m) {
+                    Some(e) if e.1 <= dist => {}
+                    Some(e) => *e = (m, dist, (f, p)),
+                    None => at.push((m, dist, (f, p))),
+                }
+            }
+            let set: Vec<(f64, f64)> = at.into_iter().map(|e| e.2).collect();
             if set.len() < comb_needs(&set, d) {
                 continue;
             }

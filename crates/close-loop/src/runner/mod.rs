@@ -479,7 +479,10 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
         .collect();
     // a strong line goes before a resonance candidate that is the line dressed as a mode: centred
     // within one metric bin of it and no wider than two bins (235 with a 733 Hz tone at 25 % of
-    // the RMS beside its own 744 Hz resonance: a 735 Hz mode of ζ 0.011 took the tone)
+    // the RMS beside its own 744 Hz resonance: a 735 Hz mode of ζ 0.011 took the tone), or as
+    // narrow as the damping search allows: above a few kHz the narrowest mode is wider than two
+    // bins (226 at 48 kHz with a 21.6 kHz tone: a mode at ζ 0.001, 43 Hz wide, gain at its
+    // bound, took the tone, and a second mode beside it the rest)
     let df = ctx.welch.df();
     for f in strong_hz {
         let Some(li) = out
@@ -491,7 +494,8 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
         let ri = out[..li].iter().position(|e| match &e.effect {
             Effect::Resonance { mode, .. } => {
                 (f - mode.frequency_hz).abs() <= df
-                    && 2.0 * mode.damping_ratio * mode.frequency_hz <= 2.0 * df
+                    && (2.0 * mode.damping_ratio * mode.frequency_hz <= 2.0 * df
+                        || mode.damping_ratio <= 1.01 * crate::effect::MODE_MIN_DAMPING)
             }
             _ => false,
         });
