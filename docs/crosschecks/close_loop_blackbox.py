@@ -5,7 +5,7 @@ from the rig's machine model (`results/close-loop/rig-{12k,48k}.json`, mains 60 
 default), and prints what the loop names beside the truth. The untouched record's entry in
 `results/close-loop/<n>.json` (from `cargo xtask close-loop --all-real`) is the control.
 Findings and fixes: docs/equations/close-loop.md, "A second black-box check" (cases A-Y) and
-"A third black-box check" (cases a-n, on records neither the tests nor the earlier cases use).
+"A third black-box check" (cases a-q, on records neither the tests nor the earlier cases use).
 
 Usage (after `cargo build --release -p hybrid-fdd-cli`, from the repository root; needs numpy
 and scipy):
@@ -208,6 +208,16 @@ def case(c):
         y, fs, rpm = load(97)
         y2, a = tone(y, fs, 10, 0.2)
         return 97, "none", 0, y2, fs, rpm, f"10 Hz {a:.4f}"
+    if c == "q":
+        y, fs, rpm = load(3001)
+        y2, a1 = tone(y, fs, 5000, 0.10)
+        y2, a2 = tone(y2, fs, 4 * rpm / 60, 0.15)
+        return 3001, "inner", 0.028, y2, fs, rpm, f"5000 Hz {a1:.4f}, 4x {a2:.4f}"
+    if c == "o":
+        y, fs, rpm = load(148)
+        y2, a1 = tone(y, fs, 12000, 0.10)
+        y2, a2 = tone(y2, fs, 1.5 * rpm / 60, 0.15)
+        return 148, "outer", 0.007, y2, fs, rpm, f"12000 Hz {a1:.4f}, 1.5x {a2:.4f}"
     raise SystemExit(f"unknown case {c}")
 
 

@@ -466,10 +466,11 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
         }
     }
     strong.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let strong_hz: Vec<f64> = strong
+    // (frequency, power) of each strong single line
+    let strong_hz: Vec<(f64, f64)> = strong
         .iter()
         .filter(|(_, e)| matches!(e.effect, Effect::Tone { .. } | Effect::ShaftHarmonic { .. }))
-        .filter_map(|(_, e)| e.effect.frequency_hz())
+        .filter_map(|(removed, e)| e.effect.frequency_hz().map(|f| (f, removed * total)))
         .collect();
     let mut lines = strong.into_iter().map(|(_, e)| e).chain(weak);
     let mut others = others.into_iter();
@@ -484,7 +485,7 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
     // bins (226 at 48 kHz with a 21.6 kHz tone: a mode at ζ 0.001, 43 Hz wide, gain at its
     // bound, took the tone, and a second mode beside it the rest)
     let df = ctx.welch.df();
-    for f in strong_hz {
+    for (f, line_power) in strong_hz {
         let Some(li) = out
             .iter()
             .position(|e| e.effect.is_coherent_line() && e.effect.frequency_hz() == Some(f))
@@ -495,7 +496,8 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
             Effect::Resonance { mode, .. } => {
                 (f - mode.frequency_hz).abs() <= df
                     && (2.0 * mode.damping_ratio * mode.frequency_hz <= 2.0 * df
-                        || mode.damping_ratio <= 1.01 * crate::effect::MODE_MIN_DAMPING)
+                        || mode.damping_ratio <= 1.01 * crate::effect::MODE_MIN_DAMPING
+                        || line_power >= 0.5 * mode_added_power(ctx, st, &e.state, mode))
             }
             _ => false,
         });
@@ -505,6 +507,22 @@ fn strong_lines_first(ctx: &Ctx<'_>, st: &State, cands: Vec<Evaluated>) -> Vec<E
         }
     }
     out
+}
+
+/// The power a resonance candidate adds to the model over ± 5 half-power bandwidths of its
+/// centre (the model PSD of its state less that of `st`), units²: what the mode explains.
+fn mode_added_power(ctx: &Ctx<'_>, st: &State, with: &State, mode: &crate::effect::Mode) -> f64 {
+    let df = ctx.welch.df();
+    let model = |s: &State| {
+        let sh = ctx.shaped(s);
+        let lp = ctx.lines_psd(&s.lines, 0..ctx.n_fit);
+        ctx.model_psd(s, &sh, &lp)
+    };
+    let (a, b) = (model(with), model(st));
+    let half = 5.0 * mode.damping_ratio * mode.frequency_hz;
+    let k0 = ((mode.frequency_hz - half) / df).floor().max(0.0) as usize;
+    let k1 = (((mode.frequency_hz + half) / df).ceil() as usize + 1).min(a.len().min(b.len()));
+    (k0..k1).map(|k| (a[k] - b[k]).max(0.0)).sum::<f64>() * df
 }
 
 /// Most amplitude modulations the envelope phase adds after the spectral loop stops, strongest
