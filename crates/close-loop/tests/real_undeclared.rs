@@ -145,6 +145,40 @@ fn played_faster(x: &[f64], s: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The rig's machine model as committed (`results/close-loop/<name>.json`, written by `cargo
+/// xtask close-loop --all-real` with the CLI's 60 Hz mains): what users pass with `--machine`.
+fn committed_rig(name: &str) -> close_loop::machine::MachineModel {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../results/close-loop/{name}.json"));
+    close_loop::machine::MachineModel::from_json(
+        &std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
+    )
+    .unwrap()
+}
+
+/// [`run_from_at`] with the declared spall width (inches), as `--fault-size-in` gives it.
+fn run_sized(
+    machine: &close_loop::machine::MachineModel,
+    y: &[f64],
+    fs: f64,
+    rpm: f64,
+    fault: DeclaredFault,
+    size_in: f64,
+    cfg: &close_loop::CheckedConfig,
+) -> Outcome {
+    let model = PhysicsModel {
+        fault_size_in: size_in,
+        ..PhysicsModel::default()
+    };
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6205),
+        fault,
+    )
+    .unwrap();
+    close_loop::close_loop_from(&model, Some(machine), y, fs, &op, cfg).unwrap()
+}
+
 /// The default settings with the CLI's 60 Hz mains declared.
 fn mains_60() -> close_loop::CheckedConfig {
     LoopConfig {
@@ -911,11 +945,7 @@ fn plain_tone_beside_stronger_fault_lines_is_named_135_48k() {
     // the rig's model as users pass it (`--machine results/close-loop/rig-48k.json`: calibrated
     // with the CLI's 60 Hz mains); the defaults' model (no mains) happens to keep the tone in
     // the slots taken by power
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../results/close-loop/rig-48k.json");
-    let machine = &close_loop::machine::MachineModel::from_json(
-        &std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
-    )
-    .unwrap();
+    let machine = &committed_rig("rig-48k");
     let r = load_record(&dir, 135, &LoadOptions::default()).unwrap();
     let fs = r.fs_hz();
     assert_eq!(fs, 48_000.0);
@@ -961,11 +991,7 @@ fn plain_tone_beside_stronger_fault_lines_is_named_135_48k() {
 fn tone_at_the_band_edge_is_neither_a_comb_nor_a_mode_226_48k() {
     let Some(dir) = data_dir() else { return };
     let cfg = mains_60();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../results/close-loop/rig-48k.json");
-    let machine = &close_loop::machine::MachineModel::from_json(
-        &std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
-    )
-    .unwrap();
+    let machine = &committed_rig("rig-48k");
     let r = load_record(&dir, 226, &LoadOptions::default()).unwrap();
     let fs = r.fs_hz();
     assert_eq!(fs, 48_000.0);
@@ -976,17 +1002,7 @@ fn tone_at_the_band_edge_is_neither_a_comb_nor_a_mode_226_48k() {
     let mut y = x.clone();
     add_tone(&mut y, fs, f, a, 0.3 - std::f64::consts::FRAC_PI_2);
     // the record's own size declared, as `hybrid-fdd close-loop --fault-size-in 0.021` does
-    let model = PhysicsModel {
-        fault_size_in: 0.021,
-        ..PhysicsModel::default()
-    };
-    let op = OperatingPoint::new(
-        rpm,
-        BearingSpec::designated(bearing_model::Bearing::Skf6205),
-        DeclaredFault::Ball,
-    )
-    .unwrap();
-    let o = close_loop::close_loop_from(&model, Some(machine), &y, fs, &op, &cfg).unwrap();
+    let o = run_sized(machine, &y, fs, rpm, DeclaredFault::Ball, 0.021, &cfg);
     let e = named(&o, EffectKind::Tone, f)
         .unwrap_or_else(|| panic!("{f} Hz tone not named: {:#?}", o.ledger.effects));
     assert!((e.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{e:#?}");
@@ -1012,11 +1028,7 @@ fn tone_at_the_band_edge_is_neither_a_comb_nor_a_mode_226_48k() {
 fn tone_before_the_mode_it_would_dress_3001() {
     let Some(dir) = data_dir() else { return };
     let cfg = mains_60();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../results/close-loop/rig-12k.json");
-    let machine = &close_loop::machine::MachineModel::from_json(
-        &std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
-    )
-    .unwrap();
+    let machine = &committed_rig("rig-12k");
     let (rpm, x) = drive_end(&dir, 3001);
     let fs = 12_000.0;
     let rms = close_loop::metric::rms(&x);
@@ -1028,17 +1040,7 @@ fn tone_before_the_mode_it_would_dress_3001() {
     let mut y = x.clone();
     add_tone(&mut y, fs, 5_000.0, a, ph);
     add_tone(&mut y, fs, 4.0 * rpm / 60.0, a4, ph);
-    let model = PhysicsModel {
-        fault_size_in: 0.028,
-        ..PhysicsModel::default()
-    };
-    let op = OperatingPoint::new(
-        rpm,
-        BearingSpec::designated(bearing_model::Bearing::Skf6205),
-        DeclaredFault::Inner,
-    )
-    .unwrap();
-    let o = close_loop::close_loop_from(&model, Some(machine), &y, fs, &op, &cfg).unwrap();
+    let o = run_sized(machine, &y, fs, rpm, DeclaredFault::Inner, 0.028, &cfg);
     let e = named(&o, EffectKind::Tone, 5_000.0)
         .unwrap_or_else(|| panic!("5 kHz tone not named: {:#?}", o.ledger.effects));
     assert!((e.parameters["amplitude"] / a - 1.0).abs() < 0.2, "{e:#?}");
