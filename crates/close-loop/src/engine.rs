@@ -67,6 +67,12 @@ pub(crate) struct State {
     pub log_floor: f64,
     /// ln of the path's excitation level (relative to the identified σ²).
     pub log_bg: f64,
+    /// The part of the shaft's speed ratio that speed steps assumed without reading it on the
+    /// recording's shaft lines (a step read from the fault's lines alone, `shaft_measured` = 0;
+    /// 1 when every step was read there): the shaft may still run at
+    /// `shaft_ratio() / assumed_shaft_step`, so a line at an order of that speed is a shaft line
+    /// too ([`crate::runner`]'s line candidates).
+    pub assumed_shaft_step: f64,
 }
 
 /// A structural path with its PSD on the metric grid.

@@ -1055,3 +1055,54 @@ fn tone_before_the_mode_it_would_dress_3001() {
         o.ledger.effects
     );
 }
+
+/// 148 (outer race 0.007 in @3, 3 hp, 48 kHz), from the committed 48 kHz rig, with a 12 kHz
+/// tone at 10 % and a 1.5 × shaft line at 15 % of the record's RMS, at the stored speed. A speed
+/// step of ×1.005 read from the fault's lines alone (the shaft's own lines too weak to read) came
+/// first and put the model's 1.5 × 0.5 % away, past the 0.4 % a shaft order allows: the line was
+/// named a `tone`. After a step the shaft's lines did not confirm, a line at an order of the
+/// speed before it is a shaft line too: named a `shaft_harmonic` of order 1.5, amplitude within
+/// 20 %, and the tone beside it.
+#[test]
+fn half_order_after_an_unconfirmed_speed_step_is_a_shaft_line_148_48k() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = mains_60();
+    let machine = &committed_rig("rig-48k");
+    let r = load_record(&dir, 148, &LoadOptions::default()).unwrap();
+    let fs = r.fs_hz();
+    assert_eq!(fs, 48_000.0);
+    let rpm = r.rpm().value;
+    let x = r.de().to_vec();
+    let rms = close_loop::metric::rms(&x);
+    let (a_tone, a_half) = (0.1 * 2f64.sqrt() * rms, 0.15 * 2f64.sqrt() * rms);
+    let f_half = 1.5 * rpm / 60.0;
+    let mut y = x.clone();
+    add_tone(&mut y, fs, 12_000.0, a_tone, 0.3);
+    add_tone(&mut y, fs, f_half, a_half, 0.3);
+    let o = run_sized(machine, &y, fs, rpm, DeclaredFault::Outer, 0.007, &cfg);
+    // the case this guards: the model's shaft moved by more than a shaft order's tolerance
+    let step = o
+        .ledger
+        .effects
+        .iter()
+        .filter(|e| e.kind == EffectKind::SpeedOffset)
+        .map(|e| e.parameters["ratio"])
+        .last();
+    assert!(
+        step.is_some_and(|s| (s - 1.0).abs() > 0.004),
+        "no speed step past 0.4 %: {:#?}",
+        o.ledger.effects
+    );
+    let e = named(&o, EffectKind::ShaftHarmonic, f_half)
+        .unwrap_or_else(|| panic!("1.5 x not named a shaft line: {:#?}", o.ledger.effects));
+    assert_eq!(e.parameters["order"], 1.5, "{e:#?}");
+    assert!(
+        (e.parameters["amplitude"] / a_half - 1.0).abs() < 0.2,
+        "{e:#?}"
+    );
+    assert!(
+        named(&o, EffectKind::Tone, 12_000.0).is_some(),
+        "{:#?}",
+        o.ledger.effects
+    );
+}

@@ -182,6 +182,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             log_gain: 0.0,
             log_floor: 0.0,
             log_bg: 0.0,
+            assumed_shaft_step: 1.0,
         },
         Some(m) => prior_state(ctx, m)?,
     };
@@ -947,6 +948,7 @@ fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, CloseLoopError>
         log_gain: m.physics_gain.max(1e-300).ln(),
         log_floor: m.noise_floor_psd.max(1e-300).ln(),
         log_bg: m.path_level.max(1e-300).ln(),
+        assumed_shaft_step: 1.0,
     })
 }
 

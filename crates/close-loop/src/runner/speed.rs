@@ -177,6 +177,12 @@ pub(super) fn speed_candidates(
         let mut s2 = st.clone();
         ctx.rebase(&mut s2, base);
         s2.defect_rate = defect_rate;
+        s2.assumed_shaft_step = match measured {
+            // the shaft's speed read on its own lines
+            Some(_) if shaft_new != shaft_now => 1.0,
+            Some(_) => st.assumed_shaft_step,
+            None => st.assumed_shaft_step * s,
+        };
         for l in &mut s2.physics_lines {
             l.frequency_hz *= shaft_new / shaft_now;
         }
