@@ -617,6 +617,14 @@ fn named(o: &Outcome, kind: EffectKind, f: f64) -> Option<&close_loop::EffectEnt
         .find(|e| e.kind == kind && e.frequency_hz.is_some_and(|g| (g / f - 1.0).abs() < 0.005))
 }
 
+/// A 48 kHz record's sampling rate (checked), stored speed (rpm) and drive-end signal.
+fn drive_end_48k(dir: &Path, number: u32) -> (f64, f64, Vec<f64>) {
+    let r = load_record(dir, number, &LoadOptions::default()).unwrap();
+    let fs = r.fs_hz();
+    assert_eq!(fs, 48_000.0, "{number}.mat");
+    (fs, r.rpm().value, r.de().to_vec())
+}
+
 /// A record's stored speed (rpm) and its drive-end signal.
 fn drive_end(dir: &Path, number: u32) -> (f64, Vec<f64>) {
     let r = load_record(dir, number, &LoadOptions::default()).unwrap();
@@ -724,11 +732,7 @@ fn a_fitted_shaft_line_keeps_the_shaft_speed_213_48k() {
     let Some(dir) = data_dir() else { return };
     let cfg = LoopConfig::default().check().unwrap();
     let machine = rig_48k(&dir);
-    let r = load_record(&dir, 213, &LoadOptions::default()).unwrap();
-    let fs = r.fs_hz();
-    assert_eq!(fs, 48_000.0);
-    let rpm = r.rpm().value;
-    let x = r.de().to_vec();
+    let (fs, rpm, x) = drive_end_48k(&dir, 213);
     let a = 0.3 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
     add_tone(&mut y, fs, 2.0 * rpm / 60.0, a, 0.4);
@@ -916,11 +920,7 @@ fn tone_near_the_top_of_the_band_is_named_109_48k() {
     let Some(dir) = data_dir() else { return };
     let cfg = LoopConfig::default().check().unwrap();
     let machine = rig_48k(&dir);
-    let r = load_record(&dir, 109, &LoadOptions::default()).unwrap();
-    let fs = r.fs_hz();
-    assert_eq!(fs, 48_000.0);
-    let rpm = r.rpm().value;
-    let x = r.de().to_vec();
+    let (fs, rpm, x) = drive_end_48k(&dir, 109);
     let a = 0.25 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
     add_tone(&mut y, fs, 21_000.0, a, 0.3);
@@ -946,11 +946,7 @@ fn plain_tone_beside_stronger_fault_lines_is_named_135_48k() {
     // with the CLI's 60 Hz mains); the defaults' model (no mains) happens to keep the tone in
     // the slots taken by power
     let machine = &committed_rig("rig-48k");
-    let r = load_record(&dir, 135, &LoadOptions::default()).unwrap();
-    let fs = r.fs_hz();
-    assert_eq!(fs, 48_000.0);
-    let rpm = r.rpm().value;
-    let x = r.de().to_vec();
+    let (fs, rpm, x) = drive_end_48k(&dir, 135);
     let a = 0.15 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let a_half = 0.2 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let mut y = x.clone();
@@ -992,11 +988,7 @@ fn tone_at_the_band_edge_is_neither_a_comb_nor_a_mode_226_48k() {
     let Some(dir) = data_dir() else { return };
     let cfg = mains_60();
     let machine = &committed_rig("rig-48k");
-    let r = load_record(&dir, 226, &LoadOptions::default()).unwrap();
-    let fs = r.fs_hz();
-    assert_eq!(fs, 48_000.0);
-    let rpm = r.rpm().value;
-    let x = r.de().to_vec();
+    let (fs, rpm, x) = drive_end_48k(&dir, 226);
     let a = 0.2 * std::f64::consts::SQRT_2 * close_loop::metric::rms(&x);
     let f = 0.45 * fs;
     let mut y = x.clone();
@@ -1068,11 +1060,7 @@ fn half_order_after_an_unconfirmed_speed_step_is_a_shaft_line_148_48k() {
     let Some(dir) = data_dir() else { return };
     let cfg = mains_60();
     let machine = &committed_rig("rig-48k");
-    let r = load_record(&dir, 148, &LoadOptions::default()).unwrap();
-    let fs = r.fs_hz();
-    assert_eq!(fs, 48_000.0);
-    let rpm = r.rpm().value;
-    let x = r.de().to_vec();
+    let (fs, rpm, x) = drive_end_48k(&dir, 148);
     let rms = close_loop::metric::rms(&x);
     let (a_tone, a_half) = (0.1 * 2f64.sqrt() * rms, 0.15 * 2f64.sqrt() * rms);
     let f_half = 1.5 * rpm / 60.0;
