@@ -168,6 +168,37 @@ fn physics_misplaced_housing_resonance() {
     assert!(e.residual_rms_after.unwrap() < e.residual_rms_before.unwrap());
 }
 
+/// A housing mode far from the declared one, above and below (4400 and 2250 Hz against
+/// 3300 Hz; 12 kHz, outer race). Its bump is not where the loop's symmetric channel mode puts
+/// it (a 4200 Hz housing on a simulated 6203 was fitted at 4989 Hz and only a data-identified
+/// structural path followed, 5.01 → 1.41 dB with three effects), but the dip at the declared
+/// mode starts a search of the housing frequency itself: one effect, in the physics, within
+/// 0.5 %. Measured 4399.7 and 2249.2 Hz. (1800 Hz in this set-up is still missed:
+/// docs/equations/close-loop.md, "A housing mode far from the declared one".)
+#[test]
+fn physics_housing_far_from_the_declared_one_is_found() {
+    let declared = PhysicsModel::default().effective_housing();
+    for f in [4400.0, 2250.0] {
+        let truth = PhysicsModel {
+            housing: Some(Housing {
+                resonance_hz: f,
+                ..declared
+            }),
+            ..PhysicsModel::default()
+        };
+        let y = recording(&truth, RPM, |x| x);
+        let o = run(&y);
+        let e = &o.ledger.effects[0];
+        assert_eq!(e.kind, EffectKind::Resonance, "{f} Hz");
+        assert_eq!(e.placement, close_loop::Placement::Physics, "{f} Hz");
+        assert_eq!(e.parameters["housing_mode"], 1.0, "{f} Hz");
+        let got = e.frequency_hz.unwrap();
+        assert!((got / f - 1.0).abs() < 0.005, "{f} Hz: {got}");
+        assert_eq!(o.ledger.effects.len(), 1, "{f} Hz");
+        assert!(o.ledger.error_after < 0.5 * o.ledger.error_before, "{f} Hz");
+    }
+}
+
 #[test]
 fn physics_speed_offset() {
     let y = recording(&PhysicsModel::default(), RPM * 1.0033, |x| x);

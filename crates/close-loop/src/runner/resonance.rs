@@ -32,6 +32,17 @@ pub(super) fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Ve
         })
         .collect();
     let mut out = Vec::new();
+    // the ratio's lowest value within HOUSING_DIP_RANGE of the physics' housing mode: a dip
+    // there (the data lacks the mode where the model puts it) starts the housing search, even
+    // when larger extremes elsewhere fill the RESONANCE_EXTREMA slots
+    let housing_dip = ctx.model_of(st).housing_mode().is_some_and(|(fh, _)| {
+        (0..nb)
+            .filter(|&i| {
+                let f = ctx.welch.frequency(ctx.bins.start + i);
+                (f / fh - 1.0).abs() <= HOUSING_DIP_RANGE
+            })
+            .any(|i| sm[i] <= -c.broadband_threshold_db)
+    });
     for (i, v) in band_extrema(&sm, 2 * half, c.broadband_threshold_db) {
         let f0 = ctx.welch.frequency(ctx.bins.start + i);
         // half-width where the smoothed ratio falls to half its extreme (in dB)
@@ -133,6 +144,9 @@ pub(super) fn resonance_candidates(ctx: &Ctx<'_>, st: &State, _lr: &[f64]) -> Ve
             fit_lsd: lsd,
         });
     }
+    if housing_dip {
+        out.extend(housing_search(ctx, st));
+    }
     out
 }
 
@@ -185,6 +199,119 @@ fn band_extrema(sm: &[f64], separation: usize, threshold: f64) -> Vec<(usize, f6
 pub(super) const HOUSING_MOVE_RANGE: f64 = 0.3;
 /// Relative half-width of the housing-frequency search around the fitted channel mode.
 pub(super) const HOUSING_SEARCH: f64 = 0.08;
+
+/// Relative distance from the model's housing mode within which a dip of the band-power ratio
+/// (the data lacks the mode where the model puts it) starts a search for where it is
+/// ([`housing_search`]).
+pub(super) const HOUSING_DIP_RANGE: f64 = 0.1;
+/// The housing search's bracket: the model's housing frequency divided and multiplied by this.
+pub(super) const HOUSING_SEARCH_RATIO: f64 = 1.6;
+/// Points of the housing search's log-spaced grid (both ends included).
+pub(super) const HOUSING_GRID: usize = 17;
+
+/// The physics model's housing mode re-simulated at `f` (declared damping) and calibrated:
+/// the state and its fitting-segment LSD.
+fn housing_at(
+    ctx: &Ctx<'_>,
+    st: &State,
+    model: &dyn DeclaredModel,
+    f: f64,
+    zeta: f64,
+) -> Option<(State, f64)> {
+    let m: Arc<dyn DeclaredModel> = Arc::from(model.with_housing_mode(f, zeta)?);
+    let base = ctx.make_base_with(m.as_ref(), st.base.ratio).ok()?;
+    let mut s2 = st.clone();
+    s2.model = Some(ModelRef(m));
+    ctx.rebase(&mut s2, base);
+    let (s2, lsd) = ctx.calibrate(s2, false);
+    lsd.is_finite().then_some((s2, lsd))
+}
+
+/// A misplaced housing mode searched for rather than read off a channel mode. A housing mode
+/// far from the model's does not leave a bump the loop's symmetric channel mode can place (a
+/// 6203 simulated with its housing at 4200 Hz against a declared 3300 Hz: the band-power ratio
+/// dips at 3300 Hz and its bump is fitted at 4989 Hz, 19 % off, outside
+/// [`HOUSING_MOVE_RANGE`]), but the dip it leaves at the model's own mode is unmistakable. When
+/// the ratio dips within [`HOUSING_DIP_RANGE`] of the housing mode, the housing frequency is
+/// searched directly: a log-spaced grid of [`HOUSING_GRID`] points over
+/// f_h / [`HOUSING_SEARCH_RATIO`] … f_h · [`HOUSING_SEARCH_RATIO`] (below Nyquist), then a
+/// golden section over the best point's neighbours, on the fitting-segment LSD; a best point
+/// at an end of the grid extends it in that direction while the error falls (to f_h / 3 or
+/// 3 f_h at most), so the result is bracketed. It competes with every other candidate and is
+/// judged on the held-out half like them.
+pub(super) fn housing_search(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
+    if st.phys_shape.is_some() {
+        return None;
+    }
+    let model = ctx.model_of(st);
+    let (fh, zh) = model.housing_mode()?;
+    let nyq = 0.49 * ctx.fs;
+    let (lo, hi) = (
+        (fh / HOUSING_SEARCH_RATIO).ln(),
+        (fh * HOUSING_SEARCH_RATIO).min(nyq).ln(),
+    );
+    if hi <= lo {
+        return None;
+    }
+    let step = (hi - lo) / (HOUSING_GRID - 1) as f64;
+    let current = ctx.calibrate(st.clone(), false).1;
+    let mut best: Option<(f64, f64)> = None;
+    for k in 0..HOUSING_GRID {
+        let lf = lo + step * k as f64;
+        if (lf - fh.ln()).abs() < 1e-3 {
+            continue;
+        }
+        if let Some((_, lsd)) = housing_at(ctx, st, model, lf.exp(), zh)
+            && best.is_none_or(|(_, b)| lsd < b)
+        {
+            best = Some((lf, lsd));
+        }
+    }
+    let (mut lf0, mut lsd0) = best?;
+    // a best point at an end of the grid is not a bracketed minimum: the grid goes on in that
+    // direction, one step at a time, while the error keeps falling (at most to f_h / 3 or
+    // 3 f_h, and below Nyquist)
+    let (floor, ceil) = ((fh / 3.0).ln(), (3.0 * fh).min(nyq).ln());
+    let (mut lo, mut hi) = (lo, hi);
+    loop {
+        let next = if (lf0 - hi).abs() < 1e-9 && hi + step <= ceil {
+            hi += step;
+            hi
+        } else if (lf0 - lo).abs() < 1e-9 && lo - step >= floor {
+            lo -= step;
+            lo
+        } else {
+            break;
+        };
+        match housing_at(ctx, st, model, next.exp(), zh) {
+            Some((_, lsd)) if lsd < lsd0 => (lf0, lsd0) = (next, lsd),
+            _ => break,
+        }
+    }
+    if current.is_nan() || lsd0 >= current {
+        return None;
+    }
+    let (lf, _) = golden_min(
+        |lf| housing_at(ctx, st, model, lf.exp(), zh).map_or(f64::INFINITY, |e| e.1),
+        (lf0 - step).max(floor),
+        (lf0 + step).min(ceil),
+        10,
+    );
+    let f = lf.exp();
+    let (s2, lsd) = housing_at(ctx, st, model, f, zh)?;
+    Some(Evaluated {
+        effect: Effect::Resonance {
+            mode: Mode {
+                frequency_hz: f,
+                damping_ratio: zh,
+                gain: 0.0,
+            },
+            housing: true,
+        },
+        state: s2,
+        fit_lsd: lsd,
+    })
+}
 
 /// A misplaced housing mode put into the physics: when the fitted channel mode `fitted` (a bump)
 /// lies within [`HOUSING_MOVE_RANGE`] of the model's housing mode, the model is re-simulated
