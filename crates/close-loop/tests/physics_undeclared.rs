@@ -168,17 +168,18 @@ fn physics_misplaced_housing_resonance() {
     assert!(e.residual_rms_after.unwrap() < e.residual_rms_before.unwrap());
 }
 
-/// A housing mode far from the declared one, above and below (4400 and 2250 Hz against
+/// A housing mode far from the declared one, above and below (4400, 2250 and 1800 Hz against
 /// 3300 Hz; 12 kHz, outer race). Its bump is not where the loop's symmetric channel mode puts
 /// it (a 4200 Hz housing on a simulated 6203 was fitted at 4989 Hz and only a data-identified
 /// structural path followed, 5.01 → 1.41 dB with three effects), but the dip at the declared
-/// mode starts a search of the housing frequency itself: one effect, in the physics, within
-/// 0.5 %. Measured 4399.7 and 2249.2 Hz. (1800 Hz in this set-up is still missed:
-/// docs/equations/close-loop.md, "A housing mode far from the declared one".)
+/// mode starts a search of the housing frequency itself (1800 Hz lies below the grid's
+/// f_h / 1.6, which then extends; there the physics gain had collapsed, and only a cold
+/// calibration of each grid point sees the housing move): one effect, in the physics, within
+/// 0.5 %. Measured 4399.7, 2249.2 and 1799.6 Hz.
 #[test]
 fn physics_housing_far_from_the_declared_one_is_found() {
     let declared = PhysicsModel::default().effective_housing();
-    for f in [4400.0, 2250.0] {
+    for f in [4400.0, 2250.0, 1800.0] {
         let truth = PhysicsModel {
             housing: Some(Housing {
                 resonance_hz: f,

@@ -223,7 +223,11 @@ fn housing_at(
     let mut s2 = st.clone();
     s2.model = Some(ModelRef(m));
     ctx.rebase(&mut s2, base);
-    let (s2, lsd) = ctx.calibrate(s2, false);
+    // warm and cold: a state whose physics gain the mismatched housing drove to nothing stays
+    // there from a warm start, whatever the housing frequency (the error is then flat in f)
+    let (warm, lw) = ctx.calibrate(s2.clone(), false);
+    let (cold, lc) = ctx.calibrate(s2, true);
+    let (s2, lsd) = if lc < lw { (cold, lc) } else { (warm, lw) };
     lsd.is_finite().then_some((s2, lsd))
 }
 
