@@ -209,8 +209,24 @@ pub(super) const HOUSING_SEARCH_RATIO: f64 = 1.6;
 /// Points of the housing search's log-spaced grid (both ends included).
 pub(super) const HOUSING_GRID: usize = 17;
 
-/// The physics model's housing mode re-simulated at `f` (declared damping) and calibrated:
-/// the state and its fitting-segment LSD.
+/// The state with the physics model's housing mode moved to `f` (declared damping `zeta`) and
+/// re-simulated, not yet calibrated.
+fn housing_moved(
+    ctx: &Ctx<'_>,
+    st: &State,
+    model: &dyn DeclaredModel,
+    f: f64,
+    zeta: f64,
+) -> Option<State> {
+    let m: Arc<dyn DeclaredModel> = Arc::from(model.with_housing_mode(f, zeta)?);
+    let base = ctx.make_base_with(m.as_ref(), st.base.ratio).ok()?;
+    let mut s2 = st.clone();
+    s2.model = Some(ModelRef(m));
+    ctx.rebase(&mut s2, base);
+    Some(s2)
+}
+
+/// [`housing_moved`], calibrated: the state and its fitting-segment LSD.
 fn housing_at(
     ctx: &Ctx<'_>,
     st: &State,
@@ -218,17 +234,29 @@ fn housing_at(
     f: f64,
     zeta: f64,
 ) -> Option<(State, f64)> {
-    let m: Arc<dyn DeclaredModel> = Arc::from(model.with_housing_mode(f, zeta)?);
-    let base = ctx.make_base_with(m.as_ref(), st.base.ratio).ok()?;
-    let mut s2 = st.clone();
-    s2.model = Some(ModelRef(m));
-    ctx.rebase(&mut s2, base);
+    let s2 = housing_moved(ctx, st, model, f, zeta)?;
     // warm and cold: a state whose physics gain the mismatched housing drove to nothing stays
     // there from a warm start, whatever the housing frequency (the error is then flat in f)
     let (warm, lw) = ctx.calibrate(s2.clone(), false);
     let (cold, lc) = ctx.calibrate(s2, true);
     let (s2, lsd) = if lc < lw { (cold, lc) } else { (warm, lw) };
     lsd.is_finite().then_some((s2, lsd))
+}
+
+/// The housing mode moved to `f` as a candidate effect (placement physics).
+fn housing_effect(f: f64, zeta: f64, (state, fit_lsd): (State, f64)) -> Evaluated {
+    Evaluated {
+        effect: Effect::Resonance {
+            mode: Mode {
+                frequency_hz: f,
+                damping_ratio: zeta,
+                gain: 0.0,
+            },
+            housing: true,
+        },
+        state,
+        fit_lsd,
+    }
 }
 
 /// A misplaced housing mode searched for rather than read off a channel mode. A housing mode
@@ -302,19 +330,7 @@ pub(super) fn housing_search(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
         10,
     );
     let f = lf.exp();
-    let (s2, lsd) = housing_at(ctx, st, model, f, zh)?;
-    Some(Evaluated {
-        effect: Effect::Resonance {
-            mode: Mode {
-                frequency_hz: f,
-                damping_ratio: zh,
-                gain: 0.0,
-            },
-            housing: true,
-        },
-        state: s2,
-        fit_lsd: lsd,
-    })
+    Some(housing_effect(f, zh, housing_at(ctx, st, model, f, zh)?))
 }
 
 /// A misplaced housing mode put into the physics: when the fitted channel mode `fitted` (a bump)
@@ -335,18 +351,10 @@ pub(super) fn housing_candidate(ctx: &Ctx<'_>, st: &State, fitted: &Mode) -> Opt
         return None;
     }
     let nyq = 0.49 * ctx.fs;
-    let eval = |f: f64| -> Option<(State, f64, Arc<dyn DeclaredModel>)> {
-        let m: Arc<dyn DeclaredModel> = Arc::from(model.with_housing_mode(f, zh)?);
-        let base = ctx.make_base_with(m.as_ref(), st.base.ratio).ok()?;
-        let mut s2 = st.clone();
-        s2.model = Some(ModelRef(m.clone()));
-        ctx.rebase(&mut s2, base);
-        let (s2, lsd) = ctx.calibrate(s2, false);
-        Some((s2, lsd, m))
-    };
+    let eval = |f: f64| housing_moved(ctx, st, model, f, zh).map(|s| ctx.calibrate(s, false));
     let f0 = fitted.frequency_hz.min(nyq);
     // one simulation first: refine only a move that already lowers the fitting error
-    let (_, lsd0, _) = eval(f0)?;
+    let (_, lsd0) = eval(f0)?;
     let current = ctx.calibrate(st.clone(), false).1;
     if lsd0.is_nan() || lsd0 >= current {
         return None;
@@ -358,17 +366,5 @@ pub(super) fn housing_candidate(ctx: &Ctx<'_>, st: &State, fitted: &Mode) -> Opt
         10,
     );
     let f = lf.exp();
-    let (s2, lsd, _) = eval(f)?;
-    Some(Evaluated {
-        effect: Effect::Resonance {
-            mode: Mode {
-                frequency_hz: f,
-                damping_ratio: zh,
-                gain: 0.0,
-            },
-            housing: true,
-        },
-        state: s2,
-        fit_lsd: lsd,
-    })
+    Some(housing_effect(f, zh, eval(f)?))
 }
