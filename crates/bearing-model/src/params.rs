@@ -123,6 +123,9 @@ pub struct Uncertainty {
     pub stiffness: f64,
 }
 
+/// Largest random slip fraction the model accepts ([`Slip::Random`]): ±10 % of the ball spacing.
+pub const MAX_SLIP_FRACTION: f64 = 0.1;
+
 /// Random slip of the rolling elements.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Slip {
@@ -314,7 +317,13 @@ impl ModelSpec {
         }
         self.faults.validate(&self.geometry)?;
         if let Slip::Random { fraction } = self.slip {
-            check_range("slip fraction", fraction, 1e-9, 0.1, "0 < f <= 0.1")?;
+            check_range(
+                "slip fraction",
+                fraction,
+                1e-9,
+                MAX_SLIP_FRACTION,
+                "0 < f <= 0.1",
+            )?;
         }
         let u = &self.uncertainty;
         check_range("uncertainty mass", u.mass, 0.0, 0.49, "0 ..< 0.5")?;

@@ -139,6 +139,11 @@ pub trait DeclaredModel {
         None
     }
 
+    /// The largest slip fraction the model accepts, if it has slip and a limit.
+    fn max_slip_fraction(&self) -> Option<f64> {
+        None
+    }
+
     /// The model with another slip fraction (`None` when it has no slip).
     fn with_slip_fraction(&self, _fraction: f64) -> Option<Box<dyn DeclaredModel>> {
         None

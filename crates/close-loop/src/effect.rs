@@ -307,6 +307,9 @@ pub enum Effect {
         fraction: f64,
         /// Declared slip fraction.
         declared: f64,
+        /// Whether `fraction` is the largest the search tried: the data asks for at least this
+        /// much smear of the fault lines, a broad correction rather than a resolved slip.
+        at_bound: bool,
     },
     /// Equally spaced lines not tied to the shaft.
     LineComb {
@@ -567,9 +570,14 @@ impl Effect {
                     m.insert("strongest_amplitude".into(), l.amplitude());
                 }
             }
-            Self::Slip { fraction, declared } => {
+            Self::Slip {
+                fraction,
+                declared,
+                at_bound,
+            } => {
                 m.insert("fraction".into(), *fraction);
                 m.insert("declared_fraction".into(), *declared);
+                m.insert("at_search_bound".into(), if *at_bound { 1.0 } else { 0.0 });
             }
             Self::ContactPreload {
                 preload_m,
@@ -723,10 +731,20 @@ impl Effect {
                     o.join(", ")
                 )
             }
-            Self::Slip { fraction, declared } => format!(
-                "random slip {:.2} % of the ball spacing (declared {:.2} %)",
+            Self::Slip {
+                fraction,
+                declared,
+                at_bound,
+            } => format!(
+                "random slip {:.2} % of the ball spacing (declared {:.2} %){}",
                 100.0 * fraction,
-                100.0 * declared
+                100.0 * declared,
+                if *at_bound {
+                    ", the largest tried: the data asks for at least this much smear of the \
+                     fault lines, a broad correction rather than a resolved slip"
+                } else {
+                    ""
+                }
             ),
             Self::ContactPreload {
                 preload_m,

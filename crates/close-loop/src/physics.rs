@@ -150,6 +150,10 @@ impl DeclaredModel for PhysicsModel {
         Some(self.slip_fraction)
     }
 
+    fn max_slip_fraction(&self) -> Option<f64> {
+        Some(bearing_model::params::MAX_SLIP_FRACTION)
+    }
+
     fn with_slip_fraction(&self, fraction: f64) -> Option<Box<dyn DeclaredModel>> {
         let mut m = self.clone();
         m.slip_fraction = fraction;

@@ -247,6 +247,39 @@ fn physics_slip_is_set_once() {
         slips[0].parameters["declared_fraction"],
         PhysicsModel::default().slip_fraction
     );
+    // inside the grid: a resolved slip, not a bound
+    assert_eq!(slips[0].parameters["at_search_bound"], 0.0);
+}
+
+/// A slip past the grid's ladder (9 % and 10 %, against its top step of 8 × the declared 1 %):
+/// named as slip, not as a speed step and a path (as it was while the grid stopped at 8 %); at
+/// the 5-DOF model's largest slip (10 %) the effect says that it sits at the bound of the search.
+#[test]
+fn physics_slip_past_the_ladder_is_slip_and_flagged_at_the_models_bound() {
+    for truth_slip in [0.09, 0.1] {
+        let truth = PhysicsModel {
+            slip_fraction: truth_slip,
+            ..PhysicsModel::default()
+        };
+        let y = recording(&truth, RPM, |x| x);
+        let o = run(&y);
+        let kinds: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
+        assert!(
+            !kinds.contains(&EffectKind::SpeedOffset),
+            "slip {truth_slip}: {kinds:?}"
+        );
+        let slip = o
+            .ledger
+            .effects
+            .iter()
+            .find(|e| e.kind == EffectKind::Slip)
+            .unwrap_or_else(|| panic!("slip {truth_slip}: no slip in {kinds:?}"));
+        let f = slip.parameters["fraction"];
+        assert!((0.08..=0.1).contains(&f), "slip {truth_slip}: {f}");
+        let at_bound = slip.parameters["at_search_bound"] == 1.0;
+        assert_eq!(at_bound, f >= 0.1, "slip {truth_slip}: {slip:?}");
+        assert_eq!(at_bound, slip.description.contains("the largest tried"));
+    }
 }
 
 /// An inner-race fault whose balls are all preloaded by 2 µm (the load zone spans the whole

@@ -1054,7 +1054,10 @@ fn tone_before_the_mode_it_would_dress_3001() {
 /// first and put the model's 1.5 × 0.5 % away, past the 0.4 % a shaft order allows: the line was
 /// named a `tone`. After a step the shaft's lines did not confirm, a line at an order of the
 /// speed before it is a shaft line too: named a `shaft_harmonic` of order 1.5, amplitude within
-/// 20 %, and the tone beside it.
+/// 20 %, and the tone beside it. Since the held-out envelope may veto a speed step its fault
+/// lines contradict (2026-11-27), the ×1.0048 step is refused (the envelope reads the fault's
+/// lines at ×1.0037) and ×1.0039 is taken: the step stays unconfirmed by the shaft but no longer
+/// passes 0.4 %, and the half order must still be named a shaft line.
 #[test]
 fn half_order_after_an_unconfirmed_speed_step_is_a_shaft_line_148_48k() {
     let Some(dir) = data_dir() else { return };
@@ -1068,7 +1071,7 @@ fn half_order_after_an_unconfirmed_speed_step_is_a_shaft_line_148_48k() {
     add_tone(&mut y, fs, 12_000.0, a_tone, 0.3);
     add_tone(&mut y, fs, f_half, a_half, 0.3);
     let o = run_sized(machine, &y, fs, rpm, DeclaredFault::Outer, 0.007, &cfg);
-    // the case this guards: the model's shaft moved by more than a shaft order's tolerance
+    // the case this guards: the model's shaft moved by a step the shaft's lines did not confirm
     let step = o
         .ledger
         .effects
@@ -1076,8 +1079,8 @@ fn half_order_after_an_unconfirmed_speed_step_is_a_shaft_line_148_48k() {
         .rfind(|e| e.kind == EffectKind::SpeedOffset)
         .map(|e| (e.parameters["ratio"], e.parameters["shaft_measured"]));
     assert!(
-        step.is_some_and(|(s, measured)| (s - 1.0).abs() > 0.004 && measured == 0.0),
-        "no speed step past 0.4 %: {:#?}",
+        step.is_some_and(|(s, measured)| (s - 1.0).abs() > 0.003 && measured == 0.0),
+        "no unconfirmed speed step: {:#?}",
         o.ledger.effects
     );
     let e = named(&o, EffectKind::ShaftHarmonic, f_half)

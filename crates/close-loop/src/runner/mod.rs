@@ -281,8 +281,14 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
                     }
                     _ => c.margin,
                 };
-                let spectral =
-                    h.lsd <= held.lsd * (1.0 - margin) && held.lsd - h.lsd >= c.min_improvement_db;
+                // a speed step must not be contradicted by the fault's own lines in the held-out
+                // envelope (`speed::envelope_contradicts_speed`)
+                let spectral = h.lsd <= held.lsd * (1.0 - margin)
+                    && held.lsd - h.lsd >= c.min_improvement_db
+                    && cand
+                        .effect
+                        .impact_rate_step()
+                        .is_none_or(|step| !speed::envelope_contradicts_speed(ctx, &st, step));
                 // a strong coherent line covers a few bins of the spectral distance: it is also
                 // kept when it removes ≥ min_line_power of the held-out signal's power from the
                 // time-domain residual and does not raise the spectral error
