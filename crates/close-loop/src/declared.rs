@@ -139,6 +139,17 @@ pub trait DeclaredModel {
         None
     }
 
+    /// The declared fault's spall width, inches, if the model has one.
+    fn fault_size_in(&self) -> Option<f64> {
+        None
+    }
+
+    /// The model with another spall width, inches (`None` when it has none or `size_in` is not
+    /// positive and finite).
+    fn with_fault_size_in(&self, _size_in: f64) -> Option<Box<dyn DeclaredModel>> {
+        None
+    }
+
     /// The largest slip fraction the model accepts, if it has slip and a limit.
     fn max_slip_fraction(&self) -> Option<f64> {
         None

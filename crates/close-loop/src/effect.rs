@@ -35,6 +35,9 @@ pub enum EffectKind {
     /// zone spans, hence how strongly the shaft (inner race) or the cage (ball) modulates the
     /// fault's impacts.
     ContactPreload,
+    /// The declared fault's spall width other than declared: the impacts' duration, hence the
+    /// shape and level of their spectrum.
+    FaultSize,
 }
 
 impl EffectKind {
@@ -48,6 +51,7 @@ impl EffectKind {
                 | Self::StructuralPath
                 | Self::DefectRate
                 | Self::ContactPreload
+                | Self::FaultSize
         )
     }
 
@@ -65,6 +69,7 @@ impl EffectKind {
             Self::Slip => "slip",
             Self::DefectRate => "defect_rate",
             Self::ContactPreload => "contact_preload",
+            Self::FaultSize => "fault_size",
         }
     }
 }
@@ -301,6 +306,15 @@ pub enum Effect {
         /// spectrum, neither of which lowers the error alone), and the resulting defect rate.
         rate: Option<(f64, f64)>,
     },
+    /// A re-simulated spall width of the declared fault.
+    FaultSize {
+        /// Fitted width, inches.
+        size_in: f64,
+        /// Declared width, inches.
+        declared_in: f64,
+        /// Whether `size_in` is at an end of the search (¼ or 4 × the declared width).
+        at_bound: bool,
+    },
     /// A re-simulated slip fraction.
     Slip {
         /// Fitted slip fraction (of the ball spacing).
@@ -421,6 +435,7 @@ impl Effect {
             Self::Slip { .. } => EffectKind::Slip,
             Self::DefectRate { .. } => EffectKind::DefectRate,
             Self::ContactPreload { .. } => EffectKind::ContactPreload,
+            Self::FaultSize { .. } => EffectKind::FaultSize,
         }
     }
 
@@ -433,6 +448,7 @@ impl Effect {
             | Self::Resonance { housing: true, .. }
             | Self::StructuralPath { .. }
             | Self::Slip { .. }
+            | Self::FaultSize { .. }
             | Self::ContactPreload { .. } => Placement::Physics,
             _ => Placement::Measurement,
         }
@@ -444,7 +460,10 @@ impl Effect {
         match self {
             Self::Tone { line } | Self::ShaftHarmonic { line, .. } => Some(line.frequency_hz),
             Self::Resonance { mode, .. } => Some(mode.frequency_hz),
-            Self::SpeedOffset { .. } | Self::Slip { .. } | Self::ContactPreload { .. } => None,
+            Self::SpeedOffset { .. }
+            | Self::Slip { .. }
+            | Self::FaultSize { .. }
+            | Self::ContactPreload { .. } => None,
             Self::DefectRate { frequency_hz, .. } => Some(*frequency_hz),
             Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
             Self::StructuralPath { modes, .. } => dominant(modes).map(|m| m.frequency_hz),
@@ -569,6 +588,17 @@ impl Effect {
                     m.insert("strongest_order".into(), l.frequency_hz / shaft_hz);
                     m.insert("strongest_amplitude".into(), l.amplitude());
                 }
+            }
+            Self::FaultSize {
+                size_in,
+                declared_in,
+                at_bound,
+            } => {
+                m.insert("size_in".into(), *size_in);
+                m.insert("size_mm".into(), size_in * 25.4);
+                m.insert("declared_size_in".into(), *declared_in);
+                m.insert("ratio".into(), size_in / declared_in);
+                m.insert("at_search_bound".into(), if *at_bound { 1.0 } else { 0.0 });
             }
             Self::Slip {
                 fraction,
@@ -731,6 +761,21 @@ impl Effect {
                     o.join(", ")
                 )
             }
+            Self::FaultSize {
+                size_in,
+                declared_in,
+                at_bound,
+            } => format!(
+                "spall width {:.4} in ({:.3} mm; declared {:.4} in){}",
+                size_in,
+                size_in * 25.4,
+                declared_in,
+                if *at_bound {
+                    ", at an end of the search: the data asks for at least this change"
+                } else {
+                    ""
+                }
+            ),
             Self::Slip {
                 fraction,
                 declared,

@@ -150,6 +150,18 @@ impl DeclaredModel for PhysicsModel {
         Some(self.slip_fraction)
     }
 
+    fn fault_size_in(&self) -> Option<f64> {
+        Some(self.fault_size_in)
+    }
+
+    fn with_fault_size_in(&self, size_in: f64) -> Option<Box<dyn DeclaredModel>> {
+        (size_in.is_finite() && size_in > 0.0).then(|| {
+            let mut m = self.clone();
+            m.fault_size_in = size_in;
+            Box::new(m) as Box<dyn DeclaredModel>
+        })
+    }
+
     fn max_slip_fraction(&self) -> Option<f64> {
         Some(bearing_model::params::MAX_SLIP_FRACTION)
     }

@@ -330,3 +330,32 @@ fn physics_contact_preload() {
         again.ledger.effects
     );
 }
+
+/// A spall wider or narrower than declared (the declared model's own recording at 2 × and 3 ×
+/// the declared 0.007 in, outer and inner race, and at ½ ×, ball): named as the fault's width,
+/// within 2 %, the one effect. Before the width was a candidate, the 3 × inner race was named a
+/// housing mode moved to 1948 Hz and two channel modes, the 2 × outer race a path and patches.
+#[test]
+fn physics_fault_size_other_than_declared_is_named() {
+    let declared = PhysicsModel::default().fault_size_in;
+    for (fault, ratio) in [
+        (DeclaredFault::Outer, 2.0),
+        (DeclaredFault::Inner, 3.0),
+        (DeclaredFault::Ball, 0.5),
+    ] {
+        let truth = PhysicsModel {
+            fault_size_in: ratio * declared,
+            ..PhysicsModel::default()
+        };
+        let y = recording_fault(&truth, RPM, fault, |x| x);
+        let o = run_fault(&y, fault);
+        let kinds: Vec<EffectKind> = o.ledger.effects.iter().map(|e| e.kind).collect();
+        assert_eq!(kinds, [EffectKind::FaultSize], "{fault} x{ratio}");
+        let p = &o.ledger.effects[0].parameters;
+        assert!(
+            (p["ratio"] / ratio - 1.0).abs() < 0.02,
+            "{fault} x{ratio}: {p:?}"
+        );
+        assert_eq!(p["at_search_bound"], 0.0);
+    }
+}

@@ -1134,6 +1134,7 @@ fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopErro
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
     out.extend(slip_candidate(ctx, st));
+    out.extend(fault_size_candidate(ctx, st));
     out.extend(preload_candidate(ctx, st));
     Ok(out)
 }
@@ -1151,4 +1152,4 @@ use lines::{fit_line, line_candidates, shaft_force_candidate};
 pub const LINE_GROWTH_LIMIT: f64 = 2.0;
 use modulation::modulation_candidates;
 use resonance::resonance_candidates;
-use speed::{preload_candidate, slip_candidate, speed_candidates};
+use speed::{fault_size_candidate, preload_candidate, slip_candidate, speed_candidates};
