@@ -317,6 +317,16 @@ impl Ctx<'_> {
             .collect()
     }
 
+    /// [`Ctx::calibrate`] warm and cold, the lower fitting error kept: where the declared
+    /// physics is far from the data the calibration has driven its gain down, and a warm start
+    /// stays there whatever the candidate changes (a grid over a housing frequency or a spall
+    /// width was then flat).
+    pub fn calibrate_warm_and_cold(&self, st: State) -> (State, f64) {
+        let (warm, lw) = self.calibrate(st.clone(), false);
+        let (cold, lc) = self.calibrate(st, true);
+        if lc < lw { (cold, lc) } else { (warm, lw) }
+    }
+
     /// Fit gain and floor on the fitting segment (warm-started from `st`, or from scratch when
     /// `cold`) and return the state with its fitting-segment LSD.
     pub fn calibrate(&self, mut st: State, cold: bool) -> (State, f64) {

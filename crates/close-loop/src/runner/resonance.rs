@@ -234,12 +234,7 @@ fn housing_at(
     f: f64,
     zeta: f64,
 ) -> Option<(State, f64)> {
-    let s2 = housing_moved(ctx, st, model, f, zeta)?;
-    // warm and cold: a state whose physics gain the mismatched housing drove to nothing stays
-    // there from a warm start, whatever the housing frequency (the error is then flat in f)
-    let (warm, lw) = ctx.calibrate(s2.clone(), false);
-    let (cold, lc) = ctx.calibrate(s2, true);
-    let (s2, lsd) = if lc < lw { (cold, lc) } else { (warm, lw) };
+    let (s2, lsd) = ctx.calibrate_warm_and_cold(housing_moved(ctx, st, model, f, zeta)?);
     lsd.is_finite().then_some((s2, lsd))
 }
 

@@ -269,12 +269,24 @@ fn resimulated(
     ratio: f64,
     defect_rate: f64,
 ) -> Option<(State, f64)> {
+    Some(ctx.calibrate(rebased(ctx, st, m, ratio, defect_rate)?, false))
+}
+
+/// `st` with its physics replaced by `m` simulated at speed ratio `ratio` (impacts at
+/// `defect_rate`), not yet calibrated; `None` when the simulation fails.
+fn rebased(
+    ctx: &Ctx<'_>,
+    st: &State,
+    m: &Arc<dyn DeclaredModel>,
+    ratio: f64,
+    defect_rate: f64,
+) -> Option<State> {
     let base = ctx.make_base_with(m.as_ref(), ratio).ok()?;
     let mut s2 = st.clone();
     s2.model = Some(ModelRef(m.clone()));
     ctx.rebase(&mut s2, base);
     s2.defect_rate = defect_rate;
-    Some(ctx.calibrate(s2, false))
+    Some(s2)
 }
 
 /// Slip fractions tried, relative to the declared model's: the whole range at every step, so
@@ -297,7 +309,6 @@ pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
     let model = ctx.model_of(st);
     let current = model.slip_fraction()?;
     let mut best: Option<Evaluated> = None;
-    let mut largest = f64::NEG_INFINITY;
     let limit = model.max_slip_fraction().unwrap_or(f64::INFINITY);
     let mut fractions: Vec<f64> = SLIP_FACTORS
         .iter()
@@ -307,6 +318,8 @@ pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
     if limit.is_finite() && fractions.last().is_none_or(|f| *f < limit) {
         fractions.push(limit);
     }
+    // the top of the search (the slip already in the model, skipped below, may be it)
+    let top = fractions.last().map_or(current, |f| f.max(current));
     for frac in fractions {
         if (frac - current).abs() <= 1e-12 * declared.max(1e-300) {
             continue;
@@ -314,7 +327,6 @@ pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
         let Some(m) = model.with_slip_fraction(frac) else {
             continue;
         };
-        largest = largest.max(frac);
         let m: Arc<dyn DeclaredModel> = Arc::from(m);
         let Some((s2, lsd)) = resimulated(ctx, st, &m, st.base.ratio, st.defect_rate) else {
             continue;
@@ -324,21 +336,12 @@ pub(super) fn slip_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {
                 effect: Effect::Slip {
                     fraction: frac,
                     declared,
-                    at_bound: false,
+                    at_bound: frac >= top,
                 },
                 state: s2,
                 fit_lsd: lsd,
             });
         }
-    }
-    if let Some(Evaluated {
-        effect: Effect::Slip {
-            fraction, at_bound, ..
-        },
-        ..
-    }) = best.as_mut()
-    {
-        *at_bound = *fraction >= largest.max(current);
     }
     best
 }
@@ -468,16 +471,8 @@ pub(super) fn fault_size_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluate
     let eval = |log_ratio: f64| -> Option<(State, f64)> {
         let m: Arc<dyn DeclaredModel> =
             Arc::from(model.with_fault_size_in(declared * log_ratio.exp2())?);
-        // warm and cold, the lower kept: where the declared impacts are far from the data the
-        // calibration has driven the physics gain down, and a warm start stays there (the same
-        // as the housing search's grid points)
-        let (warm, lsd_warm) = resimulated(ctx, st, &m, st.base.ratio, st.defect_rate)?;
-        let (cold, lsd_cold) = ctx.calibrate(warm.clone(), true);
-        Some(if lsd_cold < lsd_warm {
-            (cold, lsd_cold)
-        } else {
-            (warm, lsd_warm)
-        })
+        let s2 = rebased(ctx, st, &m, st.base.ratio, st.defect_rate)?;
+        Some(ctx.calibrate_warm_and_cold(s2))
     };
     let grid: Vec<f64> = (-FAULT_SIZE_GRID..=FAULT_SIZE_GRID)
         .map(|k| 0.5 * f64::from(k))
