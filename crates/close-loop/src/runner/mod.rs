@@ -227,7 +227,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
         // a narrow peak above the local floor that the model does not carry) are still tried;
         // broadband candidates would be fitting estimation noise
         let lines_only = held.lsd <= c.noise_stop_factor * noise;
-        let mut cands = candidates(ctx, &st)?;
+        let mut cands = candidates(ctx, &st, fit_lsd)?;
         // the physics' shaft forces turn with its simulated shaft, which runs at the impact rate
         // (`base.ratio`); a candidate that moves the impacts off the shaft (a defect rate, a
         // preload's rate step) would move the forces' lines off the measured ones, leaving the
@@ -1126,7 +1126,7 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     out
 }
 
-fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopError> {
+fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>, CloseLoopError> {
     let lr = log_ratio(ctx, st);
     let mut out = Vec::new();
     out.extend(path_candidates(ctx, st));
@@ -1134,7 +1134,7 @@ fn candidates(ctx: &Ctx<'_>, st: &State) -> Result<Vec<Evaluated>, CloseLoopErro
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
     out.extend(slip_candidate(ctx, st));
-    out.extend(fault_size_candidate(ctx, st));
+    out.extend(fault_size_candidate(ctx, st, fit_lsd));
     out.extend(preload_candidate(ctx, st));
     Ok(out)
 }
