@@ -220,6 +220,32 @@ A step of the fault lines' rate is a `speed_offset` only if the record's shaft l
          that much smear of the fault lines, which the loop reads as a broad correction, not a \
          measured slip.\n"
     ));
+    // faults nobody declared: where the diagnosis's envelope evidence added a spall
+    let added: Vec<String> = rows
+        .iter()
+        .filter_map(|(n, class, .., o)| {
+            let at: Vec<&str> = o
+                .ledger
+                .effects
+                .iter()
+                .filter(|e| e.kind == EffectKind::BearingFault)
+                .filter_map(|e| e.kinematic_rate.as_deref())
+                .collect();
+            (!at.is_empty()).then(|| format!("{n} ({class}): {}", at.join(" + ")))
+        })
+        .collect();
+    md.push_str(&format!(
+        "\nA fault nobody declared (`bearing_fault`: a spall at a location the self-referenced \
+         diagnosis detects on the fitting segment and the declared fault leaves healthy, kept by \
+         the held-out error) was added on {} of {} records{}\n",
+        added.len(),
+        rows.len(),
+        if added.is_empty() {
+            ".".to_string()
+        } else {
+            format!(": {}.", added.join("; "))
+        }
+    ));
     std::fs::write(out_dir.join("README.md"), md)?;
     std::fs::write(out_dir.join("summary.csv"), csv)?;
     println!("wrote {} ({} records)", out_dir.display(), rows.len());

@@ -171,6 +171,25 @@ pub trait DeclaredModel {
         None
     }
 
+    /// Spalls the model carries beyond the declared fault ([`DeclaredModel::with_added_fault`]):
+    /// location and width, inches.
+    fn added_faults(&self) -> Vec<(bearing_model::FaultLocation, f64)> {
+        Vec::new()
+    }
+
+    /// The model with a spall of width `size_in` (inches) at `location` besides the declared
+    /// fault: a fault nobody declared (`None` when the model has no spalls, the location already
+    /// has an added spall, or the width is not positive and finite). The declared fault's spall
+    /// wins where both name one location: the caller offers only locations the declared fault
+    /// leaves healthy.
+    fn with_added_fault(
+        &self,
+        _location: bearing_model::FaultLocation,
+        _size_in: f64,
+    ) -> Option<Box<dyn DeclaredModel>> {
+        None
+    }
+
     /// The model's own measured-channel mode (frequency Hz, damping ratio), if it has one.
     fn housing_mode(&self) -> Option<(f64, f64)> {
         None

@@ -38,6 +38,9 @@ pub enum EffectKind {
     /// The declared fault's spall width other than declared: the impacts' duration, hence the
     /// shape and level of their spectrum.
     FaultSize,
+    /// A spall at a location nobody declared (a second fault beside the declared one, or a fault
+    /// on a bearing declared healthy): its kinematic lines stand in the residual's envelope.
+    BearingFault,
 }
 
 impl EffectKind {
@@ -70,6 +73,7 @@ impl EffectKind {
             Self::DefectRate => "defect_rate",
             Self::ContactPreload => "contact_preload",
             Self::FaultSize => "fault_size",
+            Self::BearingFault => "bearing_fault",
         }
     }
 }
@@ -306,6 +310,25 @@ pub enum Effect {
         /// spectrum, neither of which lowers the error alone), and the resulting defect rate.
         rate: Option<(f64, f64)>,
     },
+    /// A spall at a location the declared model leaves healthy, simulated with the declared one.
+    AddedFault {
+        /// Where.
+        location: bearing_model::FaultLocation,
+        /// Its impact rate as a multiple of the shaft rate (BPFI, BPFO or the ball-defect order).
+        order: f64,
+        /// Its impact rate at the model's speed, Hz.
+        frequency_hz: f64,
+        /// Fitted spall width, inches.
+        size_in: f64,
+        /// The training-free diagnosis's score of the location on the fitting segment, dB (the
+        /// evidence that offered it: its lines in the envelope of the impulsive band).
+        diagnosis_score_db: f64,
+        /// The AR order of the structural path identified with it for its impacts (`None`: the
+        /// impacts seen through the model's present shaping).
+        path_order: Option<usize>,
+        /// Whether `size_in` is at an end of the width search.
+        at_bound: bool,
+    },
     /// A re-simulated spall width of the declared fault.
     FaultSize {
         /// Fitted width, inches.
@@ -436,6 +459,7 @@ impl Effect {
             Self::DefectRate { .. } => EffectKind::DefectRate,
             Self::ContactPreload { .. } => EffectKind::ContactPreload,
             Self::FaultSize { .. } => EffectKind::FaultSize,
+            Self::AddedFault { .. } => EffectKind::BearingFault,
         }
     }
 
@@ -449,6 +473,7 @@ impl Effect {
             | Self::StructuralPath { .. }
             | Self::Slip { .. }
             | Self::FaultSize { .. }
+            | Self::AddedFault { .. }
             | Self::ContactPreload { .. } => Placement::Physics,
             _ => Placement::Measurement,
         }
@@ -464,7 +489,9 @@ impl Effect {
             | Self::Slip { .. }
             | Self::FaultSize { .. }
             | Self::ContactPreload { .. } => None,
-            Self::DefectRate { frequency_hz, .. } => Some(*frequency_hz),
+            Self::DefectRate { frequency_hz, .. } | Self::AddedFault { frequency_hz, .. } => {
+                Some(*frequency_hz)
+            }
             Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
             Self::StructuralPath { modes, .. } => dominant(modes).map(|m| m.frequency_hz),
             Self::ShaftComb { shaft_hz, .. } => Some(*shaft_hz),
@@ -598,6 +625,23 @@ impl Effect {
                 m.insert("size_mm".into(), size_in * 25.4);
                 m.insert("declared_size_in".into(), *declared_in);
                 m.insert("ratio".into(), size_in / declared_in);
+                m.insert("at_search_bound".into(), if *at_bound { 1.0 } else { 0.0 });
+            }
+            Self::AddedFault {
+                order,
+                size_in,
+                diagnosis_score_db,
+                path_order,
+                at_bound,
+                ..
+            } => {
+                m.insert("order".into(), *order);
+                m.insert("size_in".into(), *size_in);
+                m.insert("size_mm".into(), size_in * 25.4);
+                m.insert("diagnosis_score_db".into(), *diagnosis_score_db);
+                if let Some(p) = path_order {
+                    m.insert("path_ar_order".into(), *p as f64);
+                }
                 m.insert("at_search_bound".into(), if *at_bound { 1.0 } else { 0.0 });
             }
             Self::Slip {
@@ -761,6 +805,32 @@ impl Effect {
                     o.join(", ")
                 )
             }
+            Self::AddedFault {
+                location,
+                order,
+                frequency_hz,
+                size_in,
+                path_order,
+                at_bound,
+                ..
+            } => format!(
+                "{} fault nobody declared: impacts at {:.3} Hz ({:.4} x fr), spall width {:.4} in ({:.3} mm){}{}",
+                location.name(),
+                frequency_hz,
+                order,
+                size_in,
+                size_in * 25.4,
+                path_order
+                    .map(|p| format!(
+                        ", ringing a structural path identified with it (AR order {p})"
+                    ))
+                    .unwrap_or_default(),
+                if *at_bound {
+                    ", at an end of the width search"
+                } else {
+                    ""
+                }
+            ),
             Self::FaultSize {
                 size_in,
                 declared_in,

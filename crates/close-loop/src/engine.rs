@@ -114,6 +114,11 @@ pub(crate) struct Ctx<'a> {
     /// The shaft speed over the declared one that the fitting segment's own shaft-harmonic comb
     /// shows (`residual_features::speed`; `None`: no comb clear enough to read).
     pub shaft: Option<f64>,
+    /// The fault locations the training-free diagnosis (`diagnosis::diagnose`, self-referenced)
+    /// detects on the fitting segment, with their scores (dB); empty for a model without spalls
+    /// or when the diagnosis cannot run. A location the model leaves healthy is offered as a
+    /// fault nobody declared (`runner::fault`).
+    pub detected: Vec<(bearing_model::FaultLocation, f64)>,
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,
     pub cfg: &'a CheckedConfig,

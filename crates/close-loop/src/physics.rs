@@ -4,7 +4,8 @@
 
 use crate::{CloseLoopError, DeclaredModel, OperatingPoint};
 use bearing_model::{
-    Bearing, FaultClass, FaultSet, Housing, Noise, ParamSet, Scenario, ShaftHarmonic, Slip, Spall,
+    Bearing, FaultClass, FaultLocation, FaultSet, Housing, Noise, ParamSet, Scenario,
+    ShaftHarmonic, Slip, Spall,
 };
 
 /// Declared 5-DOF physics model.
@@ -28,6 +29,10 @@ pub struct PhysicsModel {
     /// Radial clearance of every ball, m (negative: a preload, the load zone spanning the whole
     /// circumference); `None` = the parameter set's (0 for [`ParamSet::CwruRig`]).
     pub clearance_m: Option<f64>,
+    /// Spalls beyond the declared fault (location, width in inches), each at a location the
+    /// declared fault leaves healthy: faults the loop found that nobody declared
+    /// ([`DeclaredModel::with_added_fault`]).
+    pub added_faults: Vec<(FaultLocation, f64)>,
 }
 
 impl Default for PhysicsModel {
@@ -41,6 +46,7 @@ impl Default for PhysicsModel {
             harmonics: Vec::new(),
             seed: 1,
             clearance_m: None,
+            added_faults: Vec::new(),
         }
     }
 }
@@ -62,12 +68,18 @@ impl PhysicsModel {
             .with_duration(n as f64 / fs)
             .with_noise(Noise::Off)
             .with_seed(self.seed);
+        let spall = |size_in: f64| {
+            Spall::new(size_in * 0.0254).with_depth(bearing_model::scenario::CWRU_DEPTH_M)
+        };
         if class != FaultClass::None {
-            s.spec.faults = FaultSet::of_class(
-                class,
-                Spall::new(self.fault_size_in * 0.0254)
-                    .with_depth(bearing_model::scenario::CWRU_DEPTH_M),
-            );
+            s.spec.faults = FaultSet::of_class(class, spall(self.fault_size_in));
+        }
+        for &(location, size_in) in &self.added_faults {
+            let one = FaultSet::of_class(location.class(), spall(size_in));
+            let f = &mut s.spec.faults;
+            f.inner = f.inner.or(one.inner);
+            f.outer = f.outer.or(one.outer);
+            f.ball = f.ball.or(one.ball);
         }
         if self.slip_fraction > 0.0 {
             s = s.with_slip(Slip::Random {
@@ -162,6 +174,23 @@ impl DeclaredModel for PhysicsModel {
         })
     }
 
+    fn added_faults(&self) -> Vec<(FaultLocation, f64)> {
+        self.added_faults.clone()
+    }
+
+    fn with_added_fault(
+        &self,
+        location: FaultLocation,
+        size_in: f64,
+    ) -> Option<Box<dyn DeclaredModel>> {
+        let taken = self.added_faults.iter().any(|(l, _)| *l == location);
+        (size_in.is_finite() && size_in > 0.0 && !taken).then(|| {
+            let mut m = self.clone();
+            m.added_faults.push((location, size_in));
+            Box::new(m) as Box<dyn DeclaredModel>
+        })
+    }
+
     fn max_slip_fraction(&self) -> Option<f64> {
         Some(bearing_model::params::MAX_SLIP_FRACTION)
     }
@@ -238,5 +267,46 @@ mod tests {
         assert_ne!(m.cache_key(), reseeded.cache_key());
         let moved = m.with_housing_mode(3000.0, 0.05).unwrap();
         assert_ne!(m.cache_key(), moved.cache_key());
+        let added = m.with_added_fault(FaultLocation::Outer, 0.014).unwrap();
+        assert_ne!(m.cache_key(), added.cache_key());
+    }
+
+    /// A fault nobody declared is a second spall in the simulated scenario (the declared one
+    /// kept), once per location, with a positive finite width; the simulation is that of the
+    /// two-fault class.
+    #[test]
+    fn an_added_fault_is_a_spall_beside_the_declared_one() {
+        let m = PhysicsModel::default();
+        assert!(m.with_added_fault(FaultLocation::Ball, 0.0).is_none());
+        assert!(m.with_added_fault(FaultLocation::Ball, f64::NAN).is_none());
+        let mut added = m.clone();
+        added
+            .added_faults
+            .push((FaultLocation::Inner, m.fault_size_in));
+        assert!(
+            added
+                .with_added_fault(FaultLocation::Inner, 0.014)
+                .is_none()
+        );
+        let op = |fault| {
+            OperatingPoint::new(
+                1797.0,
+                crate::BearingSpec::designated(bearing_model::Bearing::Skf6205),
+                fault,
+            )
+            .unwrap()
+        };
+        let s = added
+            .scenario(&op(FaultClass::Outer), 2048, 12_000.0)
+            .unwrap();
+        assert!(s.spec.faults.inner.is_some() && s.spec.faults.outer.is_some());
+        assert!(s.spec.faults.ball.is_none());
+        assert_eq!(
+            added
+                .simulate(&op(FaultClass::Outer), 2048, 12_000.0)
+                .unwrap(),
+            m.simulate(&op(FaultClass::InnerOuter), 2048, 12_000.0)
+                .unwrap()
+        );
     }
 }

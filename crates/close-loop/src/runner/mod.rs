@@ -134,9 +134,16 @@ pub fn close_loop_from(
         .and_then(|m| m.refined_rpm)
         .map(|r| r / op.rpm)
     };
+    // the faults the envelope shows on the fitting segment (only a model with spalls can add one)
+    let detected = if model.fault_size_in().is_some() {
+        detected_faults(&y[..n_fit], fs, op)
+    } else {
+        Vec::new()
+    };
     let ctx = Ctx {
         y,
         shaft,
+        detected,
         fs,
         n_fit,
         eps,
@@ -154,6 +161,31 @@ pub fn close_loop_from(
         cfg,
     };
     run(&ctx, prior)
+}
+
+/// The fault locations the training-free diagnosis detects on `x` (self-referenced: AR
+/// pre-whitening of `x` itself, kurtogram band, envelope lines at ≥ 2 harmonics or a harmonic
+/// and a distinguishing sideband; `crates/diagnosis`), with their scores in dB; empty when it
+/// cannot run (a segment too short for its bands).
+fn detected_faults(
+    x: &[f64],
+    fs: f64,
+    op: &OperatingPoint,
+) -> Vec<(bearing_model::FaultLocation, f64)> {
+    let Ok(d) = diagnosis::diagnose(x, fs, op.rpm, &op.bearing, None) else {
+        return Vec::new();
+    };
+    d.detected
+        .iter()
+        .map(|&l| {
+            let score = match l {
+                bearing_model::FaultLocation::Inner => d.scores.inner,
+                bearing_model::FaultLocation::Outer => d.scores.outer,
+                bearing_model::FaultLocation::Ball => d.scores.ball,
+            };
+            (l, score)
+        })
+        .collect()
 }
 
 /// A candidate accepted in a round: the candidate, its held-out scores, why it was accepted and
@@ -600,6 +632,18 @@ fn take(
     if let Some((key, v)) = extra {
         parameters.insert(key.into(), v);
     }
+    // a fault nobody declared is named by its rate
+    let fault_rate = match &cand.effect {
+        Effect::AddedFault { location, .. } => Some(
+            match location {
+                bearing_model::FaultLocation::Inner => "BPFI",
+                bearing_model::FaultLocation::Outer => "BPFO",
+                bearing_model::FaultLocation::Ball => "ball-defect",
+            }
+            .to_string(),
+        ),
+        _ => None,
+    };
     let kinematic_rate = match &cand.effect {
         Effect::Tone { line } => kinematic_rate_of(ctx, &cand.state, line.frequency_hz),
         _ => None,
@@ -612,7 +656,8 @@ fn take(
              rate of the bearing"
         );
         name
-    });
+    })
+    .or(fault_rate);
     *t.st = cand.state;
     let obs_after = observer_rms(ctx, t.st);
     t.effects.push(EffectEntry {
@@ -1068,8 +1113,10 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     let n_bins = ctx.welch.n_bins();
     let df = ctx.welch.df();
     let want_broadband = st.path.is_none();
-    let want_physics =
-        !st.phys_path_fitted && !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty();
+    // the path the impacts ring: of the declared fault, or of a fault the loop added
+    let want_physics = !st.phys_path_fitted
+        && (!crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty()
+            || !ctx.model_of(st).added_faults().is_empty());
     if !(want_broadband || want_physics) {
         return Vec::new();
     }
@@ -1094,24 +1141,8 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
             fit_lsd: lsd,
         });
     }
-    // while the model has no background path, the fault's path competes to explain the whole
-    // spectrum, lines included; once it has one, the fault's path is the shape under lines the
-    // physics already carries
-    let physics_target = if st.path.is_some() {
-        PathTarget::LineFree
-    } else {
-        PathTarget::Measured
-    };
-    if let Some(path) = want_physics
-        .then(|| identify_path(ctx, st, physics_target))
-        .flatten()
-    {
-        let order = path.order();
-        let pp = Arc::new(PathPsd::new(path, n_bins, df));
-        let mut s2 = st.clone();
-        s2.phys_shape = Some(Arc::new(ctx.physics_shape(&st.base.psd, &pp.path)));
-        s2.phys_path = Some(pp.clone());
-        s2.phys_path_fitted = true;
+    if let Some((s2, pp)) = want_physics.then(|| with_impacts_path(ctx, st)).flatten() {
+        let order = pp.path.order();
         let (s2, lsd) = ctx.calibrate(s2, true);
         out.push(Evaluated {
             effect: Effect::StructuralPath {
@@ -1126,6 +1157,26 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     out
 }
 
+/// `st` with the path its fault's impacts ring identified on its fitting residual
+/// ([`identify_path`]) and the physics seen through it (not yet calibrated), and that path;
+/// `None` when no path can be identified. While the model has no background path, the fault's
+/// path competes to explain the whole spectrum, lines included; once it has one, the fault's
+/// path is the shape under lines the physics already carries.
+fn with_impacts_path(ctx: &Ctx<'_>, st: &State) -> Option<(State, Arc<PathPsd>)> {
+    let target = if st.path.is_some() {
+        PathTarget::LineFree
+    } else {
+        PathTarget::Measured
+    };
+    let path = identify_path(ctx, st, target)?;
+    let pp = Arc::new(PathPsd::new(path, ctx.welch.n_bins(), ctx.welch.df()));
+    let mut s2 = st.clone();
+    s2.phys_shape = Some(Arc::new(ctx.physics_shape(&st.base.psd, &pp.path)));
+    s2.phys_path = Some(pp.clone());
+    s2.phys_path_fitted = true;
+    Some((s2, pp))
+}
+
 fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>, CloseLoopError> {
     let lr = log_ratio(ctx, st);
     let mut out = Vec::new();
@@ -1135,10 +1186,12 @@ fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>,
     out.extend(speed_candidates(ctx, st)?);
     out.extend(slip_candidate(ctx, st));
     out.extend(fault_size_candidate(ctx, st, fit_lsd));
+    out.extend(added_fault_candidates(ctx, st, fit_lsd));
     out.extend(preload_candidate(ctx, st));
     Ok(out)
 }
 
+mod fault;
 mod lines;
 mod modulation;
 mod resonance;
@@ -1150,6 +1203,7 @@ use lines::{fit_line, line_candidates, shaft_force_candidate};
 /// Largest factor by which a machine model's line may exceed its calibrated amplitude on
 /// another recording before the excess counts as an undeclared line (6 dB).
 pub const LINE_GROWTH_LIMIT: f64 = 2.0;
+use fault::added_fault_candidates;
 use modulation::modulation_candidates;
 use resonance::resonance_candidates;
 use speed::{fault_size_candidate, preload_candidate, slip_candidate, speed_candidates};

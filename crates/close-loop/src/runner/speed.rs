@@ -274,7 +274,7 @@ fn resimulated(
 
 /// `st` with its physics replaced by `m` simulated at speed ratio `ratio` (impacts at
 /// `defect_rate`), not yet calibrated; `None` when the simulation fails.
-fn rebased(
+pub(super) fn rebased(
     ctx: &Ctx<'_>,
     st: &State,
     m: &Arc<dyn DeclaredModel>,
