@@ -153,6 +153,9 @@ pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
     crate::refuse_overwrite("--out", &outputs, &[a.input.as_path()])?;
     let (o, _, _) = calibrate_one(&args)?;
     write_machine(&o, &a.out)?;
+    for w in undeclared_fault_warnings(&a.input, &o.ledger) {
+        eprintln!("warning: {w}");
+    }
     crate::say!(
         "{}: machine model with {} structural mode(s), {} line(s), speed ratio {:.5}; held-out {} {:.3} -> {:.3} dB; {:.2} s -> {}",
         a.input.display(),
@@ -170,6 +173,30 @@ pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
         a.out.display()
     );
     Ok(())
+}
+
+/// What `calibrate` says on stderr when the loop found a fault on the recording declared
+/// healthy: one line per fault location (however many verification passes took it again). The
+/// machine model keeps the healthy machine without it.
+pub fn undeclared_fault_warnings(input: &Path, ledger: &close_loop::Ledger) -> Vec<String> {
+    let mut told: Vec<&str> = Vec::new();
+    let mut out = Vec::new();
+    for e in &ledger.effects {
+        let Some(rate) = e.kinematic_rate.as_deref() else {
+            continue;
+        };
+        if e.kind != close_loop::EffectKind::BearingFault || told.contains(&rate) {
+            continue;
+        }
+        told.push(rate);
+        out.push(format!(
+            "{}, declared healthy, holds a fault at {rate}: {}; the machine model leaves it out \
+             (check the recording with `hybrid-fdd diagnose` before using it as a baseline)",
+            input.display(),
+            e.description
+        ));
+    }
+    out
 }
 
 /// `rig.json` → `rig.report.json`.

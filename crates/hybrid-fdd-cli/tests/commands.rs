@@ -103,6 +103,15 @@ fn simulate_then_close_the_loop_then_calibrate() {
         .unwrap();
     assert_eq!(m.fs_hz, 12_000.0);
     assert_eq!(m.units, "m/s^2");
+    // the recording holds an outer-race fault, yet was calibrated as healthy: the loop names the
+    // fault and `calibrate` warns once (the machine model leaves the fault out)
+    let ledger = |rig: &str| -> close_loop::Ledger {
+        let report = hybrid_fdd_cli::close_loop::report_beside(rig.as_ref());
+        serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap()
+    };
+    let w = hybrid_fdd_cli::close_loop::undeclared_fault_warnings(csv.as_ref(), &ledger(&rig));
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("BPFO") && w[0].contains("outer"), "{w:?}");
 
     // a healthy recording the declared model already explains: the loop adds nothing, yet the
     // machine model holds a structural path (identified from the recording) and its residual
@@ -128,6 +137,9 @@ fn simulate_then_close_the_loop_then_calibrate() {
         "no structural path in a healthy machine model"
     );
     assert!(m.path_residual_rms.is_some_and(|r| r > 0.0));
+    let w =
+        hybrid_fdd_cli::close_loop::undeclared_fault_warnings(healthy.as_ref(), &ledger(&rig_h));
+    assert!(w.is_empty(), "{w:?}");
     let b = hybrid_fdd_cli::diagnose::BaselineSource::load(rig_h.as_ref(), "DE", None).unwrap();
     assert!(b.machine_units().is_some());
 
