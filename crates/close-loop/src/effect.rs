@@ -78,6 +78,11 @@ impl EffectKind {
     }
 }
 
+/// A yes/no parameter of the report's numeric map: 1 or 0.
+fn flag(b: bool) -> f64 {
+    f64::from(u8::from(b))
+}
+
 /// Largest contact angle a deep-groove ball bearing's radial clearance lets it run at under
 /// axial load, degrees (the free contact angle cos α₀ = 1 − P_d/(2(f_o + f_i − 1)·d): a 6205
 /// with ISO 5753 normal clearance, P_d ≤ 20 µm, f ≈ 0.52, reaches about 14°). A defect rate
@@ -526,11 +531,8 @@ impl Effect {
                 );
             }
             Self::Resonance { mode, housing } => {
-                m.insert("housing_mode".into(), if *housing { 1.0 } else { 0.0 });
-                m.insert(
-                    "at_search_bound".into(),
-                    if mode_at_bound(mode) { 1.0 } else { 0.0 },
-                );
+                m.insert("housing_mode".into(), flag(*housing));
+                m.insert("at_search_bound".into(), flag(mode_at_bound(mode)));
                 m.insert("damping_ratio".into(), mode.damping_ratio);
                 m.insert("gain".into(), mode.gain);
                 m.insert(
@@ -549,10 +551,7 @@ impl Effect {
                 if *shaft_measured {
                     m.insert("defect_rate_ratio".into(), *defect_rate);
                 }
-                m.insert(
-                    "shaft_measured".into(),
-                    if *shaft_measured { 1.0 } else { 0.0 },
-                );
+                m.insert("shaft_measured".into(), flag(*shaft_measured));
             }
             Self::DefectRate {
                 ratio,
@@ -582,10 +581,7 @@ impl Effect {
             } => {
                 m.insert("depth".into(), modulation.depth);
                 m.insert("shaft_order".into(), *shaft_order);
-                m.insert(
-                    "at_search_bound".into(),
-                    if depth_at_bound(modulation) { 1.0 } else { 0.0 },
-                );
+                m.insert("at_search_bound".into(), flag(depth_at_bound(modulation)));
             }
             Self::ShaftComb {
                 shaft_hz,
@@ -625,7 +621,7 @@ impl Effect {
                 m.insert("size_mm".into(), size_in * 25.4);
                 m.insert("declared_size_in".into(), *declared_in);
                 m.insert("ratio".into(), size_in / declared_in);
-                m.insert("at_search_bound".into(), if *at_bound { 1.0 } else { 0.0 });
+                m.insert("at_search_bound".into(), flag(*at_bound));
             }
             Self::AddedFault {
                 order,
@@ -642,7 +638,7 @@ impl Effect {
                 if let Some(p) = path_order {
                     m.insert("path_ar_order".into(), *p as f64);
                 }
-                m.insert("at_search_bound".into(), if *at_bound { 1.0 } else { 0.0 });
+                m.insert("at_search_bound".into(), flag(*at_bound));
             }
             Self::Slip {
                 fraction,
@@ -651,7 +647,7 @@ impl Effect {
             } => {
                 m.insert("fraction".into(), *fraction);
                 m.insert("declared_fraction".into(), *declared);
-                m.insert("at_search_bound".into(), if *at_bound { 1.0 } else { 0.0 });
+                m.insert("at_search_bound".into(), flag(*at_bound));
             }
             Self::ContactPreload {
                 preload_m,

@@ -21,6 +21,17 @@ pub struct Scores {
     pub ball: f64,
 }
 
+impl Scores {
+    /// The score of hypothesis `h`.
+    pub fn of(&self, h: Hypothesis) -> f64 {
+        match h {
+            Hypothesis::Inner => self.inner,
+            Hypothesis::Outer => self.outer,
+            Hypothesis::Ball => self.ball,
+        }
+    }
+}
+
 /// The operating point the diagnosis used.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OperatingPoint {

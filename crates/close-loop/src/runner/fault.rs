@@ -4,6 +4,7 @@ use super::*;
 use crate::DeclaredModel;
 use crate::effect::Effect;
 use crate::engine::{Ctx, State};
+use bearing_model::FaultLocation;
 use std::sync::Arc;
 
 /// Spall widths tried for a fault nobody declared, as multiples of the model's reference width
@@ -29,23 +30,33 @@ pub(super) fn added_fault_candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) ->
         return Vec::new();
     };
     let added = model.added_faults();
+    let open: Vec<(FaultLocation, f64)> = ctx
+        .detected
+        .iter()
+        .copied()
+        .filter(|(l, _)| !l.in_class(ctx.op.fault) && !added.iter().any(|(a, _)| a == l))
+        .collect();
+    if open.is_empty() {
+        return Vec::new();
+    }
     // the fitting error with a path of the model's present impacts alone (when it has impacts
-    // and no such path yet): a spall offered with a path of its own must explain more than that
-    // path does without it (the loop's margin), or the path's improvement would be credited to
-    // the spall (160, an outer race at 12 o'clock, took a "ball fault" with a path 5.97 → 3.59 dB
-    // where the path alone of its declared fault's impacts gave nearly as much)
-    let has_impacts =
-        !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty() || !added.is_empty();
-    let path_alone = (has_impacts && !st.phys_path_fitted)
-        .then(|| with_impacts_path(ctx, st))
-        .flatten()
-        .map(|(s, _)| ctx.calibrate_warm_and_cold(s).1);
+    // and no such path yet), computed when a spall with a path of its own is first weighed: such
+    // a spall must explain more than that path does without it (the loop's margin), or the
+    // path's improvement would be credited to the spall (160, an outer race at 12 o'clock, took
+    // a "ball fault" with a path 5.97 → 3.59 dB where the path alone of its declared fault's
+    // impacts gave nearly as much)
+    let path_alone = std::cell::OnceCell::new();
+    let path_alone = || {
+        *path_alone.get_or_init(|| {
+            (has_impacts(ctx, st) && !st.phys_path_fitted)
+                .then(|| with_impacts_path(ctx, st))
+                .flatten()
+                .map(|(s, _)| ctx.calibrate_warm_and_cold(s).1)
+        })
+    };
     let margin = ctx.cfg.get().margin;
     let mut out = Vec::new();
-    for &(location, score_db) in &ctx.detected {
-        if location.in_class(ctx.op.fault) || added.iter().any(|(a, _)| *a == location) {
-            continue;
-        }
+    for (location, score_db) in open {
         let Some(&order) = ctx.op.bearing.impact_orders(location.class()).first() else {
             continue;
         };
@@ -71,7 +82,7 @@ pub(super) fn added_fault_candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) ->
             for (s2, path_order) in versions {
                 let (s2, lsd) = ctx.calibrate_warm_and_cold(s2);
                 let beats_path =
-                    path_order.is_none() || path_alone.is_none_or(|p| lsd < p * (1.0 - margin));
+                    path_order.is_none() || path_alone().is_none_or(|p| lsd < p * (1.0 - margin));
                 if lsd < fit_lsd && beats_path && best.as_ref().is_none_or(|b| lsd < b.2) {
                     best = Some((k, s2, lsd, path_order));
                 }

@@ -10,6 +10,7 @@ use crate::report::{
 };
 use crate::spectrum::Welch;
 use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
+use bearing_model::FaultLocation;
 use std::sync::Arc;
 
 /// Smallest Welch segment the loop accepts.
@@ -167,25 +168,11 @@ pub fn close_loop_from(
 /// pre-whitening of `x` itself, kurtogram band, envelope lines at ≥ 2 harmonics or a harmonic
 /// and a distinguishing sideband; `crates/diagnosis`), with their scores in dB; empty when it
 /// cannot run (a segment too short for its bands).
-fn detected_faults(
-    x: &[f64],
-    fs: f64,
-    op: &OperatingPoint,
-) -> Vec<(bearing_model::FaultLocation, f64)> {
+fn detected_faults(x: &[f64], fs: f64, op: &OperatingPoint) -> Vec<(FaultLocation, f64)> {
     let Ok(d) = diagnosis::diagnose(x, fs, op.rpm, &op.bearing, None) else {
         return Vec::new();
     };
-    d.detected
-        .iter()
-        .map(|&l| {
-            let score = match l {
-                bearing_model::FaultLocation::Inner => d.scores.inner,
-                bearing_model::FaultLocation::Outer => d.scores.outer,
-                bearing_model::FaultLocation::Ball => d.scores.ball,
-            };
-            (l, score)
-        })
-        .collect()
+    d.detected.iter().map(|&l| (l, d.scores.of(l))).collect()
 }
 
 /// A candidate accepted in a round: the candidate, its held-out scores, why it was accepted and
@@ -634,14 +621,7 @@ fn take(
     }
     // a fault nobody declared is named by its rate
     let fault_rate = match &cand.effect {
-        Effect::AddedFault { location, .. } => Some(
-            match location {
-                bearing_model::FaultLocation::Inner => "BPFI",
-                bearing_model::FaultLocation::Outer => "BPFO",
-                bearing_model::FaultLocation::Ball => "ball-defect",
-            }
-            .to_string(),
-        ),
+        Effect::AddedFault { location, .. } => Some(rate_name(*location).to_string()),
         _ => None,
     };
     let kinematic_rate = match &cand.effect {
@@ -683,6 +663,16 @@ fn take(
     *t.held = h;
 }
 
+/// The name of the impact rate of a spall at `location` as the report spells kinematic rates
+/// (`EffectEntry::kinematic_rate`): BPFI, BPFO, ball-defect.
+fn rate_name(location: FaultLocation) -> &'static str {
+    match location {
+        FaultLocation::Inner => "BPFI",
+        FaultLocation::Outer => "BPFO",
+        FaultLocation::Ball => "ball-defect",
+    }
+}
+
 /// The bearing's kinematic rate (harmonic 1–3 of FTF, BPFO, BPFI or the ball-defect rate, at the
 /// shaft speed of `st`) within [`crate::KINEMATIC_LINE_TOLERANCE`] of `f_hz`, nearest first:
 /// (name, order × fr, f / rate).
@@ -691,9 +681,9 @@ fn kinematic_rate_of(ctx: &Ctx<'_>, st: &State, f_hz: f64) -> Option<(String, f6
     let o = &ctx.op.bearing.orders;
     let rates = [
         ("FTF", o.ftf),
-        ("BPFO", o.bpfo),
-        ("BPFI", o.bpfi),
-        ("ball-defect", o.ball_defect),
+        (rate_name(FaultLocation::Outer), o.bpfo),
+        (rate_name(FaultLocation::Inner), o.bpfi),
+        (rate_name(FaultLocation::Ball), o.ball_defect),
     ];
     rates
         .iter()
@@ -1114,9 +1104,7 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
     let df = ctx.welch.df();
     let want_broadband = st.path.is_none();
     // the path the impacts ring: of the declared fault, or of a fault the loop added
-    let want_physics = !st.phys_path_fitted
-        && (!crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty()
-            || !ctx.model_of(st).added_faults().is_empty());
+    let want_physics = !st.phys_path_fitted && has_impacts(ctx, st);
     if !(want_broadband || want_physics) {
         return Vec::new();
     }
@@ -1155,6 +1143,12 @@ fn path_candidates(ctx: &Ctx<'_>, st: &State) -> Vec<Evaluated> {
         });
     }
     out
+}
+
+/// Whether the physics of `st` has impacts: a declared fault, or a fault the loop added.
+fn has_impacts(ctx: &Ctx<'_>, st: &State) -> bool {
+    !crate::impact_orders(ctx.op.fault, &ctx.op.bearing).is_empty()
+        || !ctx.model_of(st).added_faults().is_empty()
 }
 
 /// `st` with the path its fault's impacts ring identified on its fitting residual
