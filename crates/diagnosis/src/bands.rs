@@ -45,8 +45,7 @@ pub fn min_band_width_hz(orders: &FaultOrders, fr: f64) -> f64 {
 }
 
 /// The squared envelope spectra of the residual `e` in `bands` (shaft at `fr` Hz, fault orders `o`),
-/// each with its spectral kurtosis and rank-CFAR line threshold, and the Welch segment length
-/// of each band.
+/// each with its spectral kurtosis and rank-CFAR line threshold.
 pub(crate) fn envelope_spectra(
     engine: &mut SpectralEngine,
     e: &[f64],
@@ -54,7 +53,7 @@ pub(crate) fn envelope_spectra(
     fr: f64,
     o: &FaultOrders,
     bands: &[Band],
-) -> Result<(Vec<EnvelopeSpectrum>, Vec<usize>)> {
+) -> Result<Vec<EnvelopeSpectrum>> {
     let o = *o;
     let envs = engine.band_squared_envelopes(e, fs_hz, bands)?;
     let duration_turns = e.len() as f64 / fs_hz * fr;
@@ -62,7 +61,6 @@ pub(crate) fn envelope_spectra(
         .clamp(SEGMENT_TURNS_MIN, SEGMENT_TURNS_MAX)
         .min(duration_turns);
     let mut spectra = Vec::with_capacity(envs.len());
-    let mut segs = Vec::with_capacity(envs.len());
     for be in &envs {
         let s = &be.squared_envelope;
         let n = s.len() as f64;
@@ -73,7 +71,6 @@ pub(crate) fn envelope_spectra(
         // shorter): an odd or large-prime segment takes a real FFT several times slower
         let target = (seg_turns / fr * be.rate_hz).round() as usize;
         let seg = (2 * residual_features::smooth_floor(target / 2)).clamp(16, s.len());
-        segs.push(seg);
         let cfg = WelchConfig::half_overlap(seg);
         let psd = engine.welch_psd(s, be.rate_hz, cfg)?;
         let segments = if s.len() >= seg {
@@ -103,36 +100,42 @@ pub(crate) fn envelope_spectra(
         sp.set_threshold(fr, top_hz, &kinematic);
         spectra.push(sp);
     }
-    Ok((spectra, segs))
+    Ok(spectra)
 }
 
-/// The healthy machine's squared envelope spectra in the same bands, at the same resolution
-/// (a baseline recording only; one too short for a band's Welch segment gives none there),
-/// computed once per baseline and band set; `n` empty ones without a baseline recording.
+/// The healthy machine's squared envelope spectra in the same bands, at the recording's
+/// resolution `resolutions_hz` (one per band; a baseline recording only; one too short for a
+/// band's Welch segment gives none there), computed once per baseline, band set and
+/// resolution; `n` empty ones without a baseline recording.
 pub(crate) fn healthy_spectra(
     engine: &mut SpectralEngine,
     baseline: Option<&Baseline>,
     fs_hz: f64,
     bands: &[Band],
-    segs: &[usize],
+    resolutions_hz: &[f64],
     n: usize,
 ) -> Result<std::sync::Arc<Vec<Option<EnvelopeSpectrum>>>> {
     Ok(
         match baseline.and_then(|b| b.residual.as_deref().map(|r| (b, r))) {
             Some((b, br)) => {
                 let mut key = vec![fs_hz.to_bits()];
-                for (band, &seg) in bands.iter().zip(segs) {
+                for (band, &res) in bands.iter().zip(resolutions_hz) {
                     key.extend([
                         band.low_hz().to_bits(),
                         band.high_hz().to_bits(),
-                        seg as u64,
+                        res.to_bits(),
                     ]);
                 }
                 match b.spectra.get(&key) {
                     Some(s) => s,
                     None => {
-                        let s =
-                            std::sync::Arc::new(baseline_spectra(engine, br, fs_hz, bands, segs)?);
+                        let s = std::sync::Arc::new(baseline_spectra(
+                            engine,
+                            br,
+                            fs_hz,
+                            bands,
+                            resolutions_hz,
+                        )?);
                         b.spectra.put(key, s.clone());
                         s
                     }
@@ -143,19 +146,26 @@ pub(crate) fn healthy_spectra(
     )
 }
 
-/// The healthy machine's squared envelope spectra in `bands`, one Welch segment length per band
-/// (`None` where the baseline is shorter than the segment).
+/// The healthy machine's squared envelope spectra in `bands`, each at the resolution given for
+/// its band (`None` where the baseline is shorter than the segment that resolution needs).
+///
+/// The Welch segment is chosen at the baseline's own envelope rate: the band envelope's rate
+/// depends on the signal's length (`SpectralEngine::band_squared_envelopes` keeps a smooth
+/// number of bins), so the recording's segment length in samples would give a baseline
+/// resolution up to a few per cent off the recording's, and no line of the baseline could be
+/// compared (until 2026-11-27 none was, on any measured pair of unequal lengths).
 fn baseline_spectra(
     engine: &mut SpectralEngine,
     residual: &[f64],
     fs_hz: f64,
     bands: &[Band],
-    segs: &[usize],
+    resolutions_hz: &[f64],
 ) -> Result<Vec<Option<EnvelopeSpectrum>>> {
     let benvs = engine.band_squared_envelopes(residual, fs_hz, bands)?;
     let mut out = Vec::with_capacity(benvs.len());
-    for (be, &seg) in benvs.iter().zip(segs) {
+    for (be, &res) in benvs.iter().zip(resolutions_hz) {
         let s = &be.squared_envelope;
+        let seg = 2 * ((be.rate_hz / res / 2.0).round() as usize).max(8);
         out.push(if s.len() >= seg {
             let psd = engine.welch_psd(s, be.rate_hz, WelchConfig::half_overlap(seg))?;
             Some(EnvelopeSpectrum {

@@ -129,10 +129,12 @@ fn diagnose_with(
 
     // 2. bands: squared envelopes, spectral kurtosis, Welch squared envelope spectra
     let bands = candidate_bands(fs_hz, min_width);
-    let (spectra, segs) = envelope_spectra(engine, &e, fs_hz, fr, &o, &bands)?;
+    let spectra = envelope_spectra(engine, &e, fs_hz, fr, &o, &bands)?;
     // the healthy machine's squared envelope spectra in the same bands, at the same resolution
     // (a baseline recording only; one too short for a band's Welch segment gives none there)
-    let base_spectra = healthy_spectra(engine, baseline, fs_hz, &bands, &segs, spectra.len())?;
+    let resolutions: Vec<f64> = spectra.iter().map(|s| s.resolution_hz).collect();
+    let base_spectra =
+        healthy_spectra(engine, baseline, fs_hz, &bands, &resolutions, spectra.len())?;
     let sk_best = (0..spectra.len())
         .max_by(|&a, &b| {
             spectra[a]

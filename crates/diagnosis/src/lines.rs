@@ -5,6 +5,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::{BACKGROUND_HALF_WIDTH_ORDERS, CFAR_QUANTILE, Hypothesis, LINE_THRESHOLD_DB};
 
+/// Largest relative difference between the recording's and the baseline's envelope resolution
+/// at which a baseline line is compared (the baseline's Welch segment is rounded to an even
+/// length at its own envelope rate: ≤ 1 / segment ≈ 0.1 % at the shortest segment).
+const BASELINE_RESOLUTION_TOL: f64 = 5e-3;
+
 /// One searched line of the squared envelope spectrum.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Line {
@@ -187,10 +192,15 @@ impl EnvelopeSpectrum {
         let (found_hz, prominence_db) = self
             .peak_in(k0, k1, fr, guard, exclude)
             .unwrap_or((expected, 0.0));
+        // the baseline's spectrum is computed at this resolution up to its segment's rounding
+        // (< 0.1 %); its bins are its own
         let baseline_prominence_db = baseline
-            .filter(|b| (b.resolution_hz - df).abs() <= 1e-9 * df && !b.power.is_empty())
+            .filter(|b| {
+                (b.resolution_hz - df).abs() <= BASELINE_RESOLUTION_TOL * df
+                    && !b.power.is_empty()
+            })
             .map(|b| {
-                let k = found_hz / df;
+                let k = found_hz / b.resolution_hz;
                 b.peak_in(
                     (k - 1.5).ceil().max(1.0) as usize,
                     (k + 1.5).floor() as usize,

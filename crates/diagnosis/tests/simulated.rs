@@ -144,6 +144,24 @@ fn lines_the_baseline_holds_are_not_evidence() {
         diagnose(&same, fs, rpm, &spec, None).unwrap().verdict,
         "inner"
     );
+    // a baseline of another length than the recording (CWRU's 97 holds 5 s at 12 kHz, its fault
+    // records 10 s): its band envelopes come at another rate, and its lines are still compared
+    // (until 2026-11-27 no line was: every `baseline_prominence_db` was null)
+    let long = sim(g, FaultClass::Inner, rpm, fs, 99);
+    let shorter = Baseline::prepare(&long[..long.len() * 7 / 10], fs).unwrap();
+    let d = diagnose(&same, fs, rpm, &spec, Some(&shorter)).unwrap();
+    assert!(
+        d.evidence
+            .iter()
+            .flat_map(|e| e.harmonics.iter())
+            .all(|l| l.baseline_prominence_db.is_some()),
+        "a baseline of another length is compared: {:?}",
+        d.evidence[0].harmonics
+    );
+    assert_eq!(
+        d.verdict, "normal",
+        "unchanged inner defect against a shorter stretch of its own state"
+    );
     let outer = sim(g, FaultClass::Outer, rpm, fs, 7);
     let d = diagnose(&outer, fs, rpm, &spec, Some(&reference)).unwrap();
     assert_eq!(
