@@ -218,6 +218,46 @@ def case(c):
         y2, a1 = tone(y, fs, 12000, 0.10)
         y2, a2 = tone(y2, fs, 1.5 * rpm / 60, 0.15)
         return 148, "outer", 0.007, y2, fs, rpm, f"12000 Hz {a1:.4f}, 1.5x {a2:.4f}"
+    # fourth round (2026-11-27, "A fourth black-box check"): r-z, records no test or earlier case uses
+    if c == "r":
+        y, fs, rpm = load(108)
+        y2, a1 = tone(y, fs, 640, 0.2)
+        y2, a2 = tone(y2, fs, 3 * rpm / 60, 0.15)
+        return 108, "inner", 0.007, y2, fs, rpm, f"640 Hz {a1:.4f}, 3x {a2:.4f}"
+    if c == "s":
+        y, fs, rpm = load(187)
+        return 187, "ball", 0.014, mode(y, fs, 3500, 0.02, 0.5), fs, rpm, "mode 3500 Hz"
+    if c == "t":
+        y, fs, rpm = load(161)
+        y2, a = tone(y, fs, 17000, 0.15)
+        t = f"17000 Hz {a:.4f} (x1/1.008 after resampling), speed x1.008"
+        return 161, "outer", 0.007, faster(y2, 1.008), fs, rpm, t
+    if c == "u":
+        y, fs, rpm = load(3004)
+        y2, a = tone(y, fs, 950, 0.3)
+        return 3004, "inner", 0.028, y2, fs, rpm, f"950 Hz {a:.4f}"
+    if c == "v":
+        y, fs, rpm = load(145)
+        y2, a = tone(y, fs, 2 * rpm / 60, 0.25)
+        return 145, "outer", 0.007, faster(y2, 0.99), fs, rpm, f"2x {a:.4f}, speed x0.99"
+    if c == "w":
+        y, fs, rpm = load(259)
+        y2, a = tone(y, fs, 2.5 * rpm / 60, 0.2)
+        return 259, "outer", 0.021, y2, fs, rpm, f"2.5x {a:.4f}"
+    if c == "x":
+        y, fs, rpm = load(97)
+        y2, a1 = tone(y, fs, 333, 0.1)
+        y2, a2 = tone(y2, fs, 4321, 0.1)
+        return 97, "none", 0, y2, fs, rpm, f"333 Hz {a1:.4f}, 4321 Hz {a2:.4f}"
+    if c == "y":
+        y, fs, rpm = load(212)
+        for k in (1, 2, 3):
+            y, a = tone(y, fs, 60 * k, 0.12, ph=0.7 * k)
+        return 212, "inner", 0.021, y, fs, rpm, f"60 Hz comb, 3 lines, {a:.4f}"
+    if c == "z":
+        y, fs, rpm = load(234)
+        fc = 0.39828 * rpm / 60
+        return 234, "outer", 0.021, am(y, fs, fc, 0.4), fs, rpm, f"AM 40 % at the cage rate {fc:.3f} Hz"
     raise SystemExit(f"unknown case {c}")
 
 
