@@ -196,8 +196,7 @@ impl EnvelopeSpectrum {
         // (< 0.1 %); its bins are its own
         let baseline_prominence_db = baseline
             .filter(|b| {
-                (b.resolution_hz - df).abs() <= BASELINE_RESOLUTION_TOL * df
-                    && !b.power.is_empty()
+                (b.resolution_hz - df).abs() <= BASELINE_RESOLUTION_TOL * df && !b.power.is_empty()
             })
             .map(|b| {
                 let k = found_hz / b.resolution_hz;
