@@ -330,7 +330,8 @@ pub fn run_chapter(
                 feats: &feats,
                 source: &name,
             };
-            let r = pl::cells::evaluate_table_cell(
+            let r = pl::cells::evaluate_table_cell_memo(
+                &cache.cells,
                 d,
                 &cfg.scope(),
                 &src,
