@@ -261,65 +261,6 @@ pub fn evaluate_table_cell(
     seeds: u64,
     clf: ClassifierKind,
 ) -> Result<Cell> {
-    evaluate_table_cell_memo(
-        &CellMemo::default(),
-        d,
-        scope,
-        src,
-        ci,
-        protocol,
-        seeds,
-        clf,
-    )
-}
-
-/// Cells already evaluated in one run, keyed by everything a cell's result depends on: its
-/// dataset (features, classes, window metadata), the protocol with its seeds and held-out size,
-/// and the classifier. Chapters 2–4 classify the same raw-signal and APIO window energies on
-/// the same CWRU tables; with one memo shared by the chapters of a run (`cargo xtask all`) each
-/// such cell is evaluated once. The key is a 128-bit hash of the serialised inputs (two
-/// independently salted SipHash-1-3 digests), so a stale hit needs a 2⁻¹²⁸ collision.
-#[derive(Debug, Default)]
-pub struct CellMemo(std::sync::Mutex<std::collections::HashMap<[u64; 2], Cell>>);
-
-impl CellMemo {
-    fn key(
-        data: &Dataset,
-        protocol: Protocol,
-        seeds: u64,
-        held: Option<u32>,
-        clf: ClassifierKind,
-    ) -> Result<[u64; 2]> {
-        use std::hash::{Hash, Hasher};
-        let mut bytes = serde_json::to_vec(data).map_err(|e| PipelineError::Missing {
-            what: format!("a serialisable cell dataset ({e})"),
-        })?;
-        bytes.extend(format!("|{protocol:?}|{seeds}|{held:?}|{clf:?}").bytes());
-        let digest = |salt: u64| {
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            salt.hash(&mut h);
-            bytes.hash(&mut h);
-            h.finish()
-        };
-        Ok([digest(0x9E37_79B9_7F4A_7C15), digest(0xC2B2_AE3D_27D4_EB4F)])
-    }
-}
-
-/// [`evaluate_table_cell`], evaluated once per distinct input within `memo`.
-///
-/// # Errors
-/// As [`evaluate_table_cell`].
-#[allow(clippy::too_many_arguments)]
-pub fn evaluate_table_cell_memo(
-    memo: &CellMemo,
-    d: &DissTable,
-    scope: &Scope,
-    src: &dyn CellSource,
-    ci: usize,
-    protocol: Protocol,
-    seeds: u64,
-    clf: ClassifierKind,
-) -> Result<Cell> {
     let (data, held) = match protocol {
         Protocol::LeaveOneFaultSizeOut => (
             table_cell_dataset(d, scope, src, None)?,
@@ -333,14 +274,6 @@ pub fn evaluate_table_cell_memo(
         }
         _ => (table_cell_dataset(d, scope, src, Some(ci))?, None),
     };
-    let key = CellMemo::key(&data, protocol, seeds, held, clf)?;
-    if let Some(c) = memo.0.lock().ok().and_then(|m| m.get(&key).cloned()) {
-        return Ok(c);
-    }
     let plan = crate::cell_plan(&data, protocol, seeds, held)?;
-    let cell = Cell::Measured(crate::evaluate_cell(&data, &plan, clf)?);
-    if let Ok(mut m) = memo.0.lock() {
-        m.insert(key, cell.clone());
-    }
-    Ok(cell)
+    Ok(Cell::Measured(crate::evaluate_cell(&data, &plan, clf)?))
 }

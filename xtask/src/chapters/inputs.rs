@@ -34,8 +34,6 @@ fn data_dir(ctx: &Context) -> Option<PathBuf> {
 pub struct Cache {
     recs: BTreeMap<RecKey, Rec>,
     cwru_sim: bool,
-    /// Table cells evaluated so far: chapters 2–4 share the raw-signal and APIO cells.
-    pub cells: ::pipeline::cells::CellMemo,
 }
 
 impl Cache {

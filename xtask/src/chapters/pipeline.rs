@@ -330,8 +330,7 @@ pub fn run_chapter(
                 feats: &feats,
                 source: &name,
             };
-            let r = pl::cells::evaluate_table_cell_memo(
-                &cache.cells,
+            let r = pl::cells::evaluate_table_cell(
                 d,
                 &cfg.scope(),
                 &src,
