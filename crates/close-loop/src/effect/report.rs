@@ -1,0 +1,424 @@
+//! The report form of an effect: its parameters by name and its one-line description.
+
+use super::{Effect, depth_at_bound, dominant, mode_at_bound, strongest};
+use std::collections::BTreeMap;
+
+/// A yes/no parameter of the report's numeric map: 1 or 0.
+fn flag(b: bool) -> f64 {
+    f64::from(u8::from(b))
+}
+
+/// Largest contact angle a deep-groove ball bearing's radial clearance lets it run at under
+/// axial load, degrees (the free contact angle cos α₀ = 1 − P_d/(2(f_o + f_i − 1)·d): a 6205
+/// with ISO 5753 normal clearance, P_d ≤ 20 µm, f ≈ 0.52, reaches about 14°). A defect rate
+/// that asks for more is described as not the geometry alone.
+pub const MAX_PLAUSIBLE_CONTACT_ANGLE_DEG: f64 = 15.0;
+
+impl Effect {
+    /// Its parameters by name, for the report.
+    pub fn parameters(&self) -> BTreeMap<String, f64> {
+        let mut m = BTreeMap::new();
+        match self {
+            Self::Tone { line } => {
+                m.insert("amplitude".into(), line.amplitude());
+                m.insert("phase_rad".into(), line.phase());
+            }
+            Self::ShaftHarmonic {
+                order,
+                line,
+                shaft_hz,
+                force,
+            } => {
+                m.insert("order".into(), *order);
+                if let Some((a, p)) = force {
+                    m.insert("force_amplitude_n".into(), *a);
+                    m.insert("force_phase_rad".into(), *p);
+                }
+                m.insert("amplitude".into(), line.amplitude());
+                m.insert("phase_rad".into(), line.phase());
+                m.insert(
+                    "implied_speed_ratio".into(),
+                    line.frequency_hz / (order * shaft_hz),
+                );
+            }
+            Self::Resonance { mode, housing } => {
+                m.insert("housing_mode".into(), flag(*housing));
+                m.insert("at_search_bound".into(), flag(mode_at_bound(mode)));
+                m.insert("damping_ratio".into(), mode.damping_ratio);
+                m.insert("gain".into(), mode.gain);
+                m.insert(
+                    "peak_gain_db".into(),
+                    20.0 * (1.0 + mode.gain).abs().max(1e-12).log10(),
+                );
+            }
+            Self::SpeedOffset {
+                ratio,
+                step,
+                defect_rate,
+                shaft_measured,
+            } => {
+                m.insert("ratio".into(), *ratio);
+                m.insert("step".into(), *step);
+                if *shaft_measured {
+                    m.insert("defect_rate_ratio".into(), *defect_rate);
+                }
+                m.insert("shaft_measured".into(), flag(*shaft_measured));
+            }
+            Self::DefectRate {
+                ratio,
+                step,
+                shaft_ratio,
+                order,
+                effective_pitch_ratio,
+                contact_angle_deg,
+                ..
+            } => {
+                m.insert("ratio".into(), *ratio);
+                m.insert("step".into(), *step);
+                m.insert("shaft_ratio".into(), *shaft_ratio);
+                m.insert("order".into(), *order);
+                m.insert("measured_order".into(), order * ratio);
+                if let Some(g) = effective_pitch_ratio {
+                    m.insert("effective_pitch_ratio".into(), *g);
+                }
+                if let Some(a) = contact_angle_deg {
+                    m.insert("contact_angle_deg".into(), *a);
+                }
+            }
+            Self::Modulation {
+                modulation,
+                shaft_order,
+                ..
+            } => {
+                m.insert("depth".into(), modulation.depth);
+                m.insert("shaft_order".into(), *shaft_order);
+                m.insert("at_search_bound".into(), flag(depth_at_bound(modulation)));
+            }
+            Self::ShaftComb {
+                shaft_hz,
+                declared_shaft_hz,
+                orders,
+                lines,
+            } => {
+                m.insert("orders".into(), orders.len() as f64);
+                m.insert(
+                    "lowest_order".into(),
+                    orders.first().copied().unwrap_or(0.0),
+                );
+                m.insert(
+                    "highest_order".into(),
+                    orders.last().copied().unwrap_or(0.0),
+                );
+                m.insert("implied_speed_ratio".into(), shaft_hz / declared_shaft_hz);
+                m.insert(
+                    "rms".into(),
+                    (lines
+                        .iter()
+                        .map(|l| l.amplitude().powi(2) / 2.0)
+                        .sum::<f64>())
+                    .sqrt(),
+                );
+                if let Some(l) = strongest(lines) {
+                    m.insert("strongest_order".into(), l.frequency_hz / shaft_hz);
+                    m.insert("strongest_amplitude".into(), l.amplitude());
+                }
+            }
+            Self::FaultSize {
+                size_in,
+                declared_in,
+                at_bound,
+            } => {
+                m.insert("size_in".into(), *size_in);
+                m.insert("size_mm".into(), size_in * 25.4);
+                m.insert("declared_size_in".into(), *declared_in);
+                m.insert("ratio".into(), size_in / declared_in);
+                m.insert("at_search_bound".into(), flag(*at_bound));
+            }
+            Self::AddedFault {
+                order,
+                size_in,
+                diagnosis_score_db,
+                path_order,
+                at_bound,
+                ..
+            } => {
+                m.insert("order".into(), *order);
+                m.insert("size_in".into(), *size_in);
+                m.insert("size_mm".into(), size_in * 25.4);
+                m.insert("diagnosis_score_db".into(), *diagnosis_score_db);
+                if let Some(p) = path_order {
+                    m.insert("path_ar_order".into(), *p as f64);
+                }
+                m.insert("at_search_bound".into(), flag(*at_bound));
+            }
+            Self::Slip {
+                fraction,
+                declared,
+                at_bound,
+            } => {
+                m.insert("fraction".into(), *fraction);
+                m.insert("declared_fraction".into(), *declared);
+                m.insert("at_search_bound".into(), flag(*at_bound));
+            }
+            Self::ContactPreload {
+                preload_m,
+                declared_m,
+                rate,
+            } => {
+                m.insert("preload_um".into(), preload_m * 1e6);
+                m.insert("declared_preload_um".into(), declared_m * 1e6);
+                if let Some((step, ratio)) = rate {
+                    m.insert("defect_rate_step".into(), *step);
+                    m.insert("defect_rate_ratio".into(), *ratio);
+                }
+            }
+            Self::LineComb { spacing_hz, lines } => {
+                m.insert("spacing_hz".into(), *spacing_hz);
+                m.insert("lines".into(), lines.len() as f64);
+                let lo = lines
+                    .iter()
+                    .map(|l| l.frequency_hz)
+                    .fold(f64::INFINITY, f64::min);
+                let hi = lines.iter().map(|l| l.frequency_hz).fold(0.0, f64::max);
+                m.insert("lowest_hz".into(), lo);
+                m.insert("highest_hz".into(), hi);
+                if let Some(l) = strongest(lines) {
+                    m.insert("amplitude".into(), l.amplitude());
+                }
+            }
+            Self::StructuralPath {
+                order,
+                modes,
+                physics,
+            } => {
+                m.insert("ar_order".into(), *order as f64);
+                m.insert("physics_excitation".into(), f64::from(u8::from(*physics)));
+                let resonant: Vec<_> = modes.iter().filter(|m| m.frequency_hz > 0.0).collect();
+                m.insert("modes".into(), resonant.len() as f64);
+                if let Some(d) = dominant(modes) {
+                    m.insert("damping_ratio".into(), d.damping_ratio);
+                    m.insert("gain".into(), d.gain);
+                }
+            }
+        }
+        m
+    }
+
+    /// One-line human description.
+    pub fn describe(&self) -> String {
+        match self {
+            Self::Tone { line } => format!(
+                "tone at {:.3} Hz, amplitude {:.4e}",
+                line.frequency_hz,
+                line.amplitude()
+            ),
+            Self::ShaftHarmonic {
+                order, line, force, ..
+            } => format!(
+                "shaft harmonic {order}x at {:.3} Hz, amplitude {:.4e}{}",
+                line.frequency_hz,
+                line.amplitude(),
+                force.map_or(String::new(), |(a, p)| format!(
+                    " (shaft force {a:.4e} N, phase {p:+.3} rad)"
+                ))
+            ),
+            Self::Resonance {
+                mode,
+                housing: true,
+            } => format!(
+                "housing mode moved to {:.1} Hz, zeta {:.4}",
+                mode.frequency_hz, mode.damping_ratio
+            ),
+            Self::Resonance { mode, .. } => format!(
+                "mode at {:.1} Hz, zeta {:.4}, parallel gain {:+.3}{}",
+                mode.frequency_hz,
+                mode.damping_ratio,
+                mode.gain,
+                if mode_at_bound(mode) {
+                    " (damping or gain at its search bound: a broad spectral-shape correction, \
+                     not a resolved resonance)"
+                } else {
+                    ""
+                }
+            ),
+            Self::SpeedOffset {
+                ratio,
+                defect_rate,
+                shaft_measured,
+                ..
+            } => {
+                if *shaft_measured {
+                    format!(
+                        "speed ratio {ratio:.5} (true / declared, read from the shaft lines); \
+                         the fault's impacts at {defect_rate:.5} x its geometry's rate"
+                    )
+                } else {
+                    format!(
+                        "speed ratio {ratio:.5} (true / declared; the shaft lines are too weak \
+                         to tell a speed change from a defect-rate offset)"
+                    )
+                }
+            }
+            Self::DefectRate {
+                ratio,
+                shaft_ratio,
+                order,
+                frequency_hz,
+                effective_pitch_ratio,
+                contact_angle_deg,
+                ..
+            } => {
+                let mut d = format!(
+                    "defect rate {ratio:.5} x the geometry's: {:.4} x fr ({frequency_hz:.2} Hz) \
+                     instead of {order:.4} x fr, the shaft lines at speed ratio {shaft_ratio:.5}",
+                    order * ratio
+                );
+                if let Some(g) = effective_pitch_ratio {
+                    d += &format!("; effective d cos(a) / D = {g:.4}");
+                }
+                if let Some(a) = contact_angle_deg {
+                    d += &format!(" (contact angle {a:.1} deg)");
+                    if *a > MAX_PLAUSIBLE_CONTACT_ANGLE_DEG {
+                        d += &format!(
+                            "; beyond the {MAX_PLAUSIBLE_CONTACT_ANGLE_DEG:.0} deg a deep-groove \
+                             bearing's clearance allows: not the geometry alone"
+                        );
+                    }
+                }
+                d
+            }
+            Self::Modulation {
+                modulation,
+                rate,
+                shaft_order,
+            } => format!(
+                "modulation at {:.3} Hz ({rate}, {shaft_order:.4} x fr), depth {:.3}{}",
+                modulation.frequency_hz,
+                modulation.depth,
+                if depth_at_bound(modulation) {
+                    " (depth at its bound: the envelope's modulation index asked for more than \
+                     a full modulation of the structural vibration gives; the rate is measured, \
+                     the depth is a lower bound)"
+                } else {
+                    ""
+                }
+            ),
+            Self::ShaftComb {
+                shaft_hz, orders, ..
+            } => {
+                let o: Vec<String> = orders.iter().map(|k| format!("{k}")).collect();
+                format!(
+                    "shaft-synchronous comb at fr = {shaft_hz:.4} Hz, orders {}",
+                    o.join(", ")
+                )
+            }
+            Self::AddedFault {
+                location,
+                order,
+                frequency_hz,
+                size_in,
+                path_order,
+                at_bound,
+                ..
+            } => format!(
+                "{} fault nobody declared: impacts at {:.3} Hz ({:.4} x fr), spall width {:.4} in ({:.3} mm){}{}",
+                location.name(),
+                frequency_hz,
+                order,
+                size_in,
+                size_in * 25.4,
+                path_order
+                    .map(|p| format!(
+                        ", ringing a structural path identified with it (AR order {p})"
+                    ))
+                    .unwrap_or_default(),
+                if *at_bound {
+                    ", at an end of the width search"
+                } else {
+                    ""
+                }
+            ),
+            Self::FaultSize {
+                size_in,
+                declared_in,
+                at_bound,
+            } => format!(
+                "spall width {:.4} in ({:.3} mm; declared {:.4} in){}",
+                size_in,
+                size_in * 25.4,
+                declared_in,
+                if *at_bound {
+                    ", at an end of the search: the data asks for at least this change"
+                } else {
+                    ""
+                }
+            ),
+            Self::Slip {
+                fraction,
+                declared,
+                at_bound,
+            } => format!(
+                "random slip {:.2} % of the ball spacing (declared {:.2} %){}",
+                100.0 * fraction,
+                100.0 * declared,
+                if *at_bound {
+                    ", the largest tried: the data asks for at least this much smear of the \
+                     fault lines, a broad correction rather than a resolved slip"
+                } else {
+                    ""
+                }
+            ),
+            Self::ContactPreload {
+                preload_m,
+                declared_m,
+                rate,
+            } => {
+                let mut d = format!(
+                    "radial preload of every ball {:.2} um (declared {:.2} um): the load zone \
+                     {} the whole circumference",
+                    preload_m * 1e6,
+                    declared_m * 1e6,
+                    if *preload_m > 0.0 {
+                        "spans"
+                    } else {
+                        "need not span"
+                    }
+                );
+                if let Some((step, ratio)) = rate {
+                    d += &format!(
+                        "; judged with the fault's rate moved by {step:.5} (defect rate \
+                         {ratio:.5} x the geometry's)"
+                    );
+                }
+                d
+            }
+            Self::LineComb { spacing_hz, lines } => {
+                let f: Vec<String> = lines
+                    .iter()
+                    .map(|l| format!("{:.1}", l.frequency_hz))
+                    .collect();
+                format!("line comb, spacing {spacing_hz:.3} Hz: {} Hz", f.join(", "))
+            }
+            Self::StructuralPath {
+                order,
+                modes,
+                physics,
+            } => {
+                let list: Vec<String> = modes
+                    .iter()
+                    .filter(|m| m.frequency_hz > 0.0)
+                    .map(|m| format!("{:.0} Hz/{:.3}", m.frequency_hz, m.damping_ratio))
+                    .collect();
+                format!(
+                    "structural path {}, AR order {order}, modes (Hz/zeta): {}",
+                    if *physics {
+                        "of the declared fault's impacts"
+                    } else {
+                        "of the broadband excitation"
+                    },
+                    list.join(", ")
+                )
+            }
+        }
+    }
+}
