@@ -11,12 +11,16 @@
 //!   and each cell's dataset and protocols;
 //! - [`report`]: the table model and the Markdown / CSV / JSON writers;
 //! - [`inputs`]: the run's recordings, loaded once (in parallel, with progress);
-//! - [`pipeline`]: what each chapter runs, its notes and headline;
+//! - [`pipeline`]: what each chapter runs;
+//! - [`cells`]: the window energies as the `pipeline` crate's table cells read them;
+//! - [`notes`]: the report's notes, the observer-gain section and the headline;
 //! - [`figures`]: PNG figures with plotters;
 //! - `--check`: everything is generated in memory first, so checking is a byte comparison.
 
+mod cells;
 pub(crate) mod figures;
 mod inputs;
+mod notes;
 mod pipeline;
 mod report;
 
