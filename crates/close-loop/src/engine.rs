@@ -61,6 +61,10 @@ pub(crate) struct State {
     pub phys_path: Option<Arc<PathPsd>>,
     /// `phys_path` was identified on this recording (not inherited from a machine model).
     pub phys_path_fitted: bool,
+    /// A high-pass (corner in Hz, Butterworth order) on the physics part: the fault's impacts
+    /// reach the sensor weaker below the corner than the physics' path gives
+    /// ([`crate::effect::Effect::ImpactsHighPass`]); applied in [`Ctx::shaped`].
+    pub phys_highpass: Option<(f64, u32)>,
     /// ln of the channel gain.
     pub log_gain: f64,
     /// ln of the white floor (units²/Hz).
@@ -257,6 +261,11 @@ impl Ctx<'_> {
         if let Some(t) = &st.phys_shape {
             for (v, g) in s.iter_mut().zip(t.iter()) {
                 *v *= g;
+            }
+        }
+        if let Some((corner, order)) = st.phys_highpass {
+            for (k, v) in s.iter_mut().enumerate() {
+                *v *= highpass_power(k as f64 * df, corner, order);
             }
         }
         for m in &st.mods {
@@ -532,6 +541,15 @@ pub(crate) fn fit_weights(
     }
     let lsd = 10.0 / std::f64::consts::LN_10 * (best.1 / n).sqrt();
     (best.0, lsd)
+}
+
+/// Power gain |H(f)|² = 1 / (1 + (f_c/f)^(2n)) of an n-th order Butterworth high-pass with corner
+/// `corner_hz` (0 at DC).
+pub fn highpass_power(f_hz: f64, corner_hz: f64, order: u32) -> f64 {
+    if f_hz <= 0.0 {
+        return 0.0;
+    }
+    1.0 / (1.0 + (corner_hz / f_hz).powi(2 * order as i32))
 }
 
 #[cfg(test)]

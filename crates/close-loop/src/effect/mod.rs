@@ -53,6 +53,10 @@ pub enum EffectKind {
     /// A spall at a location nobody declared (a second fault beside the declared one, or a fault
     /// on a bearing declared healthy): its kinematic lines stand in the residual's envelope.
     BearingFault,
+    /// The declared fault's impacts reach the sensor weaker below a corner frequency than the
+    /// physics' path gives: a high-pass on the physics part. The impacts' path is identified
+    /// where the impacts dominate (near the resonance); below, its gain is an extrapolation.
+    ImpactsHighPass,
 }
 
 impl EffectKind {
@@ -67,6 +71,7 @@ impl EffectKind {
                 | Self::DefectRate
                 | Self::ContactPreload
                 | Self::FaultSize
+                | Self::ImpactsHighPass
         )
     }
 
@@ -86,6 +91,7 @@ impl EffectKind {
             Self::ContactPreload => "contact_preload",
             Self::FaultSize => "fault_size",
             Self::BearingFault => "bearing_fault",
+            Self::ImpactsHighPass => "impacts_high_pass",
         }
     }
 }
@@ -225,6 +231,15 @@ pub enum Effect {
         /// Whether `size_in` is at an end of the search (¼ or 4 × the declared width).
         at_bound: bool,
     },
+    /// A high-pass on the physics part (see [`EffectKind::ImpactsHighPass`]).
+    ImpactsHighPass {
+        /// Corner frequency, Hz.
+        corner_hz: f64,
+        /// Butterworth order.
+        order: u32,
+        /// Whether `corner_hz` is at an end of the search.
+        at_bound: bool,
+    },
     /// A re-simulated slip fraction.
     Slip {
         /// Fitted slip fraction (of the ball spacing).
@@ -321,6 +336,7 @@ impl Effect {
             Self::ContactPreload { .. } => EffectKind::ContactPreload,
             Self::FaultSize { .. } => EffectKind::FaultSize,
             Self::AddedFault { .. } => EffectKind::BearingFault,
+            Self::ImpactsHighPass { .. } => EffectKind::ImpactsHighPass,
         }
     }
 
@@ -335,6 +351,7 @@ impl Effect {
             | Self::Slip { .. }
             | Self::FaultSize { .. }
             | Self::AddedFault { .. }
+            | Self::ImpactsHighPass { .. }
             | Self::ContactPreload { .. } => Placement::Physics,
             _ => Placement::Measurement,
         }
@@ -353,6 +370,7 @@ impl Effect {
             Self::DefectRate { frequency_hz, .. } | Self::AddedFault { frequency_hz, .. } => {
                 Some(*frequency_hz)
             }
+            Self::ImpactsHighPass { corner_hz, .. } => Some(*corner_hz),
             Self::Modulation { modulation, .. } => Some(modulation.frequency_hz),
             Self::StructuralPath { modes, .. } => dominant(modes).map(|m| m.frequency_hz),
             Self::ShaftComb { shaft_hz, .. } => Some(*shaft_hz),

@@ -151,6 +151,16 @@ impl Effect {
                 }
                 m.insert("at_search_bound".into(), flag(*at_bound));
             }
+            Self::ImpactsHighPass {
+                corner_hz,
+                order,
+                at_bound,
+            } => {
+                m.insert("corner_hz".into(), *corner_hz);
+                // not `order`: that key is a shaft or impact order everywhere else
+                m.insert("filter_order".into(), f64::from(*order));
+                m.insert("at_search_bound".into(), flag(*at_bound));
+            }
             Self::Slip {
                 fraction,
                 declared,
@@ -349,6 +359,20 @@ impl Effect {
                 declared_in,
                 if *at_bound {
                     ", at an end of the search: the data asks for at least this change"
+                } else {
+                    ""
+                }
+            ),
+            Self::ImpactsHighPass {
+                corner_hz,
+                order,
+                at_bound,
+            } => format!(
+                "the fault's impacts reach the sensor weaker below {corner_hz:.0} Hz than their \
+                 path gives (order-{order} high-pass on the physics part): the path is identified \
+                 where the impacts dominate, below it its gain was an extrapolation{}",
+                if *at_bound {
+                    "; at an end of the search"
                 } else {
                     ""
                 }

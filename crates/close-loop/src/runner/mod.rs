@@ -201,6 +201,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             phys_shape: None,
             phys_path: None,
             phys_path_fitted: false,
+            phys_highpass: None,
             log_gain: 0.0,
             log_floor: 0.0,
             log_bg: 0.0,
@@ -498,6 +499,7 @@ fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>,
     out.extend(resonance_candidates(ctx, st, &lr));
     out.extend(speed_candidates(ctx, st)?);
     out.extend(slip_candidate(ctx, st));
+    out.extend(highpass_candidate(ctx, st));
     out.extend(fault_size_candidate(ctx, st, fit_lsd));
     out.extend(added_fault_candidates(ctx, st, fit_lsd));
     out.extend(preload_candidate(ctx, st));
@@ -521,7 +523,7 @@ use lines::{fit_line, line_candidates, shaft_force_candidate};
 use fault::added_fault_candidates;
 use modulation::modulation_candidates;
 use naming::{Taken, is_declared_fault_line, take};
-use path::{has_impacts, path_candidates, with_impacts_path};
+use path::{has_impacts, highpass_candidate, path_candidates, with_impacts_path};
 use ranking::{declared_first, speed_before_slip, strong_lines_first};
 use resonance::resonance_candidates;
 use spectra::{log_ratio, observer_rms, residual_observer, segments, spectra};

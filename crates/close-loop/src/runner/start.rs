@@ -142,6 +142,7 @@ pub(super) fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, Clos
         phys_shape,
         phys_path,
         phys_path_fitted,
+        phys_highpass: None,
         log_gain: m.physics_gain.max(1e-300).ln(),
         log_floor: m.noise_floor_psd.max(1e-300).ln(),
         log_bg: m.path_level.max(1e-300).ln(),
