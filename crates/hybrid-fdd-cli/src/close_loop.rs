@@ -41,9 +41,10 @@ pub struct Args {
     /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
     /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
     /// doubled (the 6205's textbook BSF is 2.3567). The physics model simulates 6205 and 6203
-    /// only (`--model arx-laguerre` or `phenomenological` for others).
-    #[arg(long, default_value = "6205")]
-    pub bearing: String,
+    /// only (`--model arx-laguerre` or `phenomenological` for others). When omitted: a
+    /// `simulate` CSV's sidecar's bearing (said on stderr), else 6205.
+    #[arg(long)]
+    pub bearing: Option<String>,
     /// Declared fault: none|outer|inner|ball.
     #[arg(long, default_value = "none")]
     pub fault: String,
@@ -101,9 +102,10 @@ pub struct CalibrateArgs {
     /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
     /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
     /// doubled (the 6205's textbook BSF is 2.3567). A bearing other than 6205/6203 needs
-    /// `--model arx-laguerre` or `phenomenological`.
-    #[arg(long, default_value = "6205")]
-    pub bearing: String,
+    /// `--model arx-laguerre` or `phenomenological`. When omitted: a `simulate` CSV's sidecar's
+    /// bearing (said on stderr), else 6205.
+    #[arg(long)]
+    pub bearing: Option<String>,
     /// Declared model (as `close-loop --model`): physics (5-DOF; 6205 and 6203 only),
     /// arx-laguerre (identified on the fitting segment; any bearing) or phenomenological
     /// (impact train; any bearing).
@@ -372,14 +374,18 @@ fn run_one_as(
         eprintln!("note: {n}");
     }
     let rpm = rpm.context("--rpm is required (the file stores no speed)")?;
-    let builtin = args.bearing.parse::<bearing_model::Bearing>().ok();
+    let (bearing_text, note) = crate::diagnose::bearing_or_sidecar(input, args.bearing.as_deref())?;
+    if let Some(n) = note {
+        eprintln!("note: {n}");
+    }
+    let builtin = bearing_text.parse::<bearing_model::Bearing>().ok();
     let bearing = match builtin {
         // named by its designation (what machine models compare), echoed as typed
         Some(b) => BearingSpec {
-            given: args.bearing.trim().to_string(),
+            given: bearing_text.trim().to_string(),
             ..BearingSpec::designated(b)
         },
-        None => crate::parse_bearing(&args.bearing)?,
+        None => crate::parse_bearing(&bearing_text)?,
     };
     let fault = parse_fault(&args.fault)?;
     let op = OperatingPoint::new(rpm, bearing, fault)?;
@@ -398,7 +404,7 @@ fn run_one_as(
             let b = builtin.with_context(|| {
                 format!(
                     "the physics model simulates the built-in bearings only (6205, 6203), not `{}`; use --model arx-laguerre or phenomenological",
-                    args.bearing
+                    bearing_text
                 )
             })?;
             let size = args

@@ -1,7 +1,8 @@
 //! `hybrid-fdd simulate` (and `cargo xtask simulate`): simulate a recording and write it as CSV:
 //! one header row, `time_s,accel`, plus all ten states with `--states` (5-DOF sets only). A JSON
 //! sidecar (`<out>.json`) records every parameter used, the declared speed (`rpm`, which
-//! `diagnose` and `close-loop` take when `--rpm` is omitted) and the unit of `accel`
+//! `diagnose` and `close-loop` take when `--rpm` is omitted), the bearing (`bearing`, which
+//! `close-loop` and `calibrate` take when `--bearing` is omitted) and the unit of `accel`
 //! (`accel_unit`).
 //!
 //! At CWRU conditions (6205, 12 kHz) the default is the **calibrated rig**
@@ -374,6 +375,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let meta = serde_json::json!({
         "generator": "hybrid-fdd simulate / cargo xtask simulate (bearing-model)",
         "rpm": args.rpm,
+        "bearing": args.bearing.trim(),
         "columns": { "time_s": "s", "accel": "housing (sprung-mass) acceleration, m/s^2" },
         "accel_unit": "m/s^2",
         "fs_hz": rec.fs_hz,
@@ -448,6 +450,7 @@ fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
     let meta = serde_json::json!({
         "generator": "hybrid-fdd simulate / cargo xtask simulate (calibrated CWRU rig, close_loop::rig)",
         "rpm": args.rpm,
+        "bearing": args.bearing.trim(),
         "columns": { "time_s": "s", "accel": format!("acceleration at the drive-end sensor, {} (calibrated CWRU rig; the CWRU data read as g)", rig.units) },
         "accel_unit": rig.units,
         "fs_hz": args.fs,

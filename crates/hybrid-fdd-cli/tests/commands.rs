@@ -368,3 +368,73 @@ fn a_shaft_line_goes_where_the_held_out_error_is_lower_6203() {
     assert!(ledger["error_after"].as_f64().unwrap() <= 1.0, "{ledger}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The bearing travels with a `simulate` recording: its sidecar records it, and `close-loop`
+/// (and `calibrate`) without `--bearing` declare that bearing, not the 6205 default. Until
+/// 2026-11-27 the sidecar held no bearing, so a 6203 simulation run through `calibrate` was
+/// modelled as a 6205 (2.99 → 0.74 dB with ten lines patched in, against 0.39 dB and nothing
+/// to add as the 6203). A `--bearing` naming another built-in bearing than the sidecar's is a
+/// one-line error.
+#[test]
+fn a_simulated_recordings_bearing_comes_from_its_sidecar_6203() {
+    let dir = std::env::temp_dir().join(format!("hybrid-fdd-sidecar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let csv = p("outer.csv");
+    let sim = Simulate::try_parse_from([
+        "simulate",
+        "--bearing",
+        "6203",
+        "--fault",
+        "outer",
+        "--rpm",
+        "1500",
+        "--fs",
+        "12000",
+        "--duration",
+        "2",
+        "--seed",
+        "3",
+        "--params",
+        "cwru",
+        "--out",
+        &csv,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(p("outer.json")).unwrap()).unwrap();
+    assert_eq!(side["bearing"], "6203");
+    let report = p("loop.json");
+    let args = CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        &csv,
+        "--fault",
+        "outer",
+        "--report",
+        &report,
+    ])
+    .unwrap();
+    hybrid_fdd_cli::close_loop::run(args.a).unwrap();
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(r["declared"]["bearing"], "6203", "{}", r["declared"]);
+    let wrong = CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        &csv,
+        "--fault",
+        "outer",
+        "--bearing",
+        "6205",
+        "--report",
+        &p("wrong.json"),
+    ])
+    .unwrap();
+    let e = hybrid_fdd_cli::close_loop::run(wrong.a)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("6203") && !e.contains('\n'), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -300,6 +300,61 @@ pub fn sidecar_rpm(path: &Path) -> Option<f64> {
         .filter(|r| from_simulate && r.is_finite() && *r > 0.0)
 }
 
+/// The bearing a `simulate` sidecar records (its `bearing`: `6205` or `6203`), for a text
+/// recording; `None` for other files and sidecars without one (written before 2026-11-27).
+pub fn sidecar_bearing(path: &Path) -> Option<String> {
+    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    if !matches!(ext.as_str(), "csv" | "tsv" | "txt") {
+        return None;
+    }
+    let v = sidecar(path)?;
+    let from_simulate = v["generator"]
+        .as_str()
+        .is_some_and(|g| g.contains("simulate"));
+    v["bearing"]
+        .as_str()
+        .filter(|b| from_simulate && !b.trim().is_empty())
+        .map(|b| b.trim().to_string())
+}
+
+/// The bearing to declare for `path`: `given` when given, else its `simulate` sidecar's
+/// ([`sidecar_bearing`], with a note saying so), else the 6205 (CWRU's drive end).
+///
+/// # Errors
+/// `given` names a built-in bearing other than the one the recording's `simulate` sidecar
+/// records (a 6203 simulation declared as a 6205 would be modelled with the wrong geometry).
+pub fn bearing_or_sidecar(
+    path: &Path,
+    given: Option<&str>,
+) -> anyhow::Result<(String, Option<String>)> {
+    let recorded = sidecar_bearing(path);
+    match (given, recorded) {
+        (Some(g), Some(r)) => {
+            let builtin = |s: &str| s.parse::<bearing_model::Bearing>().ok();
+            if let (Some(a), Some(b)) = (builtin(g), builtin(&r))
+                && a != b
+            {
+                anyhow::bail!(
+                    "--bearing {g}, but {} was simulated with the {r} (its sidecar {})",
+                    path.display(),
+                    path.with_extension("json").display()
+                );
+            }
+            Ok((g.to_string(), None))
+        }
+        (Some(g), None) => Ok((g.to_string(), None)),
+        (None, Some(r)) => {
+            let note = format!(
+                "{}: --bearing {r} from its simulate sidecar {}",
+                path.display(),
+                path.with_extension("json").display()
+            );
+            Ok((r, Some(note)))
+        }
+        (None, None) => Ok(("6205".to_string(), None)),
+    }
+}
+
 /// The speed to use for `path`: `rpm` when given, else its `simulate` sidecar's
 /// ([`sidecar_rpm`]), with a note saying so.
 pub fn rpm_or_sidecar(path: &Path, rpm: Option<f64>) -> (Option<f64>, Option<String>) {

@@ -19,8 +19,8 @@ pub use baseline::{BaselineSource, Prepared, decimated_to};
 pub use batch::report_names;
 pub use classifier::{TrainedClass, apply_classifier, load_classifier};
 pub use loader::{
-    FsFlag, Loaded, MAT_RATE_TOLERANCE, TIME_RATE_TOLERANCE, TIME_STEP_TOLERANCE, load, load_with,
-    rpm_or_sidecar, sidecar_rpm,
+    FsFlag, Loaded, MAT_RATE_TOLERANCE, TIME_RATE_TOLERANCE, TIME_STEP_TOLERANCE,
+    bearing_or_sidecar, load, load_with, rpm_or_sidecar, sidecar_bearing, sidecar_rpm,
 };
 pub use report::{markdown, write_reports};
 
