@@ -287,34 +287,33 @@ pub(super) fn sidecar(path: &Path) -> Option<serde_json::Value> {
 /// The shaft speed a `simulate` sidecar records (its `rpm`), for a text recording; `None` for
 /// other files and sidecars without one.
 pub fn sidecar_rpm(path: &Path) -> Option<f64> {
+    simulate_sidecar(path)?["rpm"]
+        .as_f64()
+        .filter(|r| r.is_finite() && *r > 0.0)
+}
+
+/// The sidecar of a text recording written by `simulate` (its `generator` says so); `None` for
+/// other files and other sidecars.
+fn simulate_sidecar(path: &Path) -> Option<serde_json::Value> {
     let ext = path.extension()?.to_str()?.to_ascii_lowercase();
     if !matches!(ext.as_str(), "csv" | "tsv" | "txt") {
         return None;
     }
     let v = sidecar(path)?;
-    let from_simulate = v["generator"]
+    v["generator"]
         .as_str()
-        .is_some_and(|g| g.contains("simulate"));
-    v["rpm"]
-        .as_f64()
-        .filter(|r| from_simulate && r.is_finite() && *r > 0.0)
+        .is_some_and(|g| g.contains("simulate"))
+        .then_some(v)
 }
 
 /// The bearing a `simulate` sidecar records (its `bearing`: `6205` or `6203`), for a text
 /// recording; `None` for other files and sidecars without one (written before 2026-11-27).
 pub fn sidecar_bearing(path: &Path) -> Option<String> {
-    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-    if !matches!(ext.as_str(), "csv" | "tsv" | "txt") {
-        return None;
-    }
-    let v = sidecar(path)?;
-    let from_simulate = v["generator"]
+    simulate_sidecar(path)?["bearing"]
         .as_str()
-        .is_some_and(|g| g.contains("simulate"));
-    v["bearing"]
-        .as_str()
-        .filter(|b| from_simulate && !b.trim().is_empty())
-        .map(|b| b.trim().to_string())
+        .map(str::trim)
+        .filter(|b| !b.is_empty())
+        .map(str::to_string)
 }
 
 /// The bearing to declare for `path`: `given` when given, else its `simulate` sidecar's
