@@ -491,6 +491,42 @@ pub const FAR_SPEED_STEP: f64 = 0.02;
 /// can buy 2–3 % by moving some line onto a peak (174.mat, 1.33 s: ×0.952 for 2.2 %).
 pub const FAR_SPEED_MARGIN: f64 = 0.10;
 
+/// A grid search's best point `best` = (x, state, fitting LSD) at `grid[k]`, refined by
+/// `iters` golden-section steps of `eval` between its grid neighbours; the best point tried is
+/// kept (a failed evaluation, `None`, counts as infinitely bad).
+fn refine_between(
+    grid: &[f64],
+    k: usize,
+    best: (f64, State, f64),
+    eval: impl Fn(f64) -> Option<(State, f64)>,
+    iters: usize,
+) -> (f64, State, f64) {
+    let (mut x_best, mut s_best, mut lsd_best) = best;
+    let lo = grid[k.saturating_sub(1)];
+    let hi = grid[(k + 1).min(grid.len() - 1)];
+    if hi > lo {
+        let mut tried: Vec<(f64, State, f64)> = Vec::new();
+        crate::optimize::golden_min(
+            |x| match eval(x) {
+                Some((s2, lsd)) => {
+                    tried.push((x, s2, lsd));
+                    lsd
+                }
+                None => f64::INFINITY,
+            },
+            lo,
+            hi,
+            iters,
+        );
+        for (x, s2, lsd) in tried {
+            if lsd < lsd_best {
+                (x_best, s_best, lsd_best) = (x, s2, lsd);
+            }
+        }
+    }
+    (x_best, s_best, lsd_best)
+}
+
 fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>, CloseLoopError> {
     let lr = log_ratio(ctx, st);
     let mut out = Vec::new();

@@ -162,41 +162,23 @@ pub(super) fn highpass_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated>
     if hi <= lo {
         return None;
     }
-    let eval = |log_corner: f64| -> (State, f64) {
+    let eval = |log_corner: f64| -> Option<(State, f64)> {
         let mut s2 = st.clone();
         s2.phys_highpass = Some((log_corner.exp(), HIGHPASS_ORDER));
-        ctx.calibrate_warm_and_cold(s2)
+        Some(ctx.calibrate_warm_and_cold(s2))
     };
     let grid: Vec<f64> = (0..HIGHPASS_GRID)
         .map(|i| lo + (hi - lo) * i as f64 / (HIGHPASS_GRID - 1) as f64)
         .collect();
     let mut best: Option<(usize, f64, State, f64)> = None;
     for (i, &x) in grid.iter().enumerate() {
-        let (s2, lsd) = eval(x);
+        let Some((s2, lsd)) = eval(x) else { continue };
         if lsd.is_finite() && best.as_ref().is_none_or(|b| lsd < b.3) {
             best = Some((i, x, s2, lsd));
         }
     }
-    let (i, mut x_best, mut s_best, mut lsd_best) = best?;
-    let (a, b) = (grid[i.saturating_sub(1)], grid[(i + 1).min(grid.len() - 1)]);
-    if b > a {
-        let mut tried: Vec<(f64, State, f64)> = Vec::new();
-        crate::optimize::golden_min(
-            |x| {
-                let (s2, lsd) = eval(x);
-                tried.push((x, s2, lsd));
-                lsd
-            },
-            a,
-            b,
-            HIGHPASS_REFINE,
-        );
-        for (x, s2, lsd) in tried {
-            if lsd < lsd_best {
-                (x_best, s_best, lsd_best) = (x, s2, lsd);
-            }
-        }
-    }
+    let (i, x, s2, lsd) = best?;
+    let (x_best, s_best, lsd_best) = refine_between(&grid, i, (x, s2, lsd), eval, HIGHPASS_REFINE);
     if st
         .phys_highpass
         .is_some_and(|(c, _)| (c.ln() - x_best).abs() < 1e-9)

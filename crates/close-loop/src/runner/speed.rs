@@ -496,29 +496,8 @@ pub(super) fn fault_size_candidate(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> O
             best_k = i;
         }
     }
-    let (mut x_best, mut s_best, mut lsd_best) = best.filter(|b| b.2 < fit_lsd)?;
-    let lo = grid[best_k.saturating_sub(1)];
-    let hi = grid[(best_k + 1).min(grid.len() - 1)];
-    if hi > lo {
-        let mut tried: Vec<(f64, State, f64)> = Vec::new();
-        crate::optimize::golden_min(
-            |x| match eval(x) {
-                Some((s2, lsd)) => {
-                    tried.push((x, s2, lsd));
-                    lsd
-                }
-                None => f64::INFINITY,
-            },
-            lo,
-            hi,
-            FAULT_SIZE_REFINE,
-        );
-        for (x, s2, lsd) in tried {
-            if lsd < lsd_best {
-                (x_best, s_best, lsd_best) = (x, s2, lsd);
-            }
-        }
-    }
+    let best = best.filter(|b| b.2 < fit_lsd)?;
+    let (x_best, s_best, lsd_best) = refine_between(&grid, best_k, best, eval, FAULT_SIZE_REFINE);
     let end = 0.5 * f64::from(FAULT_SIZE_GRID);
     Some(Evaluated {
         effect: Effect::FaultSize {
