@@ -216,9 +216,9 @@ A step of the fault lines' rate is a `speed_offset` only if the record's shaft l
     ));
     md.push_str(&format!(
         "\nOf the {slips} `slip` effects, {slip_at_bound} take the largest slip the search tries \
-         (the model's largest, 10 % for the 5-DOF model; `parameters.at_search_bound` = 1): the records ask for at least \
-         that much smear of the fault lines, which the loop reads as a broad correction, not a \
-         measured slip.\n"
+         (the model's largest, 10 % for the 5-DOF model; `parameters.at_search_bound` = 1): a \
+         broad correction, not a measured slip (docs/equations/close-loop.md, \"What the slip \
+         at the model's bound does not mean\").\n"
     ));
     // faults nobody declared: where the diagnosis's envelope evidence added a spall
     let added: Vec<String> = rows

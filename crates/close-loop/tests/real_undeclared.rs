@@ -1066,9 +1066,13 @@ fn tone_before_the_mode_it_would_dress_3001() {
 /// 20 %, and the tone beside it. Since the held-out envelope may veto a speed step its fault
 /// lines contradict (2026-11-27), the ×1.0048 step is refused (the envelope reads the fault's
 /// lines at ×1.0037) and ×1.0039 is taken: the step stays unconfirmed by the shaft but no longer
-/// passes 0.4 %, and the half order must still be named a shaft line.
+/// passes 0.4 %, and the half order must still be named a shaft line. Since the impacts'
+/// high-pass is judged before slip (2026-11-27, later) no speed step is taken on this record at
+/// all (the high-pass, the comb, the 1.5 × and the tone come first): the guarded path is no
+/// longer reached here, and the test keeps what a user sees — the half order a shaft line with
+/// its amplitude, the tone a tone — with or without a step before them.
 #[test]
-fn half_order_after_an_unconfirmed_speed_step_is_a_shaft_line_148_48k() {
+fn half_order_beside_a_tone_is_a_shaft_line_with_or_without_a_speed_step_148_48k() {
     let Some(dir) = data_dir() else { return };
     let cfg = mains_60();
     let machine = &committed_rig("rig-48k");
@@ -1080,18 +1084,6 @@ fn half_order_after_an_unconfirmed_speed_step_is_a_shaft_line_148_48k() {
     add_tone(&mut y, fs, 12_000.0, a_tone, 0.3);
     add_tone(&mut y, fs, f_half, a_half, 0.3);
     let o = run_sized(machine, &y, fs, rpm, DeclaredFault::Outer, 0.007, &cfg);
-    // the case this guards: the model's shaft moved by a step the shaft's lines did not confirm
-    let step = o
-        .ledger
-        .effects
-        .iter()
-        .rfind(|e| e.kind == EffectKind::SpeedOffset)
-        .map(|e| (e.parameters["ratio"], e.parameters["shaft_measured"]));
-    assert!(
-        step.is_some_and(|(s, measured)| (s - 1.0).abs() > 0.003 && measured == 0.0),
-        "no unconfirmed speed step: {:#?}",
-        o.ledger.effects
-    );
     let e = named(&o, EffectKind::ShaftHarmonic, f_half)
         .unwrap_or_else(|| panic!("1.5 x not named a shaft line: {:#?}", o.ledger.effects));
     assert_eq!(e.parameters["order"], 1.5, "{e:#?}");
@@ -1198,5 +1190,47 @@ fn the_impacts_weaker_below_a_corner_is_a_high_pass_not_slip_146() {
         ),
         "{:#?}",
         o.ledger.effects
+    );
+}
+
+/// 259 (OR021 at 12 o'clock, 1 hp), untouched, from the rig's machine model. Judged by the
+/// fitting error alone, a random slip ranked ahead of the impacts' high-pass there, was taken at
+/// the model's 10 % bound, and once it had smeared the low BPFO comb no corner helped: the
+/// high-pass was never named (as on 28 other measured records). A slip can stand in for the
+/// high-pass, which cannot stand in for slip (it leaves the comb at the resonance), so the
+/// high-pass is judged first (`runner::ranking::before_slip`). The loop names it, ahead of any
+/// slip, a physics placement with a corner inside its search range, and takes no slip at the
+/// model's bound. A different family from 146's (OR021, not OR007) and a larger spall.
+#[test]
+fn the_high_pass_is_judged_before_slip_259() {
+    let Some(dir) = data_dir() else { return };
+    let cfg = mains_60();
+    let machine = &committed_rig("rig-12k");
+    let (rpm, x) = drive_end(&dir, 259);
+    let o = run_sized(
+        machine,
+        &x,
+        12_000.0,
+        rpm,
+        DeclaredFault::Outer,
+        0.021,
+        &cfg,
+    );
+    let fx = &o.ledger.effects;
+    let hp = fx
+        .iter()
+        .position(|e| e.kind == EffectKind::ImpactsHighPass)
+        .unwrap_or_else(|| panic!("no impacts_high_pass: {fx:#?}"));
+    assert_eq!(fx[hp].placement, close_loop::Placement::Physics);
+    assert!(fx[hp].parameters["at_search_bound"] == 0.0, "{:#?}", fx[hp]);
+    assert!(
+        fx[..hp].iter().all(|e| e.kind != EffectKind::Slip),
+        "a slip before the high-pass: {fx:#?}"
+    );
+    assert!(
+        !fx.iter().any(
+            |e| e.kind == EffectKind::Slip && e.parameters.get("at_search_bound") == Some(&1.0)
+        ),
+        "{fx:#?}"
     );
 }

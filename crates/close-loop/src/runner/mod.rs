@@ -268,7 +268,7 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
             cands.retain(|e| e.effect.is_line());
         }
         cands.sort_by(|a, b| a.fit_lsd.total_cmp(&b.fit_lsd));
-        let cands = declared_first(speed_before_slip(strong_lines_first(ctx, &st, cands)));
+        let cands = declared_first(before_slip(strong_lines_first(ctx, &st, cands)));
         rejected.clear();
         let mut accepted: Option<Judged> = None;
         'judge: for cand in cands {
@@ -560,7 +560,7 @@ use fault::added_fault_candidates;
 use modulation::modulation_candidates;
 use naming::{Taken, is_declared_fault_line, take};
 use path::{has_impacts, highpass_candidate, path_candidates, with_impacts_path};
-use ranking::{declared_first, speed_before_slip, strong_lines_first};
+use ranking::{before_slip, declared_first, strong_lines_first};
 use resonance::resonance_candidates;
 use spectra::{log_ratio, observer_rms, residual_observer, segments, spectra};
 use speed::{fault_size_candidate, preload_candidate, slip_candidate, speed_candidates};
