@@ -24,7 +24,7 @@ fn bench(c: &mut Criterion) {
     let baseline = Baseline::prepare(&healthy.accel, healthy.fs_hz).unwrap();
     let spec = BearingSpec::parse("6205").unwrap();
     // the same baseline without its residual: no envelope lines of the healthy machine to
-    // compare with (what a baseline from a machine model gives)
+    // compare with (a machine-model baseline with no synthesised recording attached)
     let model_like = Baseline::from_whitener(
         baseline.whitener.clone(),
         baseline.residual_rms,

@@ -104,9 +104,10 @@ pub(crate) fn envelope_spectra(
 }
 
 /// The healthy machine's squared envelope spectra in the same bands, at the recording's
-/// resolution `resolutions_hz` (one per band; a baseline recording only; one too short for a
-/// band's Welch segment gives none there), computed once per baseline, band set and
-/// resolution; `n` empty ones without a baseline recording.
+/// resolution `resolutions_hz` (one per band; a baseline holding a residual only — a
+/// recording's, or a synthesis of a machine model's; one too short for a band's Welch segment
+/// gives none there), computed once per baseline, band set and resolution; `n` empty ones for a
+/// baseline without a residual.
 pub(crate) fn healthy_spectra(
     engine: &mut SpectralEngine,
     baseline: Option<&Baseline>,

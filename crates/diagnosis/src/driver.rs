@@ -131,7 +131,7 @@ fn diagnose_with(
     let bands = candidate_bands(fs_hz, min_width);
     let spectra = envelope_spectra(engine, &e, fs_hz, fr, &o, &bands)?;
     // the healthy machine's squared envelope spectra in the same bands, at the same resolution
-    // (a baseline recording only; one too short for a band's Welch segment gives none there)
+    // (a baseline holding a residual only; one too short for a band's Welch segment gives none)
     let resolutions: Vec<f64> = spectra.iter().map(|s| s.resolution_hz).collect();
     let base_spectra =
         healthy_spectra(engine, baseline, fs_hz, &bands, &resolutions, spectra.len())?;

@@ -199,8 +199,9 @@ pub struct Baseline {
     pub samples: usize,
     /// The baseline's own residual, kept to read the healthy machine's envelope lines in the
     /// same bands as the recording's (a line the baseline already holds is not fault
-    /// evidence, see `Line::evidence_db`). `None` for a baseline from a model
-    /// ([`Baseline::from_whitener`]); not serialised.
+    /// evidence, see `Line::evidence_db`). For a baseline from a model
+    /// ([`Baseline::from_whitener`]) `None` until a residual of a recording synthesised from
+    /// the model is attached ([`Baseline::with_residual`]); not serialised.
     #[serde(skip)]
     pub residual: Option<std::sync::Arc<[f64]>>,
     /// The residual's envelope spectra per band set and segment lengths, computed once.
@@ -311,6 +312,23 @@ impl Baseline {
             residual: None,
             spectra: SpectraCache::default(),
         })
+    }
+
+    /// This baseline with `residual` as the healthy machine's own residual, whose envelope lines
+    /// are discounted as a baseline recording's are: for a model baseline
+    /// ([`Baseline::from_whitener`]), the residual of a recording synthesised from the model,
+    /// through the same whitener. The residual statistics stay those given (a synthesis is
+    /// the model's idea of the machine; the statistics were measured on the machine itself).
+    ///
+    /// # Errors
+    /// [`DiagnosisError::Degenerate`] for a residual with non-finite samples, zero RMS, or too
+    /// short for moments — an envelope reference of zeros would discount nothing and say it did.
+    pub fn with_residual(mut self, residual: Vec<f64>) -> Result<Self> {
+        // a non-finite sample makes the RMS non-finite: `moments` refuses both
+        moments(&residual, "baseline envelope reference")?;
+        self.residual = Some(residual.into());
+        self.spectra = SpectraCache::default();
+        Ok(self)
     }
 }
 

@@ -25,8 +25,8 @@ pub struct Line {
     pub prominence_db: f64,
     /// Prominence of the same line (the largest local maximum within ± 1.5 bins of
     /// `found_hz`) in the healthy baseline's squared envelope spectrum of the same band and
-    /// resolution, dB; `null` without a baseline recording (self-referenced, or a baseline
-    /// from a machine model).
+    /// resolution, dB; `null` without a healthy residual to read it in (self-referenced, or a
+    /// machine-model baseline whose recording could not be synthesised).
     #[serde(default)]
     pub baseline_prominence_db: Option<f64>,
     /// The line's evidence, dB: `prominence_db`, less `baseline_prominence_db` when the healthy

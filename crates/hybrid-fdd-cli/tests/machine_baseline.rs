@@ -1,6 +1,8 @@
 //! A calibrated machine model as the diagnosis baseline (`--baseline rig.json`): loaded and
 //! validated, its whole model (path, floor, lines) is the healthy model, a healthy recording of the same rig
-//! reads normal, and a recording of other units or another rate is refused with a typed error.
+//! reads normal, and a recording of other units or another rate is refused with a typed error;
+//! the envelope lines its model holds are discounted through a synthesised recording, and a
+//! model that cannot be synthesised says so.
 
 use close_loop::LoopConfig;
 use hybrid_fdd_cli::diagnose::{BaselineSource, Loaded, Plan, diagnose_loaded};
@@ -57,7 +59,7 @@ fn prepared_from(
 ) -> anyhow::Result<hybrid_fdd_cli::diagnose::Prepared> {
     let json = dir.join(format!("{name}.json"));
     std::fs::write(&json, m.to_json().unwrap()).unwrap();
-    BaselineSource::load(&json, "DE", None).unwrap().at(FS)
+    BaselineSource::load(&json, "DE", None).unwrap().at(FS, RPM)
 }
 
 #[test]
@@ -88,7 +90,7 @@ fn machine_model_is_a_diagnosis_baseline() {
 
     let src = BaselineSource::load(&json, "DE", None).unwrap();
     assert_eq!(src.machine_units(), Some("g"));
-    let prepared = src.at(FS).unwrap();
+    let prepared = src.at(FS, RPM).unwrap();
     // it whitens with the whole model's one-step predictor: the path's order plus two per line
     assert!(m.predictor_residual_rms.is_some() && m.predictor_residual_kurtosis.is_some());
     assert_eq!(
@@ -138,4 +140,144 @@ fn machine_model_is_a_diagnosis_baseline() {
     let e = prepared_from(&dir, "bare", &bare).unwrap_err();
     assert!(format!("{e:#}").contains("no structural path"), "{e:#}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A healthy machine whose vibration is amplitude-modulated at BPFI and its harmonics (a
+/// source in the machine, not the bearing: a healthy machine's envelope can hold lines at a
+/// fault rate) is calibrated into a machine model holding the modulations; a recording of the
+/// same machine shows the BPFI lines. Against the machine model they are the healthy machine's
+/// and discounted, as a baseline recording's lines are: the model's synthesised healthy
+/// recording holds them (`baseline_prominence_db` non-null, evidence below prominence), and
+/// the verdict is `normal`. The same whitener without the synthesis (how a machine baseline
+/// was prepared before) compares no line and reads them as a fault.
+#[test]
+fn machine_baseline_discounts_the_envelope_lines_its_model_holds() {
+    use close_loop::effect::Modulation;
+    let cfg = LoopConfig::default().check().unwrap();
+    let mut m = close_loop::machine::calibrate(
+        &rig(48_000, 1),
+        FS,
+        RPM,
+        bearing_model::Bearing::Skf6205,
+        &cfg,
+    )
+    .unwrap();
+    m.units = "g".into();
+    let bpfi_hz = m.bearing_orders[1] * m.calibration_shaft_hz();
+    let am: Vec<Modulation> = (1..=3)
+        .map(|k| Modulation {
+            frequency_hz: k as f64 * bpfi_hz,
+            depth: 0.5,
+        })
+        .collect();
+    m.modulations.extend(am.iter().copied());
+    let mut y = rig(96_000, 2);
+    for md in &am {
+        y = md.apply(&y, 0, FS);
+    }
+    let rec = loaded(y, FS, "g");
+    let plan = Plan {
+        channel: "DE".into(),
+        fs: None,
+        rpm: None,
+        bearing: diagnosis::BearingSpec::parse("6205").unwrap(),
+    };
+    let src = BaselineSource::from_machine(std::path::Path::new("modulated.json"), m.clone());
+    let prepared = src.at(FS, RPM).unwrap();
+    assert!(prepared.0.residual.is_some(), "{}", prepared.1);
+    for part in ["synthesised", "10.0 s at 1797 rpm", "seed 1"] {
+        assert!(prepared.1.contains(part), "`{part}` in {}", prepared.1);
+    }
+    // once per rate and speed: the same preparation again, another one at another speed
+    assert!(std::sync::Arc::ptr_eq(&prepared, &src.at(FS, RPM).unwrap()));
+    assert!(src.at(FS, 1750.0).unwrap().1.contains("1750 rpm"));
+
+    let o = diagnose_loaded(&rec, &plan, Some(&src)).unwrap();
+    let inner = o
+        .diagnosis
+        .evidence
+        .iter()
+        .find(|e| e.hypothesis == diagnosis::Hypothesis::Inner)
+        .unwrap();
+    assert!(
+        inner
+            .harmonics
+            .iter()
+            .all(|l| l.baseline_prominence_db.is_some()),
+        "{:?}",
+        inner.harmonics
+    );
+    assert!(
+        inner
+            .harmonics
+            .iter()
+            .any(|l| l.prominence_db >= 6.0 && l.evidence_db < l.prominence_db),
+        "the BPFI lines are there and the healthy machine's are subtracted: {:?}",
+        inner.harmonics
+    );
+    assert_eq!(o.diagnosis.verdict, "normal", "{:?}", inner.harmonics);
+
+    // the same whitener without a healthy envelope: nothing compared, the lines are a fault
+    let mut bare = prepared.0.clone();
+    bare.residual = None;
+    let d = diagnosis::diagnose(&rec.samples, FS, RPM, &plan.bearing, Some(&bare)).unwrap();
+    assert!(
+        d.evidence
+            .iter()
+            .flat_map(|e| e.harmonics.iter())
+            .all(|l| l.baseline_prominence_db.is_none())
+    );
+    assert!(d.verdict.contains("inner"), "{}", d.verdict);
+}
+
+/// A machine model that cannot be synthesised keeps today's baseline — its whitener and
+/// statistics, no healthy envelope — and the note says why; nothing panics and no envelope of
+/// zeros stands in for one.
+#[test]
+fn machine_baseline_that_cannot_be_synthesised_says_so() {
+    let cfg = LoopConfig::default().check().unwrap();
+    let m = close_loop::machine::calibrate(
+        &rig(48_000, 1),
+        FS,
+        RPM,
+        bearing_model::Bearing::Skf6205,
+        &cfg,
+    )
+    .unwrap();
+    // physics seen through a path of its own (no time-domain synthesis), a model calibrated
+    // on a recording declared faulty, a declared model whose parameters the file lacks
+    let mut own_path = m.clone();
+    own_path.physics_gain = 1.0;
+    own_path.physics_path = own_path.path.clone();
+    let mut faulty = m.clone();
+    faulty.declared_fault = "inner".into();
+    let mut other = m.clone();
+    other.physics_gain = 1.0;
+    other.model = "arx-laguerre".into();
+    for (what, mm) in [
+        ("own path", own_path),
+        ("declared inner", faulty),
+        ("arx-laguerre", other),
+    ] {
+        let src = BaselineSource::from_machine(std::path::Path::new("m.json"), mm);
+        let p = src.at(FS, RPM).unwrap();
+        assert!(p.0.residual.is_none(), "{what}: {}", p.1);
+        assert!(
+            p.1.contains("no healthy envelope lines") && p.1.contains("cannot be synthesised"),
+            "{what}: {}",
+            p.1
+        );
+        let o = diagnose_loaded(
+            &loaded(rig(48_000, 2), FS, "g"),
+            &Plan {
+                channel: "DE".into(),
+                fs: None,
+                rpm: None,
+                bearing: diagnosis::BearingSpec::parse("6205").unwrap(),
+            },
+            Some(&src),
+        )
+        .unwrap();
+        assert_eq!(o.diagnosis.verdict, "normal", "{what}");
+    }
 }

@@ -25,7 +25,12 @@ fn a_one_column_baseline_is_read_at_fs() {
         .baseline_source()
         .expect("a one-column baseline at --fs")
         .expect("given");
-    assert!(b.at(20_000.0).expect("prepared").1.contains("20000 Hz"));
+    assert!(
+        b.at(20_000.0, 1797.0)
+            .expect("prepared")
+            .1
+            .contains("20000 Hz")
+    );
     // the whole command, as QA ran it
     let report = d.join("one.json");
     let a = Diagnose::try_parse_from([

@@ -26,11 +26,17 @@ pub fn calibrate(
 ) -> Result<MachineModel, CloseLoopError> {
     let rates = crate::BearingSpec::designated(bearing);
     let op = crate::OperatingPoint::new(rpm, rates, bearing_model::FaultClass::None)?;
-    let model = crate::physics::PhysicsModel {
+    Ok(calibrate_with(&declared_healthy(bearing), y, fs, &op, cfg)?.machine)
+}
+
+/// The declared healthy 5-DOF physics [`calibrate`] starts from (default parameter set, slip
+/// and seed): what a healthy synthesis of the model it writes must run the physics with
+/// ([`MachineModel::simulate_healthy`]).
+pub(crate) fn declared_healthy(bearing: bearing_model::Bearing) -> crate::physics::PhysicsModel {
+    crate::physics::PhysicsModel {
         bearing,
         ..crate::physics::PhysicsModel::default()
-    };
-    Ok(calibrate_with(&model, y, fs, &op, cfg)?.machine)
+    }
 }
 
 /// Verification passes a calibration runs at most ([`calibrate_with`]).

@@ -111,4 +111,56 @@ impl MachineModel {
         }
         Ok(y)
     }
+
+    /// A healthy recording of this machine ([`MachineModel::simulate`]) with the declared model
+    /// rebuilt from the file: the healthy 5-DOF physics [`super::calibrate`] declares (the
+    /// default parameter set on the model's bearing) when the physics enters the model, any
+    /// model when it does not (gain 0: the physics is not simulated). What a diagnosis against
+    /// this machine reads the healthy machine's envelope lines from.
+    ///
+    /// # Errors
+    /// [`CloseLoopError::Model`] when the model cannot stand for the healthy machine: it was
+    /// calibrated on a recording declared faulty (its synthesis would hold the fault), or its
+    /// physics came from a declared model other than the 5-DOF physics (`arx-laguerre`,
+    /// `phenomenological`: their parameters are not in the file);
+    /// [`CloseLoopError::UnknownBearing`] for a bearing the physics does not simulate; as
+    /// [`MachineModel::simulate`] otherwise (`physics_path` set, a bad `rpm`).
+    pub fn simulate_healthy(
+        &self,
+        rpm: f64,
+        n: usize,
+        seed: u64,
+    ) -> Result<Vec<f64>, CloseLoopError> {
+        use crate::DeclaredModel as _;
+        let fault = crate::parse_fault(&self.declared_fault)?;
+        if fault != bearing_model::FaultClass::None {
+            return Err(CloseLoopError::Model {
+                reason: format!(
+                    "the machine model was calibrated on a recording declared `{}`: its synthesis would hold that fault",
+                    self.declared_fault
+                ),
+            });
+        }
+        let physics = if self.physics_gain > 0.0 {
+            let bearing = self
+                .bearing
+                .parse()
+                .map_err(|_| CloseLoopError::UnknownBearing {
+                    name: self.bearing.clone(),
+                })?;
+            let m = super::calibration::declared_healthy(bearing);
+            if self.model != m.name() {
+                return Err(CloseLoopError::Model {
+                    reason: format!(
+                        "the machine model's physics came from the declared model `{}`, whose parameters the file does not hold",
+                        self.model
+                    ),
+                });
+            }
+            m
+        } else {
+            crate::physics::PhysicsModel::default()
+        };
+        self.simulate(&physics, rpm, n, seed)
+    }
 }

@@ -60,8 +60,9 @@ pub struct RecordingFlags {
     pub bearing: Option<String>,
     /// Healthy recording of the same machine (same formats; resampled by an integer factor
     /// with an anti-aliasing FIR when its rate is a multiple of the recording's), or a machine
-    /// model JSON from `hybrid-fdd calibrate` (or `cargo xtask calibrate`; its structural path is
-    /// the healthy model; same sampling rate and units as the recording). A text baseline
+    /// model JSON from `hybrid-fdd calibrate` (or `cargo xtask calibrate`; its whole model is the
+    /// healthy model, and a recording synthesised from it at the recording's speed gives the
+    /// healthy envelope lines; same sampling rate and units as the recording). A text baseline
     /// without a time column is taken at `--fs`; a `.mat` baseline or one with a time column at
     /// its own rate. Without a baseline the evidence is self-referenced.
     #[arg(long)]

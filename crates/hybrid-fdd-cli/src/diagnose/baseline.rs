@@ -1,5 +1,6 @@
 //! The healthy baseline of a run: a recording prepared at each recording rate (decimated by an
-//! integer factor when needed), or a calibrated machine model.
+//! integer factor when needed), or a calibrated machine model, prepared at each recording speed
+//! with the envelope of a healthy recording synthesised from it.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -9,12 +10,41 @@ use diagnosis::Baseline;
 
 use super::loader::{FsFlag, load_with};
 
-/// A prepared baseline and a note saying how it was made (rate, decimation).
+/// A prepared baseline and a note saying how it was made (rate, decimation; for a machine
+/// model, the synthesis its healthy envelope comes from).
 pub type Prepared = Arc<(Baseline, String)>;
 
+/// Seed of a machine model's healthy synthesis (excitation, floor, line phases): fixed, so a
+/// diagnosis against a machine model is reproducible; chosen before any run on real data.
+pub const MACHINE_SYNTHESIS_SEED: u64 = 1;
+
+/// Shortest machine-model synthesis, seconds. The healthy envelope is a Welch estimate like the
+/// recording's, and its scatter falls with the segments it averages: 10 s averages 17
+/// half-overlapping segments of the longest the diagnosis uses ([`diagnosis::SEGMENT_TURNS_MAX`]
+/// turns) at 1800 rpm, and [`MACHINE_SYNTHESIS_TURNS`] keeps at least 7 at any speed. A fixed length (not the recording's) keeps one synthesis per rate
+/// and speed for a batch of recordings of different lengths; a recording longer than the
+/// synthesis only has more segments of the same resolution, which the synthesis still matches.
+pub const MACHINE_SYNTHESIS_S: f64 = 10.0;
+
+/// Fewest shaft turns of a machine-model synthesis: four of the longest Welch segment
+/// ([`diagnosis::SEGMENT_TURNS_MAX`]), the length at which a recording's own segments reach it;
+/// longer than [`MACHINE_SYNTHESIS_S`] below 768 rpm.
+pub const MACHINE_SYNTHESIS_TURNS: f64 = 4.0 * diagnosis::SEGMENT_TURNS_MAX;
+
+/// A cache slot: filled once by whichever caller gets to it first; other callers of the same
+/// key wait on it, callers of other keys do not.
+type Slot = Arc<Mutex<Option<Prepared>>>;
+
+/// Cache key of a rate and speed (speed `NO_RPM` for what does not depend on it).
+type Key = (u64, u64);
+
+/// Speed key of a prepared baseline that holds for every speed.
+const NO_RPM: u64 = u64::MAX;
+
 /// A healthy baseline: a recording's samples, prepared on demand for each recording rate it is
-/// asked for, or a calibrated machine model (`hybrid-fdd calibrate`), whose structural path is
-/// the healthy model.
+/// asked for, or a calibrated machine model (`hybrid-fdd calibrate`), whose whole model is the
+/// healthy model and whose synthesised healthy recording at each speed asked for gives the
+/// healthy envelope lines. Safe to share across threads: each rate and speed is prepared once.
 #[derive(Debug)]
 pub struct BaselineSource {
     /// Where it came from.
@@ -22,7 +52,7 @@ pub struct BaselineSource {
     samples: Vec<f64>,
     fs_hz: f64,
     machine: Option<Box<close_loop::machine::MachineModel>>,
-    prepared: Mutex<Vec<(u64, Prepared)>>,
+    prepared: Mutex<Vec<(Key, Slot)>>,
 }
 
 impl BaselineSource {
@@ -85,7 +115,8 @@ impl BaselineSource {
     /// `close_loop::machine::MachineModel::predictor_path`) and the residual statistics measured
     /// through it when it was calibrated; for a model written before those statistics existed,
     /// the path's own filter and statistics. The rate is the model's (the library reports a
-    /// recording at another rate as its typed mismatch error).
+    /// recording at another rate as its typed mismatch error). No healthy envelope yet: that
+    /// depends on the speed ([`Self::with_synthesis`]).
     fn prepare_machine(&self, m: &close_loop::machine::MachineModel) -> anyhow::Result<Prepared> {
         let name = self.path.display();
         let path = m.path.as_ref().with_context(|| {
@@ -139,26 +170,107 @@ impl BaselineSource {
         Ok(Arc::new((b, note)))
     }
 
-    /// The baseline prepared at `fs_hz` (decimated by an integer factor when needed) and a note
-    /// saying how; prepared once per rate.
+    /// A machine baseline `base` (its whitener, [`Self::prepare_machine`]) with the residual of
+    /// a healthy recording synthesised from the model at `rpm` through that whitener, whose
+    /// envelope lines the diagnosis discounts as a baseline recording's
+    /// (`close_loop::machine::MachineModel::simulate_healthy`: path, floor, lines, modulations
+    /// and the declared healthy physics; [`MACHINE_SYNTHESIS_SEED`], the longer of
+    /// [`MACHINE_SYNTHESIS_S`] and [`MACHINE_SYNTHESIS_TURNS`]). A model that cannot be
+    /// synthesised (physics seen through its own path, a declared fault, a declared model other
+    /// than the 5-DOF physics) keeps no healthy envelope, and the note says so and why.
+    fn with_synthesis(
+        m: &close_loop::machine::MachineModel,
+        base: &Prepared,
+        rpm: f64,
+    ) -> Prepared {
+        let fs = m.fs_hz;
+        let turns_s = MACHINE_SYNTHESIS_TURNS * 60.0 / rpm;
+        let duration_s = MACHINE_SYNTHESIS_S.max(turns_s);
+        let n = (duration_s * fs).ceil() as usize;
+        let attached = m
+            .simulate_healthy(rpm, n, MACHINE_SYNTHESIS_SEED)
+            .map_err(anyhow::Error::from)
+            .and_then(|y| {
+                let e = base.0.whitener.residual(&y);
+                Ok(base.0.clone().with_residual(e)?)
+            });
+        match attached {
+            Ok(b) => {
+                let note = format!(
+                    "{}; its healthy envelope lines from a recording synthesised from the machine model ({duration_s:.1} s at {rpm} rpm, seed {MACHINE_SYNTHESIS_SEED}) through the same predictor",
+                    base.1
+                );
+                Arc::new((b, note))
+            }
+            Err(e) => {
+                let note = format!(
+                    "{}; no healthy envelope lines, so none is discounted: the machine model cannot be synthesised ({e:#})",
+                    base.1
+                );
+                Arc::new((base.0.clone(), note))
+            }
+        }
+    }
+
+    /// The cached value under `key`, made by `make` when absent (an error is returned, not
+    /// kept). The list is locked only to find or add the key's slot: a long preparation blocks
+    /// callers of its own key, who would otherwise compute it again, and no other.
+    fn cached(
+        &self,
+        key: Key,
+        make: impl FnOnce() -> anyhow::Result<Prepared>,
+    ) -> anyhow::Result<Prepared> {
+        let poisoned = || anyhow::anyhow!("baseline cache poisoned");
+        let slot = {
+            let mut slots = self.prepared.lock().map_err(|_| poisoned())?;
+            match slots.iter().find(|(k, _)| *k == key) {
+                Some((_, s)) => s.clone(),
+                None => {
+                    let s = Slot::default();
+                    slots.push((key, s.clone()));
+                    s
+                }
+            }
+        };
+        let mut v = slot.lock().map_err(|_| poisoned())?;
+        if let Some(p) = v.as_ref() {
+            return Ok(p.clone());
+        }
+        let p = make()?;
+        *v = Some(p.clone());
+        Ok(p)
+    }
+
+    /// The baseline prepared for a recording at `fs_hz` whose shaft turns at `rpm` (declared),
+    /// and a note saying how. A recording is prepared once per rate (decimated by an integer
+    /// factor when needed; the speed does not enter). A machine model's whitener is prepared
+    /// once, and a healthy recording synthesised from it once per speed (the shaft lines and
+    /// the physics move with it; [`MACHINE_SYNTHESIS_SEED`], [`MACHINE_SYNTHESIS_S`]; the note
+    /// says so, or why the model could not be synthesised and discounts no line) — not at all
+    /// for a recording at another rate than the model's or at a speed the library refuses,
+    /// which the diagnosis then reports as its typed error.
     ///
     /// # Errors
     /// A rate that is neither equal nor an integer fraction of the baseline's (the library's
-    /// typed mismatch error), or a baseline the AR fit rejects.
-    pub fn at(&self, fs_hz: f64) -> anyhow::Result<Prepared> {
-        let key = fs_hz.to_bits();
-        let mut cache = self
-            .prepared
-            .lock()
-            .map_err(|_| anyhow::anyhow!("baseline cache poisoned"))?;
-        if let Some((_, b)) = cache.iter().find(|(k, _)| *k == key) {
-            return Ok(b.clone());
-        }
+    /// typed mismatch error), a baseline the AR fit rejects, a machine model that cannot whiten.
+    pub fn at(&self, fs_hz: f64, rpm: f64) -> anyhow::Result<Prepared> {
         if let Some(m) = self.machine.as_deref() {
-            let b = self.prepare_machine(m)?;
-            cache.push((key, b.clone()));
-            return Ok(b);
+            let base = self.cached((m.fs_hz.to_bits(), NO_RPM), || self.prepare_machine(m))?;
+            let synthesisable = fs_hz == m.fs_hz
+                && rpm.is_finite()
+                && (diagnosis::MIN_RPM..=diagnosis::MAX_RPM).contains(&rpm);
+            if !synthesisable {
+                return Ok(base);
+            }
+            return self.cached((fs_hz.to_bits(), rpm.to_bits()), || {
+                Ok(Self::with_synthesis(m, &base, rpm))
+            });
         }
+        self.cached((fs_hz.to_bits(), NO_RPM), || self.prepare_recording(fs_hz))
+    }
+
+    /// The baseline recording prepared at `fs_hz` (decimated by an integer factor when needed).
+    fn prepare_recording(&self, fs_hz: f64) -> anyhow::Result<Prepared> {
         let name = self.path.display();
         let (x, fs_b, note) = if let Some((x, q)) = decimated_to(&self.samples, self.fs_hz, fs_hz)?
         {
@@ -179,9 +291,7 @@ impl BaselineSource {
             )
         };
         let b = Baseline::prepare(&x, fs_b).with_context(|| format!("baseline {name}"))?;
-        let b = Arc::new((b, note));
-        cache.push((key, b.clone()));
-        Ok(b)
+        Ok(Arc::new((b, note)))
     }
 }
 

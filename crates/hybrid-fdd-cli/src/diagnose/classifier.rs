@@ -57,7 +57,7 @@ pub fn apply_classifier(
         Some((x, _)) => (x, t.fs_hz),
         None => (l.samples.clone(), l.fs_hz),
     };
-    let b = baseline.map(|src| src.at(fs)).transpose()?;
+    let b = baseline.map(|src| src.at(fs, rpm)).transpose()?;
     let (class, segments) =
         t.classify_recording(&x, fs, rpm, &plan.bearing, b.as_ref().map(|b| &b.0))?;
     o.trained = Some(TrainedClass {

@@ -15,7 +15,10 @@ use bearing_data::SampleUnit;
 use diagnosis::{BearingSpec, Diagnosis, diagnose};
 
 pub use args::{Args, RecordingFlags};
-pub use baseline::{BaselineSource, Prepared, decimated_to};
+pub use baseline::{
+    BaselineSource, MACHINE_SYNTHESIS_S, MACHINE_SYNTHESIS_SEED, MACHINE_SYNTHESIS_TURNS, Prepared,
+    decimated_to,
+};
 pub use batch::report_names;
 pub use classifier::{TrainedClass, apply_classifier, load_classifier};
 pub use loader::{
@@ -76,7 +79,7 @@ pub fn diagnose_loaded(
                     l.unit.code
                 );
             }
-            let b = src.at(l.fs_hz)?;
+            let b = src.at(l.fs_hz, rpm)?;
             (
                 diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, Some(&b.0))?,
                 Some(b.1.clone()),
