@@ -31,6 +31,13 @@ pub const MACHINE_SYNTHESIS_S: f64 = 10.0;
 /// longer than [`MACHINE_SYNTHESIS_S`] below 768 rpm.
 pub const MACHINE_SYNTHESIS_TURNS: f64 = 4.0 * diagnosis::SEGMENT_TURNS_MAX;
 
+/// Longest machine-model synthesis, seconds: [`MACHINE_SYNTHESIS_TURNS`] at the library's
+/// slowest speed (`diagnosis::MIN_RPM`, 30 rpm) would be 256 s — at 48 kHz 12 M samples and
+/// some 10 s of physics per speed. Below 128 rpm the synthesis stops at 60 s (64 turns at
+/// 64 rpm): a recording of such a machine needs minutes for its own longest segments, and
+/// where the synthesis is too short for a band's segment that band discounts no line.
+pub const MACHINE_SYNTHESIS_MAX_S: f64 = 60.0;
+
 /// A cache slot: filled once by whichever caller gets to it first; other callers of the same
 /// key wait on it, callers of other keys do not.
 type Slot = Arc<Mutex<Option<Prepared>>>;
@@ -175,7 +182,8 @@ impl BaselineSource {
     /// envelope lines the diagnosis discounts as a baseline recording's
     /// (`close_loop::machine::MachineModel::simulate_healthy`: path, floor, lines, modulations
     /// and the declared healthy physics; [`MACHINE_SYNTHESIS_SEED`], the longer of
-    /// [`MACHINE_SYNTHESIS_S`] and [`MACHINE_SYNTHESIS_TURNS`]). A model that cannot be
+    /// [`MACHINE_SYNTHESIS_S`] and [`MACHINE_SYNTHESIS_TURNS`], at most
+    /// [`MACHINE_SYNTHESIS_MAX_S`]). A model that cannot be
     /// synthesised (physics seen through its own path, a declared fault, a declared model other
     /// than the 5-DOF physics) keeps no healthy envelope, and the note says so and why.
     fn with_synthesis(
@@ -185,7 +193,9 @@ impl BaselineSource {
     ) -> Prepared {
         let fs = m.fs_hz;
         let turns_s = MACHINE_SYNTHESIS_TURNS * 60.0 / rpm;
-        let duration_s = MACHINE_SYNTHESIS_S.max(turns_s);
+        let duration_s = MACHINE_SYNTHESIS_S
+            .max(turns_s)
+            .min(MACHINE_SYNTHESIS_MAX_S);
         let n = (duration_s * fs).ceil() as usize;
         let attached = m
             .simulate_healthy(rpm, n, MACHINE_SYNTHESIS_SEED)
