@@ -1159,18 +1159,7 @@ fn a_fault_nobody_declared_is_named_from_the_machine_model_106_235() {
 #[test]
 fn the_impacts_weaker_below_a_corner_is_a_high_pass_not_slip_146() {
     let Some(dir) = data_dir() else { return };
-    let cfg = mains_60();
-    let machine = &committed_rig("rig-12k");
-    let (rpm, x) = drive_end(&dir, 146);
-    let o = run_sized(
-        machine,
-        &x,
-        12_000.0,
-        rpm,
-        DeclaredFault::Outer,
-        0.007,
-        &cfg,
-    );
+    let o = outer_race_from_rig_12k(&dir, 146, 0.007);
     let hp = o
         .ledger
         .effects
@@ -1204,18 +1193,7 @@ fn the_impacts_weaker_below_a_corner_is_a_high_pass_not_slip_146() {
 #[test]
 fn the_high_pass_is_judged_before_slip_259() {
     let Some(dir) = data_dir() else { return };
-    let cfg = mains_60();
-    let machine = &committed_rig("rig-12k");
-    let (rpm, x) = drive_end(&dir, 259);
-    let o = run_sized(
-        machine,
-        &x,
-        12_000.0,
-        rpm,
-        DeclaredFault::Outer,
-        0.021,
-        &cfg,
-    );
+    let o = outer_race_from_rig_12k(&dir, 259, 0.021);
     let fx = &o.ledger.effects;
     let hp = fx
         .iter()
@@ -1233,4 +1211,19 @@ fn the_high_pass_is_judged_before_slip_259() {
         ),
         "{fx:#?}"
     );
+}
+
+/// A 12 kHz outer-race record `number`, untouched, run from the committed 12 kHz rig with its
+/// catalogued spall width declared and the 60 Hz mains.
+fn outer_race_from_rig_12k(dir: &std::path::Path, number: u32, size_in: f64) -> Outcome {
+    let (rpm, x) = drive_end(dir, number);
+    run_sized(
+        &committed_rig("rig-12k"),
+        &x,
+        12_000.0,
+        rpm,
+        DeclaredFault::Outer,
+        size_in,
+        &mains_60(),
+    )
 }

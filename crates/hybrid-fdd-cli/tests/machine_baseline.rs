@@ -62,17 +62,23 @@ fn prepared_from(
     BaselineSource::load(&json, "DE", None).unwrap().at(FS, RPM)
 }
 
-#[test]
-fn machine_model_is_a_diagnosis_baseline() {
+/// The machine model calibrated on the healthy rig's recording (48 kHz, seed 1) with the
+/// loop's default settings.
+fn calibrated_rig() -> close_loop::machine::MachineModel {
     let cfg = LoopConfig::default().check().unwrap();
-    let mut m = close_loop::machine::calibrate(
+    close_loop::machine::calibrate(
         &rig(48_000, 1),
         FS,
         RPM,
         bearing_model::Bearing::Skf6205,
         &cfg,
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn machine_model_is_a_diagnosis_baseline() {
+    let mut m = calibrated_rig();
     let order = m
         .path
         .as_ref()
@@ -153,15 +159,7 @@ fn machine_model_is_a_diagnosis_baseline() {
 #[test]
 fn machine_baseline_discounts_the_envelope_lines_its_model_holds() {
     use close_loop::effect::Modulation;
-    let cfg = LoopConfig::default().check().unwrap();
-    let mut m = close_loop::machine::calibrate(
-        &rig(48_000, 1),
-        FS,
-        RPM,
-        bearing_model::Bearing::Skf6205,
-        &cfg,
-    )
-    .unwrap();
+    let mut m = calibrated_rig();
     m.units = "g".into();
     let bpfi_hz = m.bearing_orders[1] * m.calibration_shaft_hz();
     let am: Vec<Modulation> = (1..=3)
@@ -235,15 +233,7 @@ fn machine_baseline_discounts_the_envelope_lines_its_model_holds() {
 /// zeros stands in for one.
 #[test]
 fn machine_baseline_that_cannot_be_synthesised_says_so() {
-    let cfg = LoopConfig::default().check().unwrap();
-    let m = close_loop::machine::calibrate(
-        &rig(48_000, 1),
-        FS,
-        RPM,
-        bearing_model::Bearing::Skf6205,
-        &cfg,
-    )
-    .unwrap();
+    let m = calibrated_rig();
     // physics seen through a path of its own (no time-domain synthesis), a model calibrated
     // on a recording declared faulty, a declared model whose parameters the file lacks
     let mut own_path = m.clone();
