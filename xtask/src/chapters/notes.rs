@@ -129,6 +129,13 @@ pub fn data_note(
     for m in w.meta() {
         per[m.class] += 1;
     }
+    let per_class = d
+        .classes
+        .iter()
+        .zip(&per)
+        .map(|(c, n)| format!("{} {n}", class_label(c)))
+        .collect::<Vec<_>>()
+        .join(", ");
     let text = if d.is_cwru() {
         let sim = cache.cwru_simulated();
         format!(
@@ -142,12 +149,7 @@ pub fn data_note(
                 Condition::FixedLoad { load_hp } => format!("{load_hp} hp"),
                 _ => format!("loads {:?} hp pooled", cfg.loads),
             },
-            d.classes
-                .iter()
-                .zip(&per)
-                .map(|(c, n)| format!("{} {n}", class_label(c)))
-                .collect::<Vec<_>>()
-                .join(", "),
+            per_class,
             match d.condition {
                 Condition::FixedLoad { load_hp } if load_hp > 0 =>
                     ", reused at this load (no normal recording at 1–3 hp in the shared data)",
@@ -164,12 +166,7 @@ pub fn data_note(
                 _ => format!("speeds {:?} rpm pooled", cfg.rpms),
             },
             inputs::MULTI_FS,
-            d.classes
-                .iter()
-                .zip(&per)
-                .map(|(c, n)| format!("{} {n}", class_label(c)))
-                .collect::<Vec<_>>()
-                .join(", "),
+            per_class,
         )
     };
     Ok(DataNote {
