@@ -24,6 +24,92 @@ pub trait Inner {
 pub enum KernelInner<K1: Inner, K2: Inner> {
     Dense(K1),
     Sparse(K2),
+    /// hybrid-fdd patch (see vendor/README.md): a dense linear kernel kept as its records,
+    /// every entry computed when it is read.
+    Linear(LinearRows<K1::Elem>),
+}
+
+/// hybrid-fdd patch (see vendor/README.md): the dense linear kernel `K = X·Xᵀ` of `n` records of
+/// `d` features, held as the records (n·d numbers instead of n²). An entry is computed when read,
+/// with the same products and summation order as [`crate::KernelMethod::distance`], so every
+/// entry equals the materialised dense kernel's bit for bit. The SMO solver reads a few
+/// columns per iteration; building all n² entries up front cost more than the solver itself
+/// on the one-feature problems of hybrid-fdd's chapters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearRows<F> {
+    rows: Vec<F>,
+    n: usize,
+    d: usize,
+}
+
+impl<F: Float> LinearRows<F> {
+    /// The kernel of the records `x` (one per row).
+    pub fn new<D: Data<Elem = F>>(x: &ArrayBase<D, Ix2>) -> Self {
+        Self {
+            rows: x.iter().copied().collect(),
+            n: x.nrows(),
+            d: x.ncols(),
+        }
+    }
+
+    fn row(&self, i: usize) -> &[F] {
+        &self.rows[i * self.d..(i + 1) * self.d]
+    }
+
+    /// Entry (i, j), with `buf` of length d as scratch.
+    #[inline]
+    fn entry(&self, i: usize, j: usize, buf: &mut [F]) -> F {
+        crate::products_into(buf, self.row(i), self.row(j));
+        crate::unrolled_sum(buf)
+    }
+
+    /// The materialised matrix (for the rarely used whole-matrix operations).
+    fn to_dense(&self) -> Array2<F> {
+        let mut buf = vec![F::zero(); self.d];
+        Array2::from_shape_fn((self.n, self.n).f(), |(i, j)| self.entry(i, j, &mut buf))
+    }
+}
+
+impl<F: Float> Inner for LinearRows<F> {
+    type Elem = F;
+
+    fn dot(&self, rhs: &ArrayView2<F>) -> Array2<F> {
+        self.to_dense().dot(rhs)
+    }
+    fn sum(&self) -> Array1<F> {
+        self.to_dense().sum_axis(Axis(1))
+    }
+    fn size(&self) -> usize {
+        self.n
+    }
+    fn column(&self, i: usize) -> Vec<F> {
+        if self.d == 1 {
+            // One feature: `unrolled_sum(&[x_j·x_i])` is `0 + x_j·x_i` (the zero keeps a
+            // negative-zero product's sign as upstream's sum does); written out so the column
+            // vectorises like the copy of a materialised one.
+            let xi = self.rows[i];
+            return self.rows.iter().map(|&xj| F::zero() + xj * xi).collect();
+        }
+        let mut buf = vec![F::zero(); self.d];
+        (0..self.n).map(|j| self.entry(j, i, &mut buf)).collect()
+    }
+    fn to_upper_triangle(&self) -> Vec<F> {
+        let mut buf = vec![F::zero(); self.d];
+        let mut out = Vec::with_capacity(self.n * self.n.saturating_sub(1) / 2);
+        for i in 0..self.n {
+            for j in i + 1..self.n {
+                out.push(self.entry(i, j, &mut buf));
+            }
+        }
+        out
+    }
+    fn diagonal(&self) -> Array1<F> {
+        let mut buf = vec![F::zero(); self.d];
+        Array1::from_iter((0..self.n).map(|i| self.entry(i, i, &mut buf)))
+    }
+    fn is_dense(&self) -> bool {
+        true
+    }
 }
 
 impl<F: Float, D: Data<Elem = F>> Inner for ArrayBase<D, Ix2> {

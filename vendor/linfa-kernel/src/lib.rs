@@ -122,6 +122,7 @@ impl<F: Float, K1: Inner<Elem = F>, K2: Inner<Elem = F>> KernelBase<K1, K2> {
         match &self.inner {
             KernelInner::Dense(inn) => inn.dot(rhs),
             KernelInner::Sparse(inn) => inn.dot(rhs),
+            KernelInner::Linear(inn) => inn.dot(rhs),
         }
     }
 
@@ -134,6 +135,7 @@ impl<F: Float, K1: Inner<Elem = F>, K2: Inner<Elem = F>> KernelBase<K1, K2> {
         match &self.inner {
             KernelInner::Dense(inn) => inn.sum(),
             KernelInner::Sparse(inn) => inn.sum(),
+            KernelInner::Linear(inn) => inn.sum(),
         }
     }
 
@@ -142,6 +144,7 @@ impl<F: Float, K1: Inner<Elem = F>, K2: Inner<Elem = F>> KernelBase<K1, K2> {
         match &self.inner {
             KernelInner::Dense(inn) => inn.size(),
             KernelInner::Sparse(inn) => inn.size(),
+            KernelInner::Linear(inn) => inn.size(),
         }
     }
 
@@ -162,6 +165,7 @@ impl<F: Float, K1: Inner<Elem = F>, K2: Inner<Elem = F>> KernelBase<K1, K2> {
         match &self.inner {
             KernelInner::Dense(inn) => inn.column(i),
             KernelInner::Sparse(inn) => inn.column(i),
+            KernelInner::Linear(inn) => inn.column(i),
         }
     }
 
@@ -176,6 +180,7 @@ impl<F: Float, K1: Inner<Elem = F>, K2: Inner<Elem = F>> KernelBase<K1, K2> {
         match &self.inner {
             KernelInner::Dense(inn) => inn.to_upper_triangle(),
             KernelInner::Sparse(inn) => inn.to_upper_triangle(),
+            KernelInner::Linear(inn) => inn.to_upper_triangle(),
         }
     }
 
@@ -189,6 +194,7 @@ impl<F: Float, K1: Inner<Elem = F>, K2: Inner<Elem = F>> KernelBase<K1, K2> {
         match &self.inner {
             KernelInner::Dense(inn) => inn.diagonal(),
             KernelInner::Sparse(inn) => inn.diagonal(),
+            KernelInner::Linear(inn) => inn.diagonal(),
         }
     }
 }
@@ -199,6 +205,11 @@ impl<'a, F: Float> Kernel<F> {
         params: &KernelParams<F, N>,
     ) -> Kernel<F> {
         let inner = match params.kind {
+            // hybrid-fdd patch (see vendor/README.md): a dense linear kernel is kept as its
+            // records, its entries computed when read (bit-identical to `dense_from_fn`'s).
+            KernelType::Dense if matches!(params.method, KernelMethod::Linear) => {
+                KernelInner::Linear(inner::LinearRows::new(&dataset))
+            }
             KernelType::Dense => KernelInner::Dense(dense_from_fn(&dataset, &params.method)),
             KernelType::Sparse(k) => {
                 KernelInner::Sparse(sparse_from_fn(&dataset, k, &params.method, &params.nn_algo))
@@ -217,6 +228,7 @@ impl<'a, F: Float> Kernel<F> {
             inner: match &self.inner {
                 KernelInner::Dense(inn) => KernelInner::Dense(inn.view()),
                 KernelInner::Sparse(inn) => KernelInner::Sparse(inn.view()),
+                KernelInner::Linear(inn) => KernelInner::Linear(inn.clone()),
             },
             method: self.method.clone(),
         }
@@ -229,6 +241,7 @@ impl<F: Float> KernelView<'_, F> {
             inner: match &self.inner {
                 KernelInner::Dense(inn) => KernelInner::Dense(inn.to_owned()),
                 KernelInner::Sparse(inn) => KernelInner::Sparse(inn.to_owned()),
+                KernelInner::Linear(inn) => KernelInner::Linear(inn.clone()),
             },
             method: self.method.clone(),
         }
@@ -497,11 +510,11 @@ fn dense_from_fn<F: Float, D: Data<Elem = F>>(
             let b = dataset.row(j);
             let value = match *method {
                 KernelMethod::Linear => {
-                    products_into(&mut products, a, b);
+                    products_into(&mut products, a.iter(), b.iter());
                     unrolled_sum(&products)
                 }
                 KernelMethod::Polynomial(c, d) => {
-                    products_into(&mut products, a, b);
+                    products_into(&mut products, a.iter(), b.iter());
                     (unrolled_sum(&products) + c).powf(d)
                 }
                 KernelMethod::Gaussian(_) => method.distance(a, b),
@@ -518,15 +531,19 @@ fn dense_from_fn<F: Float, D: Data<Elem = F>>(
 }
 
 /// `out[k] = a[k] * b[k]`, the elements of upstream's `a.mul(&b)` in logical order.
-fn products_into<F: Float>(out: &mut [F], a: ArrayView1<F>, b: ArrayView1<F>) {
-    for ((o, x), y) in out.iter_mut().zip(a.iter()).zip(b.iter()) {
+pub(crate) fn products_into<'a, F: Float + 'a>(
+    out: &mut [F],
+    a: impl IntoIterator<Item = &'a F>,
+    b: impl IntoIterator<Item = &'a F>,
+) {
+    for ((o, x), y) in out.iter_mut().zip(a).zip(b) {
         *o = *x * *y;
     }
 }
 
 /// ndarray 0.16's `numeric_util::unrolled_fold(xs, zero, add)`, the order `ArrayBase::sum` uses
 /// for a contiguous array (as `a.mul(&b)` is), copied so the patched kernel keeps its rounding.
-fn unrolled_sum<F: Float>(mut xs: &[F]) -> F {
+pub(crate) fn unrolled_sum<F: Float>(mut xs: &[F]) -> F {
     let mut acc = F::zero();
     let (mut p0, mut p1, mut p2, mut p3, mut p4, mut p5, mut p6, mut p7) = (
         F::zero(),
@@ -677,6 +694,56 @@ mod tests {
                         assert_eq!(k[(i, j)].to_bits(), upstream.to_bits(), "d {d}, ({i}, {j})");
                     }
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn lazy_linear_kernel_is_bit_identical_to_the_dense_one() {
+        // hybrid-fdd patch: a dense linear kernel is built as `KernelInner::Linear`; its
+        // columns, diagonal and upper triangle equal the materialised kernel's bit for bit.
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for d in [1usize, 3, 8, 9, 20] {
+            let data = Array2::from_shape_fn((17, d), |_| next() * 1e2);
+            let dense = dense_from_fn(&data, &KernelMethod::Linear);
+            let kernel = Kernel::params()
+                .method(KernelMethod::Linear)
+                .transform(&data);
+            assert!(matches!(kernel.inner, KernelInner::Linear(_)), "d {}", d);
+            assert_eq!(kernel.size(), 17);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            for i in 0..17 {
+                assert_eq!(bits(&kernel.column(i)), bits(&dense.column(i).to_vec()), "d {d}");
+            }
+            assert_eq!(
+                bits(kernel.diagonal().as_slice().unwrap()),
+                bits(&dense.diag().to_vec()),
+                "d {d}"
+            );
+            let upper: Vec<f64> = dense
+                .indexed_iter()
+                .filter(|((r, c), _)| c > r)
+                .map(|(_, v)| *v)
+                .collect();
+            assert_eq!(kernel.to_upper_triangle().len(), upper.len());
+        }
+        // Signed zeros: a product of -0 must come out as upstream's sum makes it (+0).
+        let data = Array2::<f64>::from_shape_vec((4, 1), vec![-0.0, 0.0, 1.5, -2.0]).unwrap();
+        let dense = dense_from_fn(&data, &KernelMethod::Linear);
+        let kernel = Kernel::params()
+            .method(KernelMethod::Linear)
+            .transform(&data);
+        for i in 0..4 {
+            for (j, v) in kernel.column(i).iter().enumerate() {
+                let upstream = KernelMethod::Linear.distance(data.row(j), data.row(i));
+                assert_eq!(v.to_bits(), upstream.to_bits(), "({}, {})", i, j);
+                assert_eq!(v.to_bits(), dense[(j, i)].to_bits(), "({}, {})", i, j);
             }
         }
     }
@@ -983,6 +1050,7 @@ mod tests {
                 (KernelInner::Sparse(m1), KernelInner::Sparse(m2)) => {
                     assert!(kernels_almost_equal(m1, m2))
                 }
+                (KernelInner::Linear(m1), KernelInner::Linear(m2)) => assert_eq!(m1, m2),
                 _ => panic!("Kernel inners must match!"),
             };
         }
@@ -1019,6 +1087,7 @@ mod tests {
                 (KernelInner::Sparse(m1), KernelInner::Sparse(m2)) => {
                     assert!(kernels_almost_equal(m1, m2))
                 }
+                (KernelInner::Linear(m1), KernelInner::Linear(m2)) => assert_eq!(m1, m2),
                 _ => panic!("Kernel inners must match!"),
             };
         }
@@ -1049,6 +1118,7 @@ mod tests {
                 (KernelInner::Sparse(m1), KernelInner::Sparse(m2)) => {
                     assert!(kernels_almost_equal(m1, m2))
                 }
+                (KernelInner::Linear(m1), KernelInner::Linear(m2)) => assert_eq!(m1, m2),
                 _ => panic!("Kernel inners must match!"),
             };
         }
@@ -1079,6 +1149,7 @@ mod tests {
                 (KernelInner::Sparse(m1), KernelInner::Sparse(m2)) => {
                     assert!(kernels_almost_equal(m1, m2))
                 }
+                (KernelInner::Linear(m1), KernelInner::Linear(m2)) => assert_eq!(m1, m2),
                 _ => panic!("Kernel inners must match!"),
             };
         }
