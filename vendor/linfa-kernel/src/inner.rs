@@ -33,8 +33,8 @@ pub enum KernelInner<K1: Inner, K2: Inner> {
 /// `d` features, held as the records (n·d numbers instead of n²). An entry is computed when read,
 /// with the same products and summation order as [`crate::KernelMethod::distance`], so every
 /// entry equals the materialised dense kernel's bit for bit. The SMO solver reads a few
-/// columns per iteration; building all n² entries up front cost more than the solver itself
-/// on the one-feature problems of hybrid-fdd's chapters.
+/// columns per iteration; on the one-feature problems of hybrid-fdd's chapters building all n²
+/// entries up front was a fifth to a third of the CPU time.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearRows<F> {
     rows: Vec<F>,
@@ -63,10 +63,12 @@ impl<F: Float> LinearRows<F> {
         crate::unrolled_sum(buf)
     }
 
-    /// The materialised matrix (for the rarely used whole-matrix operations).
+    /// The materialised matrix (for the rarely used whole-matrix operations): the dense
+    /// kernel `Kernel::new` would otherwise have built.
     fn to_dense(&self) -> Array2<F> {
-        let mut buf = vec![F::zero(); self.d];
-        Array2::from_shape_fn((self.n, self.n).f(), |(i, j)| self.entry(i, j, &mut buf))
+        let x = ArrayView2::from_shape((self.n, self.d), &self.rows)
+            .expect("n × d records for an n × d shape");
+        crate::dense_from_fn(&x, &crate::KernelMethod::Linear)
     }
 }
 
@@ -84,9 +86,9 @@ impl<F: Float> Inner for LinearRows<F> {
     }
     fn column(&self, i: usize) -> Vec<F> {
         if self.d == 1 {
-            // One feature: `unrolled_sum(&[x_j·x_i])` is `0 + x_j·x_i` (the zero keeps a
-            // negative-zero product's sign as upstream's sum does); written out so the column
-            // vectorises like the copy of a materialised one.
+            // One feature: `unrolled_sum(&[x_j·x_i])` is `0 + x_j·x_i` (so a product of −0
+            // comes out +0, as upstream's sum makes it); written out so the column vectorises
+            // like the copy of a materialised one.
             let xi = self.rows[i];
             return self.rows.iter().map(|&xj| F::zero() + xj * xi).collect();
         }

@@ -490,7 +490,7 @@ impl<
     }
 }
 
-fn dense_from_fn<F: Float, D: Data<Elem = F>>(
+pub(crate) fn dense_from_fn<F: Float, D: Data<Elem = F>>(
     dataset: &ArrayBase<D, Ix2>,
     method: &KernelMethod<F>,
 ) -> Array2<F> {
