@@ -17,6 +17,8 @@ use close_loop::{
 
 /// Flags of this task.
 #[derive(clap::Args, Debug)]
+// a negative --rpm or --fs gets the range error, not "unexpected argument"
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Recording: a CWRU `.mat` file (named by its number, e.g. `105.mat`), any other MAT-file
     /// (the signal at the top level or inside structs and cells), a one-column `.csv`, or
@@ -83,6 +85,8 @@ pub struct Args {
 
 /// Flags of `hybrid-fdd calibrate` (and `cargo xtask calibrate`).
 #[derive(clap::Args, Debug)]
+// a negative --rpm or --fs gets the range error, not "unexpected argument"
+#[command(allow_negative_numbers = true)]
 pub struct CalibrateArgs {
     /// Healthy recording (`.mat` or text, read as `close-loop --input`).
     #[arg(long)]

@@ -21,6 +21,8 @@ use std::path::{Path, PathBuf};
 
 /// Flags of this task.
 #[derive(clap::Args, Debug)]
+// a negative --rpm or --fs gets the range error, not "unexpected argument"
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Fault class: none|inner|outer|ball|inner+outer|inner+ball|outer+ball|inner+outer+ball.
     #[arg(long, default_value = "none")]

@@ -13,6 +13,8 @@ use crate::diagnose::{
 
 /// Flags of `train-classifier`.
 #[derive(clap::Args, Debug, Clone)]
+// a negative --rpm or --fs gets the range error, not "unexpected argument"
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// CSV of labelled recordings with a header: columns `file` (path, relative to the CSV) and
     /// `label` (e.g. normal, inner, outer, ball), optional `load_hp` and `rpm` (a row's `rpm`

@@ -1,6 +1,7 @@
 //! QA's minor findings, as a user meets them through the flags: a fault location named twice, a
 //! fault onset outside the recording, reports that state no unit for their amplitudes, a
-//! textbook ball spin given as `bsf`, and a bearing spec echoed in lower case.
+//! textbook ball spin given as `bsf`, a bearing spec echoed in lower case, and a negative speed
+//! or rate read as an unknown flag.
 
 mod common;
 
@@ -238,4 +239,64 @@ fn a_textbook_ball_spin_as_bsf_is_refused() {
     );
     assert!(e.contains("textbook ball-spin"), "{e}");
     let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_negative_speed_or_rate_gets_the_range_error_not_a_parse_error() {
+    let d = dir("qa_negative");
+    let csv = d.join("x.csv");
+    std::fs::write(&csv, "1\n-1\n".repeat(4096)).unwrap();
+    // diagnose: --rpm -5 is parsed as a number and refused by the speed's range check
+    let a = Diagnose::try_parse_from([
+        "diagnose",
+        "--input",
+        s(&csv),
+        "--fs",
+        "12000",
+        "--rpm",
+        "-5",
+        "--bearing",
+        "6205",
+        "--report",
+        s(&d.join("r.json")),
+    ])
+    .expect("a negative number is a value, not a flag")
+    .a;
+    let e = format!("{:#}", hybrid_fdd_cli::diagnose::run(&a).unwrap_err());
+    assert!(e.contains("-5 rpm out of range"), "{e}");
+    // close-loop and calibrate: --fs -12000
+    let c = CloseLoop::try_parse_from([
+        "close-loop",
+        "--input",
+        s(&csv),
+        "--fs",
+        "-12000",
+        "--report",
+        s(&d.join("c.json")),
+    ])
+    .expect("a negative number is a value, not a flag")
+    .a;
+    let e = format!("{:#}", hybrid_fdd_cli::close_loop::run(c).unwrap_err());
+    assert!(e.contains("-12000"), "{e}");
+    let c = Calibrate::try_parse_from([
+        "calibrate",
+        "--input",
+        s(&csv),
+        "--fs",
+        "12000",
+        "--rpm",
+        "-1797",
+        "--out",
+        s(&d.join("m.json")),
+    ])
+    .expect("a negative number is a value, not a flag")
+    .a;
+    let e = format!(
+        "{:#}",
+        hybrid_fdd_cli::close_loop::calibrate(c).unwrap_err()
+    );
+    assert!(e.contains("-1797"), "{e}");
+    // simulate: --rpm -100
+    let e = simulate_error(&d, &["--rpm", "-100"]);
+    assert!(e.contains("--rpm must be > 0 (got -100)"), "{e}");
 }

@@ -8,6 +8,8 @@ use super::{BaselineSource, Plan};
 
 /// Flags of `diagnose`.
 #[derive(clap::Args, Debug, Clone, Default)]
+// a negative --rpm or --fs gets the range error, not "unexpected argument"
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Recording: a CWRU `.mat` file (named by its number, e.g. `130.mat`), any other MAT-file
     /// (v5–v7, the signal at the top level or inside structs and cells: MFPT's `bearing.gs`,
