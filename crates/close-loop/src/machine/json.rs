@@ -11,15 +11,30 @@ pub(crate) fn parse_versioned<T: serde::de::DeserializeOwned>(
     version: u32,
     head: impl Fn(&T) -> (&String, u32),
 ) -> Result<T, CloseLoopError> {
+    // The header first: another kind of file (a rig model given where a machine model is
+    // expected) or another version is named as such, not as the first field the body lacks.
+    #[derive(serde::Deserialize)]
+    struct Header {
+        format: String,
+        version: u32,
+    }
+    if let Ok(h) = serde_json::from_str::<Header>(text) {
+        check_header(&h.format, h.version, format, version)?;
+    }
     let m: T = serde_json::from_str(text).map_err(|e| CloseLoopError::MachineModelFormat {
         reason: e.to_string(),
     })?;
     let (f, v) = head(&m);
+    check_header(f, v, format, version)?;
+    Ok(m)
+}
+
+fn check_header(f: &str, v: u32, format: &str, version: u32) -> Result<(), CloseLoopError> {
     if f != format {
         return Err(CloseLoopError::MachineModelMismatch {
             what: "format",
             expected: format.to_string(),
-            found: f.clone(),
+            found: f.to_string(),
         });
     }
     if v != version {
@@ -29,7 +44,7 @@ pub(crate) fn parse_versioned<T: serde::de::DeserializeOwned>(
             found: v.to_string(),
         });
     }
-    Ok(m)
+    Ok(())
 }
 
 /// The `format` string of a machine model file.
@@ -126,5 +141,46 @@ impl MachineModel {
             });
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn another_kind_or_version_is_named_before_the_fields_it_lacks() {
+        // a rig model (`calibrate-rig`) given where a machine model is expected
+        let rig = r#"{"format": "hybrid-fdd/rig-model", "version": 1, "fs_hz": 12000.0}"#;
+        match MachineModel::from_json(rig) {
+            Err(CloseLoopError::MachineModelMismatch {
+                what: "format",
+                found,
+                ..
+            }) => assert_eq!(found, "hybrid-fdd/rig-model"),
+            other => panic!("{other:?}"),
+        }
+        // and the other way round
+        let machine = r#"{"format": "hybrid-fdd/machine-model", "version": 1}"#;
+        assert!(matches!(
+            crate::rig::RigModel::from_json(machine),
+            Err(CloseLoopError::MachineModelMismatch { what: "format", .. })
+        ));
+        // a later version whose fields differ
+        let later = r#"{"format": "hybrid-fdd/machine-model", "version": 2, "new": []}"#;
+        assert!(matches!(
+            MachineModel::from_json(later),
+            Err(CloseLoopError::MachineModelMismatch {
+                what: "version",
+                ..
+            })
+        ));
+        // the right header with a body that lacks fields: the field is named
+        match MachineModel::from_json(machine) {
+            Err(CloseLoopError::MachineModelFormat { reason }) => {
+                assert!(reason.contains("missing field"), "{reason}")
+            }
+            other => panic!("{other:?}"),
+        }
     }
 }
