@@ -154,19 +154,15 @@ impl Decimator {
     /// Filter and keep every `D`-th sample: `y[m] = Σ_j h[j] · x[mD − M + j]`, with mirror
     /// extension beyond the ends. Output length `⌈len/D⌉`; output `m` aligns with input `mD`.
     ///
-    /// Errors: empty input ([`DataError::Empty`]); a NaN/∞ sample ([`DataError::NonFinite`]).
+    /// Errors: empty input ([`DataError::Empty`]); a NaN/∞ sample ([`DataError::NonFinite`]); a sample
+    /// of magnitude ≥ [`crate::MAX_SAMPLE_MAGNITUDE`] ([`DataError::SampleTooLarge`]).
     pub fn decimate(&self, x: &[f64]) -> Result<Vec<f64>> {
         if x.is_empty() {
             return Err(DataError::Empty {
                 what: "signal to decimate",
             });
         }
-        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
-            return Err(DataError::NonFinite {
-                what: "signal to decimate".into(),
-                index,
-            });
-        }
+        crate::error::check_samples(|| "signal to decimate".into(), x, 0)?;
         let d = self.params.factor;
         if d == 1 {
             return Ok(x.to_vec());

@@ -119,6 +119,18 @@ pub enum DataError {
         /// Sample index (0-based; for CSV the data row).
         index: usize,
     },
+    /// A sample so large that its square (every energy and power downstream) overflows.
+    #[error(
+        "sample {value:e} in {what} at index {index} is too large: its square overflows (|x| must be below {MAX_SAMPLE_MAGNITUDE:e})"
+    )]
+    SampleTooLarge {
+        /// Which channel or column.
+        what: String,
+        /// Sample index (0-based; for CSV the data row).
+        index: usize,
+        /// The sample.
+        value: f64,
+    },
     /// A signal with no samples where samples are needed.
     #[error("empty input: {what}")]
     Empty {
@@ -205,3 +217,28 @@ pub enum DataError {
 
 /// Shorthand for `Result<T, DataError>`.
 pub type Result<T> = std::result::Result<T, DataError>;
+
+/// Largest sample magnitude a recording may hold: energies and powers are sums of squares, and
+/// the square of 1e154 already overflows f64, so 1e150 leaves room for sums of 10⁸ samples.
+pub const MAX_SAMPLE_MAGNITUDE: f64 = 1e150;
+
+/// The one check every reader applies to the samples it returns: finite
+/// ([`DataError::NonFinite`]) and below [`MAX_SAMPLE_MAGNITUDE`] ([`DataError::SampleTooLarge`]);
+/// `x[0]` is sample `first` of the recording (the index the error names).
+pub(crate) fn check_samples(what: impl FnOnce() -> String, x: &[f64], first: usize) -> Result<()> {
+    match x
+        .iter()
+        .position(|v| !(v.is_finite() && v.abs() < MAX_SAMPLE_MAGNITUDE))
+    {
+        None => Ok(()),
+        Some(i) if !x[i].is_finite() => Err(DataError::NonFinite {
+            what: what(),
+            index: first + i,
+        }),
+        Some(i) => Err(DataError::SampleTooLarge {
+            what: what(),
+            index: first + i,
+            value: x[i],
+        }),
+    }
+}

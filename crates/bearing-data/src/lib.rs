@@ -54,7 +54,7 @@ pub use catalog::{
 };
 pub use checksum::{FileStatus, Verify, check_file, sha256_hex, verify_bytes};
 pub use decimate::{Decimator, DecimatorParams, decimate, integer_factor};
-pub use error::{DataError, Result};
+pub use error::{DataError, MAX_SAMPLE_MAGNITUDE, Result};
 pub use grades::smith_randall_grade;
 pub use location::{DATA_DIR_ENV, DataLocation, ci_from_env};
 pub use mat::{VariableSet, read_variable_sets, select_set, validate_structure};

@@ -183,10 +183,7 @@ fn check_channel(name: String, v: &[f64], expected: usize) -> Result<()> {
             found: v.len(),
         });
     }
-    if let Some(index) = v.iter().position(|x| !x.is_finite()) {
-        return Err(DataError::NonFinite { what: name, index });
-    }
-    Ok(())
+    crate::error::check_samples(|| name, v, 0)
 }
 
 /// Parse the bytes of CWRU record `number` (no checksum): pick the variable set the catalog

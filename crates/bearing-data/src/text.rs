@@ -76,12 +76,7 @@ impl Signal {
                 what: "signal has no samples",
             });
         }
-        if let Some(index) = samples.iter().position(|v| !v.is_finite()) {
-            return Err(DataError::NonFinite {
-                what: "signal".into(),
-                index,
-            });
-        }
+        crate::error::check_samples(|| "signal".into(), &samples, 0)?;
         Ok(Self { fs_hz, samples })
     }
     /// Sampling rate in Hz.
@@ -182,12 +177,7 @@ pub fn read_csv<R: Read>(reader: R, opts: &CsvOptions) -> Result<Signal> {
             column: c,
             text: truncate(field),
         })?;
-        if !v.is_finite() {
-            return Err(DataError::NonFinite {
-                what: format!("CSV column {c}"),
-                index: samples.len(),
-            });
-        }
+        crate::error::check_samples(|| format!("CSV column {c}"), &[v], samples.len())?;
         samples.push(v);
     }
     if samples.is_empty() {

@@ -74,6 +74,12 @@ fn bad_csv_inputs_are_typed_errors() {
         read("1\ninf\n", Column::Single),
         Err(DataError::NonFinite { .. })
     ));
+    // finite, but its square overflows every energy downstream
+    assert!(matches!(
+        read("1\n2\n-1e300\n", Column::Single),
+        Err(DataError::SampleTooLarge { index: 2, value, .. }) if value == -1e300
+    ));
+    assert!(read("1\n1e149\n", Column::Single).is_ok());
     assert!(matches!(
         read("1,2\n3,4\n", Column::Single),
         Err(DataError::CsvSeveralColumns { .. })

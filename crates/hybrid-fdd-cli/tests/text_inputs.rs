@@ -70,6 +70,21 @@ fn a_non_finite_sample_names_the_file_line_and_column() {
     assert!(e.contains("non-finite"), "{e}");
 }
 
+/// A finite sample whose square overflows is named like a non-finite one.
+#[test]
+fn a_sample_whose_square_overflows_names_the_file_line_and_column() {
+    let (body, _) = rows(50, 1000.0, ",");
+    let mut lines: Vec<String> = body.lines().map(str::to_string).collect();
+    lines[9] = format!("{},1e300", lines[9].split(',').next().unwrap());
+    let p = write("huge2.csv", &format!("time,vib\n{}\n", lines.join("\n")));
+    let e = load(&p, "DE", None).expect_err("1e300").to_string();
+    assert!(e.contains("huge2.csv") && e.contains("line 11"), "{e}");
+    assert!(
+        e.contains("column 2 (`vib`)") && e.contains("too large"),
+        "{e}"
+    );
+}
+
 /// QA m2: a UTF-8 byte-order mark and double quotes around header names and numbers.
 #[test]
 fn a_byte_order_mark_and_quotes_are_dropped() {

@@ -95,6 +95,17 @@ fn csv_error(
                 col(signal)
             ),
         },
+        bearing_data::DataError::SampleTooLarge { index, value, .. } => {
+            let at = match lines.get(index) {
+                Some((line, _)) => format!("line {line}"),
+                None => format!("data row {}", index + 1),
+            };
+            anyhow::anyhow!(
+                "{name}: {at}, {}: sample {value:e} is too large: its square overflows (|x| must be below {:e})",
+                col(signal),
+                bearing_data::MAX_SAMPLE_MAGNITUDE
+            )
+        }
         bearing_data::DataError::CsvNotANumber { line, column, text } => {
             anyhow::anyhow!(
                 "{name}: line {line}, {}: {text:?} is not a number",
