@@ -224,8 +224,12 @@ pub const MAX_SAMPLE_MAGNITUDE: f64 = 1e150;
 
 /// The one check every reader applies to the samples it returns: finite
 /// ([`DataError::NonFinite`]) and below [`MAX_SAMPLE_MAGNITUDE`] ([`DataError::SampleTooLarge`]);
-/// `x[0]` is sample `first` of the recording (the index the error names).
-pub(crate) fn check_samples(what: impl FnOnce() -> String, x: &[f64], first: usize) -> Result<()> {
+/// `x[0]` is sample `first` of the recording (the index the error names). Public for readers
+/// outside this crate (a caller's own format), so that they check the same way.
+///
+/// # Errors
+/// The first sample that fails, as above, with `what()` naming the channel or column.
+pub fn check_samples(what: impl FnOnce() -> String, x: &[f64], first: usize) -> Result<()> {
     match x
         .iter()
         .position(|v| !(v.is_finite() && v.abs() < MAX_SAMPLE_MAGNITUDE))

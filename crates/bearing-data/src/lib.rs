@@ -16,6 +16,11 @@
 //! * [`SampleUnit`]: the unit of a recording's samples as far as it is known (the one unit type
 //!   of the reports and machine models).
 //!
+//! Every reader checks the samples it returns the same way: NaN or ±∞ is
+//! [`DataError::NonFinite`], a finite sample of magnitude ≥ [`MAX_SAMPLE_MAGNITUDE`] (1e150, whose
+//! square overflows every energy downstream) is [`DataError::SampleTooLarge`]; both name the
+//! channel or column and the sample.
+//!
 //! Dependencies and why: `matfile` (pure-Rust MAT v5 reader; no HDF5/C toolchain, reads the
 //! CWRU v5 files including small-element rpm scalars; it skips structs, cells and text, so
 //! [`read_mat_tree`] walks those itself), `flate2` (zlib for MATLAB's compressed elements; already
@@ -54,7 +59,7 @@ pub use catalog::{
 };
 pub use checksum::{FileStatus, Verify, check_file, sha256_hex, verify_bytes};
 pub use decimate::{Decimator, DecimatorParams, decimate, integer_factor};
-pub use error::{DataError, MAX_SAMPLE_MAGNITUDE, Result};
+pub use error::{DataError, MAX_SAMPLE_MAGNITUDE, Result, check_samples};
 pub use grades::smith_randall_grade;
 pub use location::{DATA_DIR_ENV, DataLocation, ci_from_env};
 pub use mat::{VariableSet, read_variable_sets, select_set, validate_structure};

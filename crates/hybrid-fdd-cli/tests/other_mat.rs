@@ -60,6 +60,34 @@ fn a_signal_in_a_compressed_struct_is_found_with_its_stored_rate() {
 }
 
 #[test]
+fn a_bad_sample_in_another_mat_file_is_named_with_its_variable() {
+    let d = dir("other-mat-bad-sample");
+    for (name, bad, says) in [
+        (
+            "nan.mat",
+            f64::NAN,
+            "non-finite sample in `vib` at index 123",
+        ),
+        (
+            "huge.mat",
+            1e300,
+            "sample 1e300 in `vib` at index 123 is too large",
+        ),
+    ] {
+        let mut x = machine(Fault::Outer, 20_000.0, 1500.0, 1.0, 3);
+        x[123] = bad;
+        let f = d.join(name);
+        let vars = [
+            ("vib", MatArray::Double(vec![x.len(), 1], x)),
+            ("fs", MatArray::Double(vec![1, 1], vec![20_000.0])),
+        ];
+        std::fs::write(&f, write_mat(&vars, false)).unwrap();
+        let e = format!("{:#}", diagnose(&f, &[]).unwrap_err());
+        assert!(e.contains(name) && e.contains(says), "{e}");
+    }
+}
+
+#[test]
 fn a_struct_arrays_signal_is_chosen_by_its_name() {
     let d = dir("other-mat-named");
     let x = machine(Fault::Outer, 20_000.0, 1500.0, 2.0, 4);

@@ -258,14 +258,8 @@ fn load_generic_mat(
         .iter()
         .filter(|l| l.last_name().eq_ignore_ascii_case("rpm") && l.parent() == parent)
         .find_map(|l| l.scalar().filter(|v| v.is_finite() && *v > 0.0));
-    if let Some((i, _)) = signal
-        .samples
-        .iter()
-        .enumerate()
-        .find(|(_, v)| !v.is_finite())
-    {
-        bail!("{name}: sample {i} of `{}` is not finite", signal.path);
-    }
+    bearing_data::check_samples(|| format!("`{}`", signal.path), &signal.samples, 0)
+        .with_context(|| name.to_string())?;
     Ok(Loaded {
         samples: signal.samples,
         fs_hz,
