@@ -64,6 +64,8 @@ impl MachineModel {
     }
 
     /// Parse and validate a machine model (format, version, finite positive rates and levels).
+    /// The header is read first, so another kind of file (a rig model of `calibrate-rig`) or
+    /// another version is named as such rather than by the first field its body lacks.
     ///
     /// # Errors
     /// [`CloseLoopError::MachineModelFormat`] or [`CloseLoopError::MachineModelMismatch`].
