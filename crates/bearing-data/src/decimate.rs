@@ -154,8 +154,8 @@ impl Decimator {
     /// Filter and keep every `D`-th sample: `y[m] = Σ_j h[j] · x[mD − M + j]`, with mirror
     /// extension beyond the ends. Output length `⌈len/D⌉`; output `m` aligns with input `mD`.
     ///
-    /// Errors: empty input ([`DataError::Empty`]); a NaN/∞ sample ([`DataError::NonFinite`]); a sample
-    /// of magnitude ≥ [`crate::MAX_SAMPLE_MAGNITUDE`] ([`DataError::SampleTooLarge`]).
+    /// Errors: empty input ([`DataError::Empty`]); a NaN/∞ sample ([`DataError::NonFinite`]);
+    /// a sample of magnitude ≥ [`crate::MAX_SAMPLE_MAGNITUDE`] ([`DataError::SampleTooLarge`]).
     pub fn decimate(&self, x: &[f64]) -> Result<Vec<f64>> {
         if x.is_empty() {
             return Err(DataError::Empty {
