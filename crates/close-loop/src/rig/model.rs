@@ -191,9 +191,7 @@ impl RigModel {
     /// [`CloseLoopError::MachineModelFormat`] for malformed JSON or values,
     /// [`CloseLoopError::MachineModelMismatch`] for another format or version.
     pub fn from_json(text: &str) -> Result<Self, CloseLoopError> {
-        let m: Self = crate::machine::parse_versioned(text, FORMAT, VERSION, |m: &Self| {
-            (&m.format, m.version)
-        })?;
+        let m: Self = crate::machine::parse_versioned(text, FORMAT, VERSION)?;
         let fmt = |reason: String| CloseLoopError::MachineModelFormat { reason };
         if !(m.fs_hz.is_finite() && m.fs_hz > 0.0) {
             return Err(fmt(format!("`fs_hz` must be > 0, got {}", m.fs_hz)));

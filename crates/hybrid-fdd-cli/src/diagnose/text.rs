@@ -83,29 +83,23 @@ fn csv_error(
         Some(n) if !n.starts_with("column ") => format!("column {} (`{n}`)", c + 1),
         _ => format!("column {}", c + 1),
     };
+    // where a sample of the signal column sits: its line, else its data row
+    let at = |index: usize| match lines.get(index) {
+        Some((line, _)) => format!("line {line}"),
+        None => format!("data row {}", index + 1),
+    };
     match e {
-        bearing_data::DataError::NonFinite { index, .. } => match lines.get(index) {
-            Some((line, _)) => anyhow::anyhow!(
-                "{name}: line {line}, {}: non-finite sample (NaN or infinity)",
-                col(signal)
-            ),
-            None => anyhow::anyhow!(
-                "{name}: data row {}, {}: non-finite sample (NaN or infinity)",
-                index + 1,
-                col(signal)
-            ),
-        },
-        bearing_data::DataError::SampleTooLarge { index, value, .. } => {
-            let at = match lines.get(index) {
-                Some((line, _)) => format!("line {line}"),
-                None => format!("data row {}", index + 1),
-            };
-            anyhow::anyhow!(
-                "{name}: {at}, {}: sample {value:e} is too large: its square overflows (|x| must be below {:e})",
-                col(signal),
-                bearing_data::MAX_SAMPLE_MAGNITUDE
-            )
-        }
+        bearing_data::DataError::NonFinite { index, .. } => anyhow::anyhow!(
+            "{name}: {}, {}: non-finite sample (NaN or infinity)",
+            at(index),
+            col(signal)
+        ),
+        bearing_data::DataError::SampleTooLarge { index, value, .. } => anyhow::anyhow!(
+            "{name}: {}, {}: sample {value:e} is too large: its square overflows (|x| must be below {:e})",
+            at(index),
+            col(signal),
+            bearing_data::MAX_SAMPLE_MAGNITUDE
+        ),
         bearing_data::DataError::CsvNotANumber { line, column, text } => {
             anyhow::anyhow!(
                 "{name}: line {line}, {}: {text:?} is not a number",
