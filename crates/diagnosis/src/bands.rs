@@ -2,7 +2,7 @@
 //! (the recording's, with their spectral kurtosis and rank-CFAR threshold, and the healthy
 //! baseline's in the same bands): step 2 of [`diagnose`](crate::diagnose).
 
-use residual_features::{Band, SpectralEngine, WelchConfig};
+use residual_features::{Band, BandEnvelope, SpectralEngine, WelchConfig};
 
 use crate::{
     BAND_DIVISORS, Baseline, EnvelopeSpectrum, HARMONICS, Hypothesis, LINE_THRESHOLD_DB, Result,
@@ -44,24 +44,23 @@ pub fn min_band_width_hz(orders: &FaultOrders, fr: f64) -> f64 {
     1.2 * (HARMONICS as f64 * top + 1.0) * fr
 }
 
-/// The squared envelope spectra of the residual `e` in `bands` (shaft at `fr` Hz, fault orders `o`),
-/// each with its spectral kurtosis and rank-CFAR line threshold.
+/// The squared envelope spectra of a residual of `duration_s` seconds from its band squared
+/// envelopes `envs` (`SpectralEngine::band_squared_envelopes`; shaft at `fr` Hz, fault orders
+/// `o`), each with its spectral kurtosis and rank-CFAR line threshold.
 pub(crate) fn envelope_spectra(
     engine: &mut SpectralEngine,
-    e: &[f64],
-    fs_hz: f64,
+    envs: &[BandEnvelope],
+    duration_s: f64,
     fr: f64,
     o: &FaultOrders,
-    bands: &[Band],
 ) -> Result<Vec<EnvelopeSpectrum>> {
     let o = *o;
-    let envs = engine.band_squared_envelopes(e, fs_hz, bands)?;
-    let duration_turns = e.len() as f64 / fs_hz * fr;
+    let duration_turns = duration_s * fr;
     let seg_turns = (duration_turns / 4.0)
         .clamp(SEGMENT_TURNS_MIN, SEGMENT_TURNS_MAX)
         .min(duration_turns);
     let mut spectra = Vec::with_capacity(envs.len());
-    for be in &envs {
+    for be in envs {
         let s = &be.squared_envelope;
         let n = s.len() as f64;
         let m1 = s.iter().sum::<f64>() / n;

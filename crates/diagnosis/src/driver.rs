@@ -99,6 +99,39 @@ fn diagnose_with(
         }
     };
     let e = whitener.residual(x);
+    // 0b. no comb in the recording's own spectrum: the shaft comb of the residual's squared
+    //     envelopes (a defect or a load that turns with the shaft modulates the impacts at fr);
+    //     the envelopes are kept for step 2 unless the speed found changes the band plan
+    let mut bands = candidate_bands(fs_hz, min_width);
+    let mut envs = None;
+    let mut envelope_speed = None;
+    let (rpm_used, fr, min_width) = if measured_speed.is_some_and(|m| m.accepted) {
+        (rpm_used, fr, min_width)
+    } else {
+        let all = engine.band_squared_envelopes(&e, fs_hz, &bands)?;
+        envelope_speed = speed::estimate_envelope_speed(engine, &all, rpm)?;
+        envs = Some(all);
+        match envelope_speed {
+            Some(m) if (m.rpm / rpm - 1.0).abs() > 0.5 * SPEED_TOL => {
+                let fr = m.rpm / 60.0;
+                let min_width = min_band_width_hz(&o, fr);
+                if 2.0 * min_width > 0.5 * fs_hz {
+                    return Err(DiagnosisError::SampleRateTooLow {
+                        fs_hz,
+                        rpm: m.rpm,
+                        needed_hz: min_width,
+                    });
+                }
+                let moved = candidate_bands(fs_hz, min_width);
+                if moved != bands {
+                    bands = moved;
+                    envs = None;
+                }
+                (m.rpm, fr, min_width)
+            }
+            _ => (rpm_used, fr, min_width),
+        }
+    };
     let (rms, kurt) = moments(&e, "recording")?;
     let (_, signal_kurtosis) = moments(x, "recording")?;
     let statistics = match baseline {
@@ -128,8 +161,11 @@ fn diagnose_with(
     };
 
     // 2. bands: squared envelopes, spectral kurtosis, Welch squared envelope spectra
-    let bands = candidate_bands(fs_hz, min_width);
-    let spectra = envelope_spectra(engine, &e, fs_hz, fr, &o, &bands)?;
+    let envs = match envs {
+        Some(v) => v,
+        None => engine.band_squared_envelopes(&e, fs_hz, &bands)?,
+    };
+    let spectra = envelope_spectra(engine, &envs, e.len() as f64 / fs_hz, fr, &o)?;
     // the healthy machine's squared envelope spectra in the same bands, at the same resolution
     // (a baseline holding a residual only; one too short for a band's Welch segment gives none)
     let resolutions: Vec<f64> = spectra.iter().map(|s| s.resolution_hz).collect();
@@ -365,6 +401,7 @@ fn diagnose_with(
             shaft_hz: fr,
             rpm_used,
             measured_speed,
+            envelope_speed,
             bearing: bearing.name.clone(),
             bearing_spec: bearing.echo(),
             orders: o,

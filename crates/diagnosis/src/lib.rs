@@ -11,7 +11,12 @@
 //! 0. **Speed** ([`speed`]): the recording's shaft-harmonic comb (orders 1–10 within ± 5 % of the
 //!    declared speed) measures the speed; a clear, complete comb (first order and ≥ 80 % of the
 //!    orders present, mains multiples not scored) replaces a declared speed more than ½
-//!    [`SPEED_TOL`] off (`OperatingPoint::rpm_used`).
+//!    [`SPEED_TOL`] off (`OperatingPoint::rpm_used`). When the recording's spectrum shows no
+//!    such comb, the shaft comb of the residual's squared envelopes is searched the same way
+//!    (`speed::estimate_envelope_speed`: a defect turning with the shaft is struck only in the
+//!    load zone, so its impacts carry fr and its harmonics; the comb's orders must tell one
+//!    speed, which keeps a fault's own near-comb out) and used by the same rule
+//!    (`OperatingPoint::envelope_speed`).
 //! 1. **Residual** ([`whiten`]): an AR linear predictor fitted by least squares on the baseline
 //!    (order by held-out prediction error) is applied as a prediction-error filter to the
 //!    recording: the residual of the healthy model, which pre-whitens the structural path and

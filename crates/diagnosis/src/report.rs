@@ -50,6 +50,12 @@ pub struct OperatingPoint {
     /// is too short to resolve the search).
     #[serde(default)]
     pub measured_speed: Option<speed::SpeedEstimate>,
+    /// When the recording's own comb is not clear: the speed read from the shaft comb of its
+    /// residual's squared envelopes (`speed::estimate_envelope_speed`; absent when not looked
+    /// for or not found). It is used like a clear comb: when it differs from the declared speed
+    /// by more than half of [`SPEED_TOL`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub envelope_speed: Option<speed::SpeedEstimate>,
     /// Bearing name or normalised spec.
     pub bearing: String,
     /// The bearing spec as the user gave it, case kept (`BearingSpec::echo`): what reports echo

@@ -593,6 +593,83 @@ fn mains_combs_and_shaft_orders_are_not_taken_for_the_shaft_or_a_fault() {
     assert_eq!(d.verdict, "normal", "{:#?}", d.evidence);
 }
 
+/// A nameplate speed 2.7 % above the shaft's, on a record whose own spectrum holds no shaft
+/// comb (mains lines only): the inner-race impacts, struck only while the defect turns through
+/// the load zone, carry the shaft comb in their squared envelope, which gives the speed
+/// (`envelope_speed`), and the fault is found. At the declared speed the BPFI lines lie 2.7 %
+/// outside their window (without the envelope's speed this record reads `normal`). An
+/// outer-race fault (not modulated at fr) has no envelope comb, and its declared speed is kept.
+#[test]
+fn speed_is_read_from_the_envelope_when_the_spectrum_shows_no_shaft_comb() {
+    use rand::SeedableRng;
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let (fs, rpm, declared) = (20_000.0, 1460.0, 1500.0);
+    let fr = rpm / 60.0;
+    let n = (6.0 * fs) as usize;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(31);
+    // white noise and mains lines, and impacts at `rate_hz` ringing 3.5 kHz, in the load zone
+    // of a radially loaded bearing with clearance when `load_zone` (Stribeck's distribution,
+    // ε = 0.1: q ∝ [1 − (1 − cos θ)/(2ε)]^1.5 within ± 37° of the load, none outside: a pulse
+    // train at fr rich in shaft harmonics), else of constant amplitude
+    let mut record = |rate_hz: f64, load_zone: bool| {
+        let mut x = white(n, 0.3, &mut rng);
+        add_comb(&mut x, fs, 50.0, 6, |h| 0.6 / h, |h| h);
+        let q = |t0: f64| (1.0 - (1.0 - (two_pi * fr * t0).cos()) / 0.2).max(0.0);
+        ring_downs(
+            &mut x,
+            fs,
+            rate_hz,
+            3500.0,
+            0.05,
+            0.003,
+            0.005,
+            &mut rng,
+            |t0| {
+                if load_zone {
+                    2.0 * q(t0).powf(1.5)
+                } else {
+                    0.6
+                }
+            },
+        );
+        x
+    };
+    let spec = BearingSpec::parse("6205").unwrap();
+    let d = diagnose(
+        &record(spec.orders.bpfi * fr, true),
+        fs,
+        declared,
+        &spec,
+        None,
+    )
+    .unwrap();
+    let op = &d.operating_point;
+    assert!(
+        !op.measured_speed.is_some_and(|m| m.accepted),
+        "{:?}",
+        op.measured_speed
+    );
+    let m = op.envelope_speed.expect("no envelope speed");
+    assert!(m.envelope_band_hz.is_some(), "{m:?}");
+    assert!((op.rpm_used / rpm - 1.0).abs() < 0.001, "{m:?}");
+    assert_eq!(d.verdict, "inner", "{:?}", d.scores);
+
+    let d = diagnose(&record(spec.orders.bpfo * fr, false), fs, rpm, &spec, None).unwrap();
+    assert_eq!(d.operating_point.rpm_used, rpm, "{:?}", d.operating_point);
+    assert_eq!(d.verdict, "outer", "{:?}", d.scores);
+
+    // a 6203's inner-race family k·BPFI ± m·fr (BPFI = 4.947 fr) forms a near-comb at 0.989 fr
+    // in the same envelope: it must not move a right declared speed
+    let spec = BearingSpec::parse("6203").unwrap();
+    let d = diagnose(&record(spec.orders.bpfi * fr, true), fs, rpm, &spec, None).unwrap();
+    assert!(
+        (d.operating_point.rpm_used / rpm - 1.0).abs() < 0.001,
+        "{:?}",
+        d.operating_point
+    );
+    assert_eq!(d.verdict, "inner", "{:?}", d.scores);
+}
+
 /// Two faults whose impacts ring different resonances: inner-race impacts (BPFI, modulated at
 /// fr as the defect turns through the load zone) ring 2.4 kHz strongly, outer-race impacts
 /// (BPFO) ring 4.6 kHz at a third of the amplitude. The common band is the inner race's; the outer race's

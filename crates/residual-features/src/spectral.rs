@@ -522,6 +522,54 @@ impl SpectralEngine {
         Ok(out.into_iter().map(|v| v * scale).collect())
     }
 
+    /// `x` (sampled at `fs_hz`) band-limited to `[0, max_hz]` and resampled at the lowest fast
+    /// rate that holds that band, by truncating its spectrum: the record is cut to its largest
+    /// even 7-smooth length (≤ 2 % shorter, [`smooth_floor`]), transformed, its bins above
+    /// `max_hz` and its mean dropped, and the rest transformed back on `m` points (`m/2` the
+    /// smallest 5-smooth count ≥ the bins kept), so the duration is kept and the rate is `m`
+    /// per duration. Returns the samples and their rate, Hz. The low-frequency lines of a long,
+    /// high-rate signal (a squared envelope's shaft comb) are then searched at a fraction of
+    /// the cost; below `max_hz` its spectrum is the original's.
+    ///
+    /// # Errors
+    /// Input errors, invalid `fs_hz` or `max_hz`, [`FeatureError::TooShort`] below 4 samples.
+    pub fn low_pass_resample(
+        &mut self,
+        x: &[f64],
+        fs_hz: f64,
+        max_hz: f64,
+    ) -> Result<(Vec<f64>, f64)> {
+        check_finite(x)?;
+        check_positive("fs_hz", fs_hz)?;
+        check_positive("max_hz", max_hz)?;
+        if x.len() < 4 {
+            return Err(FeatureError::TooShort {
+                needed: 4,
+                found: x.len(),
+            });
+        }
+        let n = 2 * smooth_floor(x.len() / 2);
+        let duration = n as f64 / fs_hz;
+        let mut spec = self.rfft(x[..n].to_vec())?;
+        let keep = ((max_hz * duration).ceil() as usize + 1).min(spec.len());
+        let half = smooth_size(keep);
+        let m = 2 * half;
+        let mut z = vec![Complex::new(0.0, 0.0); half + 1];
+        z[1..keep.min(half + 1)].copy_from_slice(&spec[1..keep.min(half + 1)]);
+        // realfft requires a real Nyquist bin
+        z[half].im = 0.0;
+        spec.clear();
+        let inv = self.real.plan_fft_inverse(m);
+        let mut out = inv.make_output_vec();
+        inv.process(&mut z, &mut out)
+            .map_err(|_| FeatureError::Fft { len: m })?;
+        let scale = 1.0 / n as f64;
+        Ok((
+            out.into_iter().map(|v| v * scale).collect(),
+            m as f64 / duration,
+        ))
+    }
+
     /// Energy of `x` inside `band` by one-sided Parseval: `(1/N) Σ_{k∈band} c_k |X_k|²`, so bands
     /// tiling `[0, fs/2]` add up to `Σ x²` (eq. 2.46 restricted to a band).
     ///
@@ -644,6 +692,41 @@ pub fn zoom_power(xw: &[f64], fs: f64, f: f64) -> f64 {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// 2 + 0.7 cos 2π·25t + cos 2π·2000t at 10 kHz, 4 s, band-limited to 100 Hz: the mean and
+    /// the 2 kHz tone go, the 25 Hz line is kept sample for sample at the new rate, and the
+    /// duration is the record's.
+    #[test]
+    fn low_pass_resample_keeps_the_low_lines_and_the_duration() {
+        let fs = 10_000.0;
+        let n = 40_000;
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / fs;
+                2.0 + 0.7 * (2.0 * PI * 25.0 * t).cos() + (2.0 * PI * 2000.0 * t).cos()
+            })
+            .collect();
+        let (y, rate) = SpectralEngine::new()
+            .low_pass_resample(&x, fs, 100.0)
+            .unwrap();
+        assert!((200.0..260.0).contains(&rate), "{rate}");
+        assert!(
+            (y.len() as f64 / rate - 4.0).abs() < 1e-9,
+            "{} {rate}",
+            y.len()
+        );
+        for (m, v) in y.iter().enumerate() {
+            let want = 0.7 * (2.0 * PI * 25.0 * m as f64 / rate).cos();
+            assert!((v - want).abs() < 1e-9, "{m}: {v} vs {want}");
+        }
+        let mut e = SpectralEngine::new();
+        assert!(e.low_pass_resample(&x, fs, 0.0).is_err());
+        assert!(e.low_pass_resample(&x[..3], fs, 100.0).is_err());
+        assert!(
+            e.low_pass_resample(&[1.0, f64::NAN, 0.0, 1.0], fs, 100.0)
+                .is_err()
+        );
+    }
 
     #[test]
     fn band_squared_envelope_of_am_tone() {

@@ -54,9 +54,16 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             t.segments.join(", ")
         );
     }
+    let envelope = op.envelope_speed.map_or(String::new(), |es| {
+        let [lo, hi] = es.envelope_band_hz.unwrap_or([f64::NAN; 2]);
+        format!(
+            "; the shaft comb of the residual's squared envelope in {lo:.0}–{hi:.0} Hz says {:.1} rpm (score {:.1}, contrast {:.1}, refined from its lines)",
+            es.rpm, es.comb_score, es.contrast
+        )
+    });
     m += &match op.measured_speed {
         Some(ms) => format!(
-            "- speed: declared {:.1} rpm; the recording's shaft-harmonic comb (orders 1–{}) says {:.1} rpm (score {:.1}, contrast {:.1}: {}); analysed at {:.1} rpm\n",
+            "- speed: declared {:.1} rpm; the recording's shaft-harmonic comb (orders 1–{}) says {:.1} rpm (score {:.1}, contrast {:.1}: {}){envelope}; analysed at {:.1} rpm\n",
             op.rpm,
             ms.orders,
             ms.rpm,
