@@ -551,7 +551,8 @@ impl SpectralEngine {
         let n = 2 * smooth_floor(x.len() / 2);
         let duration = n as f64 / fs_hz;
         let mut spec = self.rfft(x[..n].to_vec())?;
-        let keep = ((max_hz * duration).ceil() as usize + 1).min(spec.len());
+        // bins 0..keep, never the original Nyquist bin (it would count twice off Nyquist)
+        let keep = ((max_hz * duration).ceil() as usize + 1).min(spec.len() - 1);
         let half = smooth_size(keep);
         let m = 2 * half;
         let mut z = vec![Complex::new(0.0, 0.0); half + 1];

@@ -55,9 +55,11 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         );
     }
     let envelope = op.envelope_speed.map_or(String::new(), |es| {
-        let [lo, hi] = es.envelope_band_hz.unwrap_or([f64::NAN; 2]);
+        let band = es
+            .envelope_band_hz
+            .map_or(String::new(), |[lo, hi]| format!(" in {lo:.0}–{hi:.0} Hz"));
         format!(
-            "; the shaft comb of the residual's squared envelope in {lo:.0}–{hi:.0} Hz says {:.1} rpm (score {:.1}, contrast {:.1}, refined from its lines)",
+            "; the shaft comb of the residual's squared envelope{band} says {:.1} rpm (score {:.1}, contrast {:.1}, refined from its lines)",
             es.rpm, es.comb_score, es.contrast
         )
     });
