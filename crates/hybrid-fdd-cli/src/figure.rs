@@ -243,8 +243,11 @@ fn envelope_panel(
         }
     }
     c.draw_series(LineSeries::new(db, &BLACK))?;
-    // found lines of each hypothesis, as dots where they count
-    for e in evidence {
+    // found lines of each hypothesis, as dots where they count; a detected hypothesis's last,
+    // so a line two families share shows the colour of the one the verdict rests on
+    let mut drawn: Vec<&diagnosis::HypothesisEvidence> = evidence.iter().collect();
+    drawn.sort_by_key(|e| e.detected);
+    for e in drawn {
         let col = match e.hypothesis {
             diagnosis::Hypothesis::Inner => red,
             diagnosis::Hypothesis::Outer => blue,
