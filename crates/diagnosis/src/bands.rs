@@ -62,10 +62,7 @@ pub(crate) fn envelope_spectra(
     let mut spectra = Vec::with_capacity(envs.len());
     for be in envs {
         let s = &be.squared_envelope;
-        let n = s.len() as f64;
-        let m1 = s.iter().sum::<f64>() / n;
-        let m2 = s.iter().map(|v| v * v).sum::<f64>() / n;
-        let sk = if m1 > 0.0 { m2 / (m1 * m1) - 2.0 } else { 0.0 };
+        let sk = be.spectral_kurtosis();
         // `seg_turns` shaft turns, shortened to the nearest even 7-smooth length (≤ 2 %
         // shorter): an odd or large-prime segment takes a real FFT several times slower
         let target = (seg_turns / fr * be.rate_hz).round() as usize;

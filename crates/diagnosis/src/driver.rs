@@ -55,20 +55,26 @@ fn diagnose_with(
     //    the lines' speed tolerance) replaces the declared one when the comb stands out and the
     //    two differ by more than half that tolerance: a larger error would eat the windows' margin
     let measured_speed = speed::estimate_speed(engine, x, fs_hz, rpm)?;
+    let replaces = |m: &speed::SpeedEstimate| (m.rpm / rpm - 1.0).abs() > 0.5 * SPEED_TOL;
     let rpm_used = match measured_speed {
-        Some(m) if m.accepted && (m.rpm / rpm - 1.0).abs() > 0.5 * SPEED_TOL => m.rpm,
+        Some(m) if m.accepted && replaces(&m) => m.rpm,
         _ => rpm,
     };
-    let fr = rpm_used / 60.0;
     let o = bearing.orders;
-    let min_width = min_band_width_hz(&o, fr);
-    if 2.0 * min_width > 0.5 * fs_hz {
-        return Err(DiagnosisError::SampleRateTooLow {
-            fs_hz,
-            rpm,
-            needed_hz: min_width,
-        });
-    }
+    // the shaft rate and the narrowest band at a speed, if the sampling rate holds such a band
+    let plan = |rpm_used: f64| {
+        let fr = rpm_used / 60.0;
+        let min_width = min_band_width_hz(&o, fr);
+        if 2.0 * min_width > 0.5 * fs_hz {
+            return Err(DiagnosisError::SampleRateTooLow {
+                fs_hz,
+                rpm,
+                needed_hz: min_width,
+            });
+        }
+        Ok((fr, min_width))
+    };
+    let (fr, min_width) = plan(rpm_used)?;
     let turns = x.len() as f64 / fs_hz * fr;
     let needed =
         (MIN_TURNS / fr * fs_hz).ceil() as usize + whiten::ORDERS[whiten::ORDERS.len() - 1];
@@ -105,32 +111,22 @@ fn diagnose_with(
     let mut bands = candidate_bands(fs_hz, min_width);
     let mut envs = None;
     let mut envelope_speed = None;
-    let (rpm_used, fr, min_width) = if measured_speed.is_some_and(|m| m.accepted) {
-        (rpm_used, fr, min_width)
-    } else {
+    if !measured_speed.is_some_and(|m| m.accepted) {
         let all = engine.band_squared_envelopes(&e, fs_hz, &bands)?;
         envelope_speed = speed::estimate_envelope_speed(engine, &all, rpm)?;
         envs = Some(all);
-        match envelope_speed {
-            Some(m) if (m.rpm / rpm - 1.0).abs() > 0.5 * SPEED_TOL => {
-                let fr = m.rpm / 60.0;
-                let min_width = min_band_width_hz(&o, fr);
-                if 2.0 * min_width > 0.5 * fs_hz {
-                    return Err(DiagnosisError::SampleRateTooLow {
-                        fs_hz,
-                        rpm: m.rpm,
-                        needed_hz: min_width,
-                    });
-                }
-                let moved = candidate_bands(fs_hz, min_width);
-                if moved != bands {
-                    bands = moved;
-                    envs = None;
-                }
-                (m.rpm, fr, min_width)
+    }
+    let (rpm_used, fr, min_width) = match envelope_speed {
+        Some(m) if replaces(&m) => {
+            let (fr, min_width) = plan(m.rpm)?;
+            let moved = candidate_bands(fs_hz, min_width);
+            if moved != bands {
+                bands = moved;
+                envs = None;
             }
-            _ => (rpm_used, fr, min_width),
+            (m.rpm, fr, min_width)
         }
+        _ => (rpm_used, fr, min_width),
     };
     let (rms, kurt) = moments(&e, "recording")?;
     let (_, signal_kurtosis) = moments(x, "recording")?;

@@ -160,6 +160,19 @@ pub struct BandEnvelope {
     pub squared_envelope: Vec<f64>,
 }
 
+impl BandEnvelope {
+    /// Spectral kurtosis of the band, `⟨|z|⁴⟩/⟨|z|²⟩² − 2` (Antoni 2006; 0 for a Gaussian
+    /// complex envelope), from the squared envelope's two first moments; 0 for an empty or
+    /// all-zero envelope.
+    pub fn spectral_kurtosis(&self) -> f64 {
+        let s = &self.squared_envelope;
+        let n = s.len() as f64;
+        let m1 = s.iter().sum::<f64>() / n;
+        let m2 = s.iter().map(|v| v * v).sum::<f64>() / n;
+        if m1 > 0.0 { m2 / (m1 * m1) - 2.0 } else { 0.0 }
+    }
+}
+
 /// Only prime factors in `primes`.
 fn is_smooth(m: usize, primes: &[usize]) -> bool {
     let mut r = m;
