@@ -7,7 +7,7 @@
 //! * [`load_record`] / [`parse_record`]: a typed [`Recording`] from a `.mat` file, handling the
 //!   files' quirks (174 → X173, 3001–3008 → X056–X059/X048–X051, 99 → X099, miUINT16 rpm,
 //!   missing BA/FE, no rpm); [`read_variable_sets`] for other CWRU-style MAT files;
-//!   [`read_mat_tree`], [`select_signal`], [`sampling_rate_near`] for any other MAT v5–v7 file
+//!   [`read_mat_tree`], [`select_signal`], [`sampling_rate_near`], [`shaft_speed_near`] for any other MAT v5–v7 file
 //!   (compressed, signals inside structs, struct arrays and cells: other rigs' recordings);
 //!   [`write_mat`] writes such files (round-trip tests, export to MATLAB).
 //! * [`Decimator`]: Kaiser-window FIR decimation ([`Recording::de_at`] pairs 48 kHz with 12 kHz).
@@ -65,7 +65,7 @@ pub use location::{DATA_DIR_ENV, DataLocation, ci_from_env};
 pub use mat::{VariableSet, read_variable_sets, select_set, validate_structure};
 pub use mat_tree::{
     MAX_DEPTH, MAX_INFLATED_BYTES, MIN_SIGNAL_SAMPLES, MatArray, MatLeaf, MatSignal, MatValue,
-    read_mat_tree, sampling_rate_near, select_signal, write_mat,
+    StoredSpeed, read_mat_tree, sampling_rate_near, select_signal, shaft_speed_near, write_mat,
 };
 pub use recording::{
     Labels, LoadOptions, Recording, Rpm, RpmSource, cwru_dir, load_record, parse_record,

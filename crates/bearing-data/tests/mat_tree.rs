@@ -107,3 +107,56 @@ fn what_is_not_a_mat_file_is_a_typed_error() {
     let b = fixture("mfpt_like.mat");
     assert!(read_mat_tree(&b[..b.len() - 40]).is_err());
 }
+
+#[test]
+fn the_shaft_speed_is_read_beside_the_signal_in_its_stated_unit() {
+    use bearing_data::{MatArray, shaft_speed_near, write_mat};
+    // MFPT's `rate` is the shaft's rotation frequency in Hz, beside its sampling rate `sr`
+    let leaves = read_mat_tree(&fixture("mfpt_like.mat")).unwrap();
+    let sp = shaft_speed_near(&leaves, "bearing.gs", 48828.0).unwrap();
+    assert_eq!(
+        (sp.rpm, sp.path.as_str(), sp.stored, sp.unit),
+        (1500.0, "bearing.rate", 25.0, "Hz")
+    );
+    // no speed stored: none invented
+    let leaves = read_mat_tree(&fixture("plain.mat")).unwrap();
+    assert_eq!(shaft_speed_near(&leaves, "vib", 25600.0), None);
+
+    let scalar = |v: f64| MatArray::Double(vec![1, 1], vec![v]);
+    let signal = MatArray::Double(vec![2048, 1], expected_signal()[..2048].to_vec());
+    let tree = |fields: &[(&str, MatArray)]| {
+        let names = fields.iter().map(|(n, _)| n.to_string()).collect();
+        let values = fields.iter().map(|(_, v)| v.clone()).collect();
+        read_mat_tree(&write_mat(
+            &[("s", MatArray::Struct(names, vec![values]))],
+            false,
+        ))
+        .unwrap()
+    };
+    // `rate` alone may be the sampling rate: not a speed
+    let l = tree(&[("x", signal.clone()), ("rate", scalar(25.0))]);
+    assert_eq!(shaft_speed_near(&l, "s.x", 20000.0), None);
+    // `rate` at the sampling rate is not a speed either
+    let l = tree(&[
+        ("x", signal.clone()),
+        ("fs", scalar(20000.0)),
+        ("rate", scalar(20000.0)),
+    ]);
+    assert_eq!(shaft_speed_near(&l, "s.x", 20000.0), None);
+    // rpm in rev/min, fr in Hz; agreeing, either is the speed; disagreeing, neither
+    let l = tree(&[
+        ("x", signal.clone()),
+        ("rpm", scalar(1797.0)),
+        ("fr", scalar(29.95)),
+    ]);
+    assert_eq!(shaft_speed_near(&l, "s.x", 12000.0).unwrap().rpm, 1797.0);
+    let l = tree(&[
+        ("x", signal.clone()),
+        ("rpm", scalar(1797.0)),
+        ("fr", scalar(20.0)),
+    ]);
+    assert_eq!(shaft_speed_near(&l, "s.x", 12000.0), None);
+    // a rotation frequency above the Nyquist frequency is not a speed
+    let l = tree(&[("x", signal), ("shaft_hz", scalar(7000.0))]);
+    assert_eq!(shaft_speed_near(&l, "s.x", 12000.0), None);
+}

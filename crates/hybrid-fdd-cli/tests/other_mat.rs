@@ -1,5 +1,6 @@
 //! Recordings from other rigs as their rigs store them: MAT-files with the signal inside a
-//! struct (MFPT's `bearing.gs` beside its rate `bearing.sr`, compressed as MATLAB saves),
+//! struct (MFPT's `bearing.gs` beside its rate `bearing.sr` and shaft rate `bearing.rate`,
+//! compressed as MATLAB saves),
 //! inside a struct array with `Name`/`Data` (Paderborn's `X.Y(k)`), and text files named by
 //! date with no extension (IMS). Each is diagnosed as it is.
 
@@ -57,6 +58,21 @@ fn a_signal_in_a_compressed_struct_is_found_with_its_stored_rate() {
     // a --fs that disagrees with the stored rate is refused
     let e = diagnose(&f, &["--fs", "19000"]).unwrap_err();
     assert!(format!("{e:#}").contains("disagrees"), "{e:#}");
+    // no --rpm: the shaft rate MFPT stores as `rate` (Hz) is the declared speed
+    let report = d.join("no-rpm.json");
+    let args = [
+        "diagnose",
+        "--input",
+        s(&f),
+        "--bearing",
+        BEARING,
+        "--report",
+        s(&report),
+    ];
+    hybrid_fdd_cli::diagnose::run(&Diagnose::try_parse_from(args).unwrap().a).expect("diagnosed");
+    let r = json(&report);
+    assert_eq!(r["operating_point"]["rpm"], 1500.0, "{r}");
+    assert_eq!(r["verdict"], "outer", "{r}");
 }
 
 #[test]

@@ -18,7 +18,9 @@
 //! without one, the only real vector of at least [`MIN_SIGNAL_SAMPLES`] samples. The sampling
 //! rate ([`sampling_rate_near`]): a positive scalar named `fs`, `sr`, `sample_rate`,
 //! `sampling_rate`, `samplerate` or `samplingrate` (any case) beside the signal, else the only
-//! one in the file.
+//! one in the file. The shaft speed ([`shaft_speed_near`]): an `rpm` scalar beside the signal, or
+//! a rotation frequency in Hz (`shaft_hz`, `fr`, or MFPT's `rate` where a sampling rate is stated
+//! beside it).
 
 use std::io::Read;
 
@@ -26,7 +28,7 @@ use crate::error::{DataError, Result};
 
 mod select;
 mod write;
-pub use select::{MatSignal, sampling_rate_near, select_signal};
+pub use select::{MatSignal, StoredSpeed, sampling_rate_near, select_signal, shaft_speed_near};
 pub use write::{MatArray, write_mat};
 
 /// Largest decompressed size of one compressed element (bytes): 1 GiB, far above any

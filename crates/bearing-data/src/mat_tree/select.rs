@@ -131,3 +131,77 @@ pub fn sampling_rate_near(leaves: &[MatLeaf], signal_path: &str) -> Option<f64> 
         _ => None,
     }
 }
+
+/// Names read as a shaft speed in rev/min.
+const RPM_NAMES: [&str; 4] = ["rpm", "speed_rpm", "shaft_rpm", "rotational_speed_rpm"];
+/// Names read as a shaft rotation frequency in Hz.
+const SHAFT_HZ_NAMES: [&str; 5] = [
+    "shaft_hz",
+    "shaft_rate",
+    "shaft_frequency",
+    "shaft_freq",
+    "fr",
+];
+
+/// A shaft speed a MAT-file states beside a signal ([`shaft_speed_near`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoredSpeed {
+    /// The speed, rev/min.
+    pub rpm: f64,
+    /// The path of the scalar it was read from (`bearing.rate`).
+    pub path: String,
+    /// The scalar as stored, in its own unit.
+    pub stored: f64,
+    /// That unit: `"rpm"` or `"Hz"`.
+    pub unit: &'static str,
+}
+
+/// The shaft speed the file states for the signal at `signal_path`, read from a finite positive
+/// scalar in the signal's own struct: named `rpm` (or `speed_rpm`, `shaft_rpm`,
+/// `rotational_speed_rpm`), in rev/min; or `shaft_hz` (`shaft_rate`, `shaft_frequency`,
+/// `shaft_freq`, `fr`), in Hz; or `rate`, in Hz — the MFPT Society's files store their shaft rate
+/// so (`bearing.rate = 25` beside `bearing.sr = 48828`) — but only where the same struct also
+/// states a sampling rate ([`sampling_rate_near`]'s names) that `rate` is not, and the value lies
+/// below a twentieth of that sampling rate, so that a `rate` meaning the sampling rate is never
+/// read as a speed. A rotation frequency at or above half of `fs_hz` (the sampling rate in use)
+/// is not a speed. `None` when no scalar fits, or when several fit and disagree (by more than
+/// 0.1 %).
+pub fn shaft_speed_near(leaves: &[MatLeaf], signal_path: &str, fs_hz: f64) -> Option<StoredSpeed> {
+    let parent = signal_path.rsplit_once('.').map_or("", |(p, _)| p);
+    let named =
+        |l: &MatLeaf, names: &[&str]| names.iter().any(|n| n.eq_ignore_ascii_case(l.last_name()));
+    let siblings = || leaves.iter().filter(|l| l.parent() == parent);
+    let value = |l: &MatLeaf| l.scalar().filter(|v| v.is_finite() && *v > 0.0);
+    let stated_rate: Vec<f64> = siblings()
+        .filter(|l| named(l, &RATE_NAMES))
+        .filter_map(value)
+        .collect();
+    let found: Vec<StoredSpeed> = siblings()
+        .filter_map(|l| {
+            let v = value(l)?;
+            let (rpm, unit) = if named(l, &RPM_NAMES) {
+                (v, "rpm")
+            } else if named(l, &SHAFT_HZ_NAMES) {
+                (v * 60.0, "Hz")
+            } else if l.last_name().eq_ignore_ascii_case("rate")
+                && !stated_rate.is_empty()
+                && stated_rate.iter().all(|&fs| v < fs / 20.0)
+            {
+                (v * 60.0, "Hz")
+            } else {
+                return None;
+            };
+            (rpm / 60.0 < fs_hz / 2.0).then(|| StoredSpeed {
+                rpm,
+                path: l.path.clone(),
+                stored: v,
+                unit,
+            })
+        })
+        .collect();
+    let first = found.first()?;
+    found
+        .iter()
+        .all(|s| (s.rpm - first.rpm).abs() <= 1e-3 * first.rpm)
+        .then(|| first.clone())
+}

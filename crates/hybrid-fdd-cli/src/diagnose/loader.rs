@@ -205,8 +205,9 @@ pub(super) fn sniff(path: &Path) -> anyhow::Result<&'static str> {
 /// signal named by `channel` (a path such as `bearing.gs`, a struct element's `Name` such as
 /// `vibration_1`, or a last path component); with the default channel (`DE`, `FE`, `BA`, which
 /// only a CWRU file has), the only real vector of at least 1024 samples. The rate stored beside
-/// the signal (`fs`, `sr`, `sample_rate`, …) wins over `--fs` as a CWRU record's does; a scalar
-/// `rpm` beside it is the speed.
+/// the signal (`fs`, `sr`, `sample_rate`, …) wins over `--fs` as a CWRU record's does; the shaft
+/// speed stored beside it (`bearing_data::shaft_speed_near`: `rpm`, or a rotation frequency in Hz
+/// such as MFPT's `rate`) is the speed.
 ///
 /// # Errors
 /// The file's structure, no or several fitting signals (listed), no rate stored and no `--fs`,
@@ -253,11 +254,14 @@ fn load_generic_mat(
             "{name}: the file stores no sampling rate (a scalar fs, sr, sample_rate or sampling_rate); give --fs"
         )
     })?;
-    let parent = signal.path.rsplit_once('.').map_or("", |(p, _)| p);
-    let rpm = leaves
-        .iter()
-        .filter(|l| l.last_name().eq_ignore_ascii_case("rpm") && l.parent() == parent)
-        .find_map(|l| l.scalar().filter(|v| v.is_finite() && *v > 0.0));
+    let speed = bearing_data::shaft_speed_near(&leaves, &signal.path, fs_hz);
+    if let Some(sp) = speed.as_ref().filter(|sp| sp.unit != "rpm") {
+        eprintln!(
+            "{name}: speed {:.0} rpm from `{}` = {} {} (read as the shaft's rotation frequency)",
+            sp.rpm, sp.path, sp.stored, sp.unit
+        );
+    }
+    let rpm = speed.map(|sp| sp.rpm);
     bearing_data::check_samples(|| format!("`{}`", signal.path), &signal.samples, 0)
         .with_context(|| name.to_string())?;
     Ok(Loaded {
