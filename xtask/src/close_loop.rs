@@ -236,8 +236,8 @@ A step of the fault lines' rate is a `speed_offset` only if the record's shaft l
         .collect();
     md.push_str(&format!(
         "\nA fault nobody declared (`bearing_fault`: a spall at a location the self-referenced \
-         diagnosis detects on the fitting segment and the declared fault leaves healthy, kept by \
-         the held-out error) was added on {} of {} records{}\n",
+         diagnosis detects on the fitting segment and again on the held-out segment, and the \
+         declared fault leaves healthy, kept by the held-out error) was added on {} of {} records{}\n",
         added.len(),
         rows.len(),
         if added.is_empty() {

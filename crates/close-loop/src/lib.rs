@@ -9,8 +9,8 @@
 //! - `laguerre-id`: the ARX-Laguerre model (declared model `--model arx-laguerre`, and the model
 //!   the ALPIO observer runs on).
 //! - `observers`: ALPIO / HOSTSMO, which give the observer-residual RMS metric.
-//! - `diagnosis`: the training-free verdict on the fitting segment, whose envelope evidence names
-//!   the location of a fault nobody declared (one fault detector in the workspace; the loop's
+//! - `diagnosis`: the training-free verdict on the fitting and on the held-out segment, whose
+//!   envelope evidence (on both) names the location of a fault nobody declared (one fault detector in the workspace; the loop's
 //!   spectral error alone cannot tell a fault's location).
 //! - `serde`: the ledger is written as JSON by `cargo xtask close-loop`.
 //! - `serde_json`: the machine model ([`machine::MachineModel`]) reads and writes itself.

@@ -13,8 +13,9 @@ use std::sync::Arc;
 /// width candidate refines the declared spall, not this one.
 pub const ADDED_FAULT_WIDTHS: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
 
-/// Every location the training-free diagnosis detects on the fitting segment
-/// ([`Ctx::detected`]: kinematic lines in the envelope of the impulsive band) that the model —
+/// Every location the training-free diagnosis detects on the fitting segment and on the held-out
+/// segment alike ([`Ctx::detected`]: kinematic lines in the envelope of the impulsive band; a
+/// healthy 97 modulated 30 % at the cage rate showed BPFI lines on one half only) that the model —
 /// its declared fault and the faults already added — leaves healthy, as a spall simulated beside
 /// the declared one at the widths [`ADDED_FAULT_WIDTHS`] × the declared width, each calibrated
 /// warm and cold, seen through the model's present shaping and — while the model has not

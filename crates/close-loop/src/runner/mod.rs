@@ -134,9 +134,14 @@ pub fn close_loop_from(
         .and_then(|m| m.refined_rpm)
         .map(|r| r / op.rpm)
     };
-    // the faults the envelope shows on the fitting segment (only a model with spalls can add one)
+    // the faults the envelope shows on the fitting segment and again on the held-out one (only a
+    // model with spalls can add one): a location one half alone shows is not offered
     let detected = if model.fault_size_in().is_some() {
+        let held = detected_faults(&y[n_fit..], fs, op);
         detected_faults(&y[..n_fit], fs, op)
+            .into_iter()
+            .filter(|(l, _)| held.iter().any(|(h, _)| h == l))
+            .collect()
     } else {
         Vec::new()
     };
