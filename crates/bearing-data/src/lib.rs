@@ -7,8 +7,9 @@
 //! * [`load_record`] / [`parse_record`]: a typed [`Recording`] from a `.mat` file, handling the
 //!   files' quirks (174 → X173, 3001–3008 → X056–X059/X048–X051, 99 → X099, miUINT16 rpm,
 //!   missing BA/FE, no rpm); [`read_variable_sets`] for other CWRU-style MAT files;
-//!   [`read_mat_tree`], [`select_signal`], [`sampling_rate_near`], [`shaft_speed_near`] for any other MAT v5–v7 file
-//!   (compressed, signals inside structs, struct arrays and cells: other rigs' recordings);
+//!   [`read_mat_tree`], [`select_signal`], [`sampling_rate_near`], [`shaft_speed_near`] for any
+//!   other MAT v5–v7 file (compressed, signals inside structs, struct arrays and cells: other
+//!   rigs' recordings);
 //!   [`write_mat`] writes such files (round-trip tests, export to MATLAB).
 //! * [`Decimator`]: Kaiser-window FIR decimation ([`Recording::de_at`] pairs 48 kHz with 12 kHz).
 //! * [`read_csv`]: one column of a user's CSV/plain-text recording as a [`Signal`].

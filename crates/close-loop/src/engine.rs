@@ -121,8 +121,8 @@ pub(crate) struct Ctx<'a> {
     /// The fault locations the training-free diagnosis (`diagnosis::diagnose`, self-referenced)
     /// detects on the fitting segment and, read on its own, on the held-out segment too, with
     /// their fitting-segment scores (dB); empty for a model without spalls or when the diagnosis
-    /// cannot run. A location the model leaves healthy is offered as a
-    /// fault nobody declared (`runner::fault`).
+    /// cannot run. A location the model leaves healthy is offered as a fault nobody declared
+    /// (`runner::fault`).
     pub detected: Vec<(bearing_model::FaultLocation, f64)>,
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,

@@ -10,8 +10,8 @@
 //!   the ALPIO observer runs on).
 //! - `observers`: ALPIO / HOSTSMO, which give the observer-residual RMS metric.
 //! - `diagnosis`: the training-free verdict on the fitting and on the held-out segment, whose
-//!   envelope evidence (on both) names the location of a fault nobody declared (one fault detector in the workspace; the loop's
-//!   spectral error alone cannot tell a fault's location).
+//!   envelope evidence (on both) names the location of a fault nobody declared (one fault
+//!   detector in the workspace; the loop's spectral error alone cannot tell a fault's location).
 //! - `serde`: the ledger is written as JSON by `cargo xtask close-loop`.
 //! - `serde_json`: the machine model ([`machine::MachineModel`]) reads and writes itself.
 //! - `nalgebra`: eigenvalues of the AR companion matrix (the structural modes of [`path`]) and

@@ -181,11 +181,10 @@ pub fn shaft_speed_near(leaves: &[MatLeaf], signal_path: &str, fs_hz: f64) -> Op
             let v = value(l)?;
             let (rpm, unit) = if named(l, &RPM_NAMES) {
                 (v, "rpm")
-            } else if named(l, &SHAFT_HZ_NAMES) {
-                (v * 60.0, "Hz")
-            } else if l.last_name().eq_ignore_ascii_case("rate")
-                && !stated_rate.is_empty()
-                && stated_rate.iter().all(|&fs| v < fs / 20.0)
+            } else if named(l, &SHAFT_HZ_NAMES)
+                || (l.last_name().eq_ignore_ascii_case("rate")
+                    && !stated_rate.is_empty()
+                    && stated_rate.iter().all(|&fs| v < fs / 20.0))
             {
                 (v * 60.0, "Hz")
             } else {

@@ -137,9 +137,13 @@ pub fn close_loop_from(
     // the faults the envelope shows on the fitting segment and again on the held-out one (only a
     // model with spalls can add one): a location one half alone shows is not offered
     let detected = if model.fault_size_in().is_some() {
-        let held = detected_faults(&y[n_fit..], fs, op);
-        detected_faults(&y[..n_fit], fs, op)
-            .into_iter()
+        let fit = detected_faults(&y[..n_fit], fs, op);
+        let held = if fit.is_empty() {
+            Vec::new()
+        } else {
+            detected_faults(&y[n_fit..], fs, op)
+        };
+        fit.into_iter()
             .filter(|(l, _)| held.iter().any(|(h, _)| h == l))
             .collect()
     } else {
