@@ -38,6 +38,13 @@ impl DecimatorParams {
             stopband_attenuation_db: 80.0,
         }
     }
+
+    /// The passband edge, Hz, for an input sampled at `input_fs_hz`:
+    /// `passband_fraction · input_fs_hz / (2D)`. Above it, up to the new Nyquist frequency, the
+    /// output holds the filter's transition band, not the input's signal.
+    pub fn passband_edge_hz(&self, input_fs_hz: f64) -> f64 {
+        self.passband_fraction * input_fs_hz / (2.0 * self.factor as f64)
+    }
 }
 
 /// A designed decimation filter; reuse it across signals.

@@ -132,7 +132,15 @@ fn diagnose_with(
     let (_, signal_kurtosis) = moments(x, "recording")?;
     let statistics = match baseline {
         Some(b) => {
-            let ratio = (rms / b.residual_rms).powi(2);
+            // against a band-limited (decimated) baseline, both residuals below its limit
+            let (cmp_rms, cmp_kurt) = match b.band_limit_hz {
+                Some(limit) => moments(
+                    &engine.bandpass_fft(&e, fs_hz, residual_features::Band::new(0.0, limit)?)?,
+                    "recording below the baseline's band limit",
+                )?,
+                None => (rms, kurt),
+            };
+            let ratio = (cmp_rms / b.residual_rms).powi(2);
             Statistics {
                 residual_samples: e.len(),
                 residual_rms: rms,
@@ -140,8 +148,9 @@ fn diagnose_with(
                 signal_kurtosis,
                 energy_ratio: Some(ratio),
                 energy_ratio_db: Some(10.0 * ratio.log10()),
-                kurtosis_ratio: kurt / b.residual_kurtosis,
+                kurtosis_ratio: cmp_kurt / b.residual_kurtosis,
                 kurtosis_reference: "baseline residual".into(),
+                compared_below_hz: b.band_limit_hz,
             }
         }
         None => Statistics {
@@ -153,6 +162,7 @@ fn diagnose_with(
             energy_ratio_db: None,
             kurtosis_ratio: kurt / 3.0,
             kurtosis_reference: "gaussian".into(),
+            compared_below_hz: None,
         },
     };
 

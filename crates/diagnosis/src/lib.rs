@@ -196,10 +196,21 @@ pub enum Reference {
 pub struct Baseline {
     /// The AR prediction-error filter fitted on the baseline.
     pub whitener: ArWhitener,
-    /// RMS of the baseline's own residual.
+    /// RMS of the baseline's own residual (below [`Self::band_limit_hz`] when set).
     pub residual_rms: f64,
-    /// Kurtosis (not excess) of the baseline's own residual.
+    /// Kurtosis (not excess) of the baseline's own residual (below [`Self::band_limit_hz`] when
+    /// set).
     pub residual_kurtosis: f64,
+    /// Highest frequency, Hz, up to which the baseline holds the machine's signal; `None`: up to
+    /// its Nyquist frequency. A baseline decimated from a higher rate holds only the
+    /// anti-aliasing filter's stopband residue between the filter's passband edge and the new
+    /// Nyquist, and a whitener fitted on it has a gain there as deep as that stopband: a
+    /// recording's residual in that range is the whitener's amplification, not a change of the
+    /// machine (a healthy bearing read +25 dB in energy against 97.mat decimated to 12 kHz). The
+    /// energy and kurtosis ratios then compare both residuals below this frequency
+    /// ([`Baseline::band_limited`]; `docs/equations/diagnosis.md`, "A decimated baseline").
+    #[serde(default)]
+    pub band_limit_hz: Option<f64>,
     /// Samples in the baseline.
     pub samples: usize,
     /// The baseline's own residual, kept to read the healthy machine's envelope lines in the
@@ -278,6 +289,7 @@ impl Baseline {
             residual_rms,
             residual_kurtosis,
             samples: x.len(),
+            band_limit_hz: None,
             residual: Some(e.into()),
             spectra: SpectraCache::default(),
         })
@@ -314,6 +326,7 @@ impl Baseline {
             residual_rms,
             residual_kurtosis,
             samples,
+            band_limit_hz: None,
             residual: None,
             spectra: SpectraCache::default(),
         })
@@ -333,6 +346,46 @@ impl Baseline {
         moments(&residual, "baseline envelope reference")?;
         self.residual = Some(residual.into());
         self.spectra = SpectraCache::default();
+        Ok(self)
+    }
+
+    /// This baseline compared with recordings only below `limit_hz`: its residual statistics
+    /// are recomputed on its residual band-limited to `[0, limit_hz]` (an FFT brick-wall, as
+    /// the recording's residual will be), and [`Self::band_limit_hz`] is set. For a baseline
+    /// decimated from a higher rate, `limit_hz` is the anti-aliasing filter's passband edge
+    /// (`bearing_data::Decimator::passband_edge_hz`). A limit at or above the Nyquist frequency
+    /// leaves the baseline as it is.
+    ///
+    /// # Errors
+    /// [`DiagnosisError::Degenerate`] for a limit that is not finite and positive, a baseline
+    /// that keeps no residual ([`Baseline::from_whitener`] without
+    /// [`Baseline::with_residual`]), or a band-limited residual without energy.
+    pub fn band_limited(mut self, limit_hz: f64) -> Result<Self> {
+        if !(limit_hz.is_finite() && limit_hz > 0.0) {
+            return Err(DiagnosisError::Degenerate {
+                what: "baseline band limit",
+                reason: format!("{limit_hz} Hz must be finite and > 0"),
+            });
+        }
+        if limit_hz >= 0.5 * self.whitener.fs_hz {
+            self.band_limit_hz = None;
+            return Ok(self);
+        }
+        let Some(e) = self.residual.clone() else {
+            return Err(DiagnosisError::Degenerate {
+                what: "baseline",
+                reason: "a band limit needs the baseline's own residual".into(),
+            });
+        };
+        let low = residual_features::bandpass_fft(
+            &e,
+            self.whitener.fs_hz,
+            residual_features::Band::new(0.0, limit_hz)?,
+        )?;
+        let (rms, kurtosis) = moments(&low, "baseline below its band limit")?;
+        self.residual_rms = rms;
+        self.residual_kurtosis = kurtosis;
+        self.band_limit_hz = Some(limit_hz);
         Ok(self)
     }
 }

@@ -102,6 +102,11 @@ pub struct Statistics {
     pub kurtosis_ratio: f64,
     /// `"baseline residual"` or `"gaussian"`.
     pub kurtosis_reference: String,
+    /// The energy and kurtosis ratios compare both residuals below this frequency, Hz: the band
+    /// a decimated baseline holds ([`crate::Baseline::band_limit_hz`]); `null` when they
+    /// compare the whole band (or when self-referenced).
+    #[serde(default)]
+    pub compared_below_hz: Option<f64>,
 }
 
 /// The fixed decision constants, written into every report.

@@ -225,8 +225,9 @@ fn report_serialises_without_nan() {
     let d = run(g, &spec, FaultClass::Outer, 1797.0, 12_000.0, true);
     // serde_json writes NaN as null: the only nulls allowed are "not explained", "not on a shaft
     // order", the measured
-    // speed of a record too short to resolve it (these are 2 s) and, when self-referenced, the
-    // energy ratios and the lines' baseline prominences
+    // speed of a record too short to resolve it (these are 2 s), the band limit of a baseline
+    // that holds the whole band and, when self-referenced, the energy ratios and the lines'
+    // baseline prominences
     fn nulls(v: &serde_json::Value, key: &str, out: &mut Vec<String>) {
         match v {
             serde_json::Value::Null => out.push(key.to_string()),
@@ -240,8 +241,10 @@ fn report_serialises_without_nan() {
     let mut n = Vec::new();
     nulls(&v, "", &mut n);
     assert!(
-        n.iter()
-            .all(|k| k == "explained_by" || k == "measured_speed" || k == "shaft_order"),
+        n.iter().all(|k| k == "explained_by"
+            || k == "measured_speed"
+            || k == "shaft_order"
+            || k == "compared_below_hz"),
         "{n:?}"
     );
     let d = run(g, &spec, FaultClass::None, 1797.0, 12_000.0, false);
@@ -258,7 +261,7 @@ fn report_serialises_without_nan() {
         ]
         .contains(&k.as_str())
     });
-    assert_eq!(n, ["energy_ratio", "energy_ratio_db"]);
+    assert_eq!(n, ["compared_below_hz", "energy_ratio", "energy_ratio_db"]);
 }
 
 #[test]
@@ -334,6 +337,71 @@ fn bad_inputs_are_typed_errors() {
     ));
     assert!(matches!(
         Baseline::prepare(&flat, fs),
+        Err(DiagnosisError::Degenerate { .. })
+    ));
+}
+
+/// A baseline decimated from a higher rate holds nothing between its anti-aliasing filter's
+/// passband edge and the new Nyquist, where its whitener's gain is as deep as the filter's
+/// stopband. A healthy recording of the same machine acquired at the lower rate (content up to
+/// 0.95 of its Nyquist) then read tens of dB of "energy" against it; compared below the
+/// passband edge (`Baseline::band_limited`) it reads about 0 dB. Bad limits are typed errors.
+#[test]
+fn a_decimated_baseline_compares_energy_below_its_passband_edge() {
+    let g = BearingGeometry::skf_6205();
+    let spec = BearingSpec::parse("6205").unwrap();
+    let (fs_hi, q) = (48_000.0, 4);
+    let fs = fs_hi / q as f64;
+    let decimate = |x: &[f64], fraction: f64| {
+        let p = bearing_data::DecimatorParams {
+            passband_fraction: fraction,
+            ..bearing_data::DecimatorParams::new(q)
+        };
+        bearing_data::Decimator::new(p)
+            .unwrap()
+            .decimate(x)
+            .unwrap()
+    };
+    let base_x = decimate(&sim(g, FaultClass::None, 1797.0, fs_hi, 99), 0.8);
+    // the same machine acquired at 12 kHz behind a sharper anti-aliasing filter
+    let x = decimate(&sim(g, FaultClass::None, 1797.0, fs_hi, 7), 0.95);
+    let whole = Baseline::prepare(&base_x, fs).unwrap();
+    let edge = bearing_data::DecimatorParams::new(q).passband_edge_hz(fs_hi);
+    assert_eq!(edge, 4_800.0);
+    let limited = whole.clone().band_limited(edge).unwrap();
+    assert_eq!(limited.band_limit_hz, Some(edge));
+    let db = |b: &Baseline| {
+        let d = diagnose(&x, fs, 1797.0, &spec, Some(b)).unwrap();
+        (
+            d.statistics.energy_ratio_db.unwrap(),
+            d.statistics.compared_below_hz,
+            d.verdict,
+        )
+    };
+    let (db_whole, below_whole, v_whole) = db(&whole);
+    let (db_limited, below_limited, v_limited) = db(&limited);
+    eprintln!("energy against the whole band {db_whole:.1} dB, below {edge} Hz {db_limited:.1} dB");
+    assert!(
+        db_whole > 10.0,
+        "the artefact this guards against: {db_whole:.1} dB"
+    );
+    assert!(
+        db_limited.abs() < 2.0,
+        "healthy against healthy: {db_limited:.1} dB"
+    );
+    assert_eq!((below_whole, below_limited), (None, Some(edge)));
+    assert_eq!(v_whole, v_limited, "the ratios do not enter the verdict");
+    // a limit at or above Nyquist leaves the baseline as it is; bad limits are typed errors
+    assert_eq!(whole.clone().band_limited(fs / 2.0).unwrap(), whole);
+    for bad in [f64::NAN, 0.0, -1.0] {
+        assert!(matches!(
+            whole.clone().band_limited(bad),
+            Err(DiagnosisError::Degenerate { .. })
+        ));
+    }
+    let model = Baseline::from_whitener(whole.whitener.clone(), 1.0, 3.0, 100).unwrap();
+    assert!(matches!(
+        model.band_limited(edge),
         Err(DiagnosisError::Degenerate { .. })
     ));
 }

@@ -61,7 +61,8 @@ pub struct RecordingFlags {
     #[arg(long)]
     pub bearing: Option<String>,
     /// Healthy recording of the same machine (same formats; resampled by an integer factor
-    /// with an anti-aliasing FIR when its rate is a multiple of the recording's), or a machine
+    /// with an anti-aliasing FIR when its rate is a multiple of the recording's; energy and
+    /// kurtosis are then compared below the filter's passband edge), or a machine
     /// model JSON from `hybrid-fdd calibrate` (or `cargo xtask calibrate`; its whole model is the
     /// healthy model, and a recording synthesised from it at the recording's speed gives the
     /// healthy envelope lines; same sampling rate and units as the recording). A text baseline

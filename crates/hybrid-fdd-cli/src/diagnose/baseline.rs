@@ -282,15 +282,20 @@ impl BaselineSource {
     /// The baseline recording prepared at `fs_hz` (decimated by an integer factor when needed).
     fn prepare_recording(&self, fs_hz: f64) -> anyhow::Result<Prepared> {
         let name = self.path.display();
-        let (x, fs_b, note) = if let Some((x, q)) = decimated_to(&self.samples, self.fs_hz, fs_hz)?
+        let (x, fs_b, note, limit) = if let Some((x, q)) =
+            decimated_to(&self.samples, self.fs_hz, fs_hz)?
         {
+            // above the anti-aliasing filter's passband edge the decimated baseline holds
+            // the filter's transition band: energy and kurtosis are compared below it
+            let edge = bearing_data::DecimatorParams::new(q).passband_edge_hz(self.fs_hz);
             (
                 x,
                 fs_hz,
                 format!(
-                    "{name}, {} Hz decimated by {q} (bearing-data anti-aliasing FIR) to {fs_hz} Hz",
+                    "{name}, {} Hz decimated by {q} (bearing-data anti-aliasing FIR) to {fs_hz} Hz; energy and kurtosis compared below its passband edge, {edge:.0} Hz",
                     self.fs_hz
                 ),
+                Some(edge),
             )
         } else {
             // equal rates, or a mismatch the library reports as its typed error
@@ -298,9 +303,15 @@ impl BaselineSource {
                 self.samples.clone(),
                 self.fs_hz,
                 format!("{name} at {} Hz", self.fs_hz),
+                None,
             )
         };
-        let b = Baseline::prepare(&x, fs_b).with_context(|| format!("baseline {name}"))?;
+        let mut b = Baseline::prepare(&x, fs_b).with_context(|| format!("baseline {name}"))?;
+        if let Some(edge) = limit {
+            b = b
+                .band_limited(edge)
+                .with_context(|| format!("baseline {name}"))?;
+        }
         Ok(Arc::new((b, note)))
     }
 }
