@@ -1,7 +1,8 @@
 //! Where a recording's sampling rate comes from: a CWRU `.mat` file's rate and a time column's
 //! always win (a disagreeing `--fs` is a one-line error for one file, and applies only to the
 //! files that store no rate in a directory batch); a time column must be strictly increasing
-//! and evenly spaced; a one-column text baseline is taken at `--fs`.
+//! and evenly spaced; a one-column text baseline is taken at `--fs`; a baseline at a multiple of
+//! the recording's rate is decimated and compared below its anti-aliasing passband edge.
 
 mod common;
 
@@ -56,6 +57,69 @@ fn a_one_column_baseline_is_read_at_fs() {
     let flags = RecordingFlags { fs: None, ..flags };
     let e = flags.baseline_source().unwrap_err();
     assert!(format!("{e:#}").contains("--fs is required"), "{e:#}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A baseline at four times the recording's rate is decimated, and its energy and kurtosis are
+/// compared below the anti-aliasing filter's passband edge (0.8 of the new Nyquist), said in the
+/// note and the report; a baseline at the recording's own rate compares the whole band.
+#[test]
+fn a_decimated_baseline_is_compared_below_its_passband_edge() {
+    let d = dir("rates-decimated-baseline");
+    let hi = d.join("hi.csv");
+    common::write_time_signal(
+        &hi,
+        "accel",
+        &machine(Fault::None, 48_000.0, 1500.0, 1.0, 1),
+        48_000.0,
+        ",",
+    );
+    let rec = d.join("rec.csv");
+    common::write_time_signal(
+        &rec,
+        "accel",
+        &machine(Fault::None, 12_000.0, 1500.0, 2.0, 2),
+        12_000.0,
+        ",",
+    );
+    let flags = RecordingFlags {
+        fs: Some(12_000.0),
+        baseline: Some(hi.clone()),
+        channel: "accel".into(),
+        ..RecordingFlags::default()
+    };
+    let b = flags.baseline_source().unwrap().expect("given");
+    let prepared = b.at(12_000.0, 1500.0).expect("decimated by 4");
+    assert_eq!(prepared.0.band_limit_hz, Some(4_800.0));
+    assert!(
+        prepared.1.contains("passband edge, 4800 Hz"),
+        "{}",
+        prepared.1
+    );
+    let same = b.at(48_000.0, 1500.0).expect("at its own rate");
+    assert_eq!(same.0.band_limit_hz, None);
+    let report = d.join("rec.json");
+    let a = Diagnose::try_parse_from([
+        "diagnose",
+        "--input",
+        s(&rec),
+        "--fs",
+        "12000",
+        "--rpm",
+        "1500",
+        "--bearing",
+        BEARING,
+        "--baseline",
+        s(&hi),
+        "--channel",
+        "accel",
+        "--report",
+        s(&report),
+    ])
+    .unwrap()
+    .a;
+    hybrid_fdd_cli::diagnose::run(&a).expect("diagnose against a decimated baseline");
+    assert_eq!(json(&report)["statistics"]["compared_below_hz"], 4800.0);
     let _ = std::fs::remove_dir_all(&d);
 }
 
