@@ -353,8 +353,8 @@ impl Baseline {
     /// are recomputed on its residual band-limited to `[0, limit_hz]` (an FFT brick-wall, as
     /// the recording's residual will be), and [`Self::band_limit_hz`] is set. For a baseline
     /// decimated from a higher rate, `limit_hz` is the anti-aliasing filter's passband edge
-    /// (`bearing_data::Decimator::passband_edge_hz`). A limit at or above the Nyquist frequency
-    /// leaves the baseline as it is.
+    /// (`bearing_data::DecimatorParams::passband_edge_hz`). A limit at or above the Nyquist
+    /// frequency leaves the baseline as it is.
     ///
     /// # Errors
     /// [`DiagnosisError::Degenerate`] for a limit that is not finite and positive, a baseline
