@@ -354,7 +354,7 @@ impl Baseline {
     /// the recording's residual will be), and [`Self::band_limit_hz`] is set. For a baseline
     /// decimated from a higher rate, `limit_hz` is the anti-aliasing filter's passband edge
     /// (`bearing_data::DecimatorParams::passband_edge_hz`). A limit at or above the Nyquist
-    /// frequency leaves the baseline as it is.
+    /// frequency compares the whole band (a baseline never limited is returned as it is).
     ///
     /// # Errors
     /// [`DiagnosisError::Degenerate`] for a limit that is not finite and positive, a baseline
@@ -367,8 +367,8 @@ impl Baseline {
                 reason: format!("{limit_hz} Hz must be finite and > 0"),
             });
         }
-        if limit_hz >= 0.5 * self.whitener.fs_hz {
-            self.band_limit_hz = None;
+        let whole = limit_hz >= 0.5 * self.whitener.fs_hz;
+        if whole && self.band_limit_hz.is_none() {
             return Ok(self);
         }
         let Some(e) = self.residual.clone() else {
@@ -377,15 +377,20 @@ impl Baseline {
                 reason: "a band limit needs the baseline's own residual".into(),
             });
         };
-        let low = residual_features::bandpass_fft(
-            &e,
-            self.whitener.fs_hz,
-            residual_features::Band::new(0.0, limit_hz)?,
-        )?;
+        // from the whole residual each time, so a second call replaces the first
+        let low = if whole {
+            e.to_vec()
+        } else {
+            residual_features::bandpass_fft(
+                &e,
+                self.whitener.fs_hz,
+                residual_features::Band::new(0.0, limit_hz)?,
+            )?
+        };
         let (rms, kurtosis) = moments(&low, "baseline below its band limit")?;
         self.residual_rms = rms;
         self.residual_kurtosis = kurtosis;
-        self.band_limit_hz = Some(limit_hz);
+        self.band_limit_hz = (!whole).then_some(limit_hz);
         Ok(self)
     }
 }
