@@ -570,6 +570,32 @@ pub fn simulate(
     take(y, n)
 }
 
+/// A recording of the multi-fault substitute ([`SimKind::Shse`]): the calibrated rig (g) with
+/// spalls of `size_mm` whose 5-DOF excitations are drawn from `excitation_seed` and shared
+/// through `cache` ([`close_loop::rig::Synthesis::excitation_seed`]); background, strike gate
+/// and random part from `seed`.
+///
+/// # Errors
+/// The rig's errors ([`close_loop::rig::RigModel::synthesize_cached`]), a sampling rate the rig
+/// was not calibrated at.
+#[allow(clippy::too_many_arguments)] // simulate's arguments and the shared excitation
+pub fn simulate_substitute(
+    class: FaultClass,
+    size_mm: f64,
+    rpm: f64,
+    fs: f64,
+    n: usize,
+    seed: u64,
+    excitation_seed: u64,
+    cache: &close_loop::rig::ExcitationCache,
+) -> Result<Vec<f64>> {
+    let rig = rig()?;
+    rig.check_compatible(fs, &rig.bearing)?;
+    let s = close_loop::rig::Synthesis::new(class, size_mm, rpm, n, seed)
+        .with_excitation_seed(excitation_seed);
+    take(rig.synthesize_cached(&s, cache)?, n)
+}
+
 fn take(mut a: Vec<f64>, n: usize) -> Result<Vec<f64>> {
     if a.len() < n {
         return Err(PipelineError::TooShort {

@@ -8,6 +8,7 @@
 use crate::{PipelineError, Result, SimKind};
 use bearing_data::{FaultLocation, LoadOptions, OuterPosition, Query};
 use bearing_model::FaultClass;
+use close_loop::rig::ExcitationCache;
 use std::path::Path;
 
 /// Sampling rate of the CWRU tables (12 kHz drive end).
@@ -208,6 +209,23 @@ pub struct RecordingPlan {
 /// [`PipelineError::Catalog`] when the catalog does not name exactly one record for `k`, or the
 /// simulation's error.
 pub fn load(dir: Option<&Path>, plan: &RecordingPlan, k: &RecKey) -> Result<Rec> {
+    load_shared(dir, plan, k, &ExcitationCache::default())
+}
+
+/// [`load`], the substitute's spall excitations looked up in, or added to, `excitations`: the
+/// recordings of one speed and fault size share each spall's 5-DOF excitation (their
+/// backgrounds, strike gates and random parts are their own), so loading the eight classes
+/// of one condition with one cache simulates three spalls instead of twelve. The result is
+/// the same with or without a shared cache.
+///
+/// # Errors
+/// As [`load`].
+pub fn load_shared(
+    dir: Option<&Path>,
+    plan: &RecordingPlan,
+    k: &RecKey,
+    excitations: &ExcitationCache,
+) -> Result<Rec> {
     match *k {
         RecKey::Cwru { class, load, crack } => {
             let (wlen, nwin) = (plan.window_len, plan.windows_per_rec);
@@ -296,14 +314,18 @@ pub fn load(dir: Option<&Path>, plan: &RecordingPlan, k: &RecKey) -> Result<Rec>
             ][class as usize];
             let size_mm = MULTI_CRACKS_MM[crack as usize];
             let seed = 2000 + u64::from(class) * 1000 + u64::from(rpm) + u64::from(crack) * 7;
-            let sig = crate::simulate(
-                SimKind::Shse,
+            // one excitation seed per speed and size, whatever the class: the spalls of a
+            // combined fault are those of the single-fault recordings
+            let excitation_seed = 9000 + u64::from(rpm) + u64::from(crack) * 7;
+            let sig = crate::simulate_substitute(
                 fc,
                 size_mm,
                 f64::from(rpm),
                 MULTI_FS,
                 need,
                 seed,
+                excitation_seed,
+                excitations,
             )?;
             Ok(Rec {
                 id: if class == 0 {

@@ -29,11 +29,25 @@ fn data_dir(ctx: &Context) -> Option<PathBuf> {
         .then_some(p)
 }
 
+/// Window energies, the residual trace and RMS(residual)/RMS(signal) of one source on one
+/// recording.
+pub type SourceFeatures = (Vec<f64>, Vec<f64>, f64);
+
 /// Recordings loaded or simulated so far (shared by all chapters of one run).
 #[derive(Default)]
 pub struct Cache {
     recs: BTreeMap<RecKey, Rec>,
     cwru_sim: bool,
+    /// Models identified on each healthy fit segment so far, with whether they hold the fuzzy
+    /// model and the calibrated machine: a chapter reuses one that holds what it needs (the
+    /// identification is deterministic, so a model is the same whichever chapter made it).
+    pub models: BTreeMap<RecKey, (bool, bool, std::sync::Arc<::pipeline::Prepared>)>,
+    /// Gains tuned so far, per observer and healthy recording (a deterministic function of the
+    /// model the observer runs on, which every reused [`Cache::models`] entry shares).
+    pub tunings: BTreeMap<(::pipeline::Method, RecKey), ::pipeline::Tuning>,
+    /// Window energies, residual trace and RMS ratio of each (observer or raw signal,
+    /// recording) so far.
+    pub features: BTreeMap<(Option<::pipeline::Method>, RecKey), SourceFeatures>,
 }
 
 impl Cache {
@@ -67,10 +81,13 @@ impl Cache {
                 }
             }
         }
+        // the substitute's spalls simulated once per speed and size, for every class (dropped
+        // once loaded)
+        let excitations = close_loop::rig::ExcitationCache::default();
         let loaded: Vec<anyhow::Result<(RecKey, Rec)>> = todo
             .par_iter()
             .map(|k| {
-                let r = ::pipeline::recordings::load(dir.as_deref(), &plan, k)
+                let r = ::pipeline::recordings::load_shared(dir.as_deref(), &plan, k, &excitations)
                     .map(|r| (*k, r))
                     .map_err(anyhow::Error::from);
                 pb.inc(1);

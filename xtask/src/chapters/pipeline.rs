@@ -115,7 +115,7 @@ fn chapter_spec(ch: u8) -> anyhow::Result<(Vec<Method>, ClassifierKind, &'static
 
 /// What one (source, recording) job yields: window energies, a short residual trace for the
 /// figures, and RMS(residual) / RMS(signal) over the scored windows.
-type SourceOut = (Vec<f64>, Vec<f64>, f64);
+type SourceOut = inputs::SourceFeatures;
 
 /// Features of one (source, recording): window energies.
 pub type FeatMap = BTreeMap<(String, RecKey), Vec<f64>>;
@@ -175,13 +175,32 @@ pub fn run_chapter(
             Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
         )
     });
-    let prepared: BTreeMap<RecKey, pl::Prepared> = healthy
+    let reusable = |cache: &Cache, h: &RecKey| {
+        cache
+            .models
+            .get(h)
+            .filter(|(f, ph, _)| (*f || !fuzzy) && (*ph || !physics))
+            .map(|(.., p)| std::sync::Arc::clone(p))
+    };
+    let made: Vec<(RecKey, std::sync::Arc<pl::Prepared>)> = healthy
         .par_iter()
+        .filter(|h| reusable(cache, h).is_none())
         .map(|h| {
             let rec = cache.get(h)?;
             let p = pl::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, fuzzy, physics)
                 .with_context(|| format!("model identification on {}", rec.id))?;
-            Ok((*h, p))
+            Ok((*h, std::sync::Arc::new(p)))
+        })
+        .collect::<anyhow::Result<_>>()?;
+    for (h, p) in made {
+        cache.models.insert(h, (fuzzy, physics, p));
+    }
+    let prepared: BTreeMap<RecKey, std::sync::Arc<pl::Prepared>> = healthy
+        .iter()
+        .map(|h| {
+            reusable(cache, h)
+                .map(|p| (*h, p))
+                .ok_or_else(|| anyhow::anyhow!("no model for {h:?}"))
         })
         .collect::<anyhow::Result<_>>()?;
 
@@ -208,7 +227,7 @@ pub fn run_chapter(
                 p.zeta_a
             ));
         }
-        if let Some((before, after, by_loop)) = p.calibration_error {
+        if let Some((before, after, by_loop)) = p.calibration_error.filter(|_| physics) {
             notes.push(format!(
                 "Physics observers run on the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, and its {} lines (shaft harmonics and tones), together as the one-step predictor of the whole model, AR order {} (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
                 inputs::FIT_SECONDS,
@@ -226,8 +245,9 @@ pub fn run_chapter(
         .iter()
         .flat_map(|m| healthy.iter().map(move |h| (*m, *h)))
         .collect();
-    let tunings: BTreeMap<(Method, RecKey), pl::Tuning> = tune_jobs
+    let tuned: Vec<((Method, RecKey), pl::Tuning)> = tune_jobs
         .par_iter()
+        .filter(|j| !cache.tunings.contains_key(j))
         .map(|(m, h)| {
             let p = prepared.get(h).ok_or_else(|| anyhow::anyhow!("no model"))?;
             let t = p.tune(*m).with_context(|| {
@@ -238,6 +258,17 @@ pub fn run_chapter(
                 )
             })?;
             Ok(((*m, *h), t))
+        })
+        .collect::<anyhow::Result<_>>()?;
+    cache.tunings.extend(tuned);
+    let tunings: BTreeMap<(Method, RecKey), pl::Tuning> = tune_jobs
+        .iter()
+        .map(|j| {
+            cache
+                .tunings
+                .get(j)
+                .map(|t| (*j, *t))
+                .ok_or_else(|| anyhow::anyhow!("no tuning for {j:?}"))
         })
         .collect::<anyhow::Result<_>>()?;
     stage("models and tuning");
@@ -253,6 +284,10 @@ pub fn run_chapter(
     let results: Vec<anyhow::Result<SourceOut>> = jobs
         .par_iter()
         .map(|(src, key)| {
+            if let Some(done) = cache.features.get(&(*src, *key)) {
+                pb.inc(1);
+                return Ok(done.clone());
+            }
             let rec = cache.get(key)?;
             let hk = inputs::healthy_key(key);
             let prep = prepared
@@ -263,7 +298,7 @@ pub fn run_chapter(
                     let t = tunings
                         .get(&(*m, hk))
                         .ok_or_else(|| anyhow::anyhow!("no tuning for {}", rec.id))?;
-                    Some((*m, prep, t))
+                    Some((*m, prep.as_ref(), t))
                 }
                 None => None,
             };
@@ -273,6 +308,11 @@ pub fn run_chapter(
             Ok((f.energies, f.trace, f.rms_ratio))
         })
         .collect();
+    for (job, r) in jobs.iter().zip(&results) {
+        if let Ok(out) = r {
+            cache.features.entry(*job).or_insert_with(|| out.clone());
+        }
+    }
     pb.finish_and_clear();
     stage("observers");
     let mut feats = FeatMap::new();

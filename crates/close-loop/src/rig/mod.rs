@@ -66,7 +66,7 @@ pub use model::{
     VERSION, cwru_rig,
 };
 pub use stats::{BANDS_HZ, Comparison, SignalStats, line_prominence_db, signal_stats};
-pub use synthesis::{BURST_PERIODS, Synthesis, strike_gate};
+pub use synthesis::{BURST_PERIODS, ExcitationCache, Synthesis, strike_gate};
 
 use lookup::{fault_rate_of, nearest_path, nearest_path_at};
 use model::same_position;

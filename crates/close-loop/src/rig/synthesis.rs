@@ -3,6 +3,8 @@
 //! path, and the filters and lines they are made with.
 
 use super::*;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Mean length of a burst of the strike gate, in fault periods (1 / fault rate): a few impacts
 /// strike in a row, then the defect is off the track for a while; the gate's on/off switching
@@ -28,6 +30,13 @@ pub struct Synthesis {
     pub n: usize,
     /// Seed of every random draw (excitation noise, line phases, slip).
     pub seed: u64,
+    /// Seed of the spalls' 5-DOF excitations (their slip draws) when it differs from `seed`
+    /// (`None`: `seed`). Recordings of several fault classes at one operating point that give
+    /// the same value here share each spall's excitation — a combined fault is then the
+    /// superposition of the very spalls of the single-fault recordings — while their
+    /// background, strike gate and random part stay independent (their own `seed`); with an
+    /// [`ExcitationCache`] each excitation is simulated once.
+    pub excitation_seed: Option<u64>,
 }
 
 impl Synthesis {
@@ -40,7 +49,64 @@ impl Synthesis {
             outer_angle_rad: -PI / 2.0,
             n,
             seed,
+            excitation_seed: None,
         }
+    }
+
+    /// The same synthesis with its spalls' excitations drawn from `seed`
+    /// ([`Synthesis::excitation_seed`]).
+    pub fn with_excitation_seed(mut self, seed: u64) -> Self {
+        self.excitation_seed = Some(seed);
+        self
+    }
+}
+
+/// What decides one spall's excitation: its location and the operating point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct ExcitationKey {
+    location: Location,
+    size_bits: u64,
+    rpm_bits: u64,
+    angle_bits: u64,
+    n: usize,
+    seed: u64,
+}
+
+type SharedExcitation = Arc<OnceLock<Result<Arc<Vec<f64>>, CloseLoopError>>>;
+
+/// The spalls' excitations, as the sensor sees them, simulated so far
+/// ([`RigModel::synthesize_cached`]): keyed by location, spall size, speed, outer-race position,
+/// length and excitation seed, each simulated once even when threads ask for it at the same
+/// time. Holds about 2 MB per excitation of 10 s at 12 kHz; drop it when the syntheses are done.
+#[derive(Debug, Default)]
+pub struct ExcitationCache {
+    map: Mutex<HashMap<ExcitationKey, SharedExcitation>>,
+}
+
+impl ExcitationCache {
+    /// Excitations held.
+    pub fn len(&self) -> usize {
+        self.map.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+
+    /// No excitation held.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn get_or_simulate(
+        &self,
+        key: ExcitationKey,
+        simulate: impl FnOnce() -> Result<Vec<f64>, CloseLoopError>,
+    ) -> Result<Arc<Vec<f64>>, CloseLoopError> {
+        let slot = Arc::clone(
+            self.map
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .entry(key)
+                .or_default(),
+        );
+        slot.get_or_init(|| simulate().map(Arc::new)).clone()
     }
 }
 
@@ -87,6 +153,16 @@ impl RigModel {
     /// # Errors
     /// As [`excitation`] and [`RigModel::severity`].
     pub fn fault_signal(&self, s: &Synthesis) -> Result<Vec<f64>, CloseLoopError> {
+        self.fault_signal_with(s, None)
+    }
+
+    /// [`RigModel::fault_signal`] with the spalls' excitations looked up in, or added to,
+    /// `cache` when one is given.
+    fn fault_signal_with(
+        &self,
+        s: &Synthesis,
+        cache: Option<&ExcitationCache>,
+    ) -> Result<Vec<f64>, CloseLoopError> {
         let bearing: Bearing =
             self.bearing
                 .parse()
@@ -98,20 +174,37 @@ impl RigModel {
             let (g, q) = self.severity_at(loc, s.size_mm, s.outer_angle_rad)?;
             // each spall simulated alone (same seed, same slip draws) and seen through its own
             // path: combined faults are the superposition of the spalls' responses
-            let e = excitation(
-                bearing,
-                self.preload_m,
-                self.radial_load_n,
-                loc.class(),
-                s.size_mm,
-                s.rpm * self.healthy.speed_ratio,
-                s.outer_angle_rad,
-                self.fs_hz,
-                s.n + WARMUP,
-                s.seed,
-                self.excitation_housing_hz,
-            )?;
-            let e = e.seen(self.sensor_horizontal);
+            let seed = s.excitation_seed.unwrap_or(s.seed);
+            let simulate = || {
+                excitation(
+                    bearing,
+                    self.preload_m,
+                    self.radial_load_n,
+                    loc.class(),
+                    s.size_mm,
+                    s.rpm * self.healthy.speed_ratio,
+                    s.outer_angle_rad,
+                    self.fs_hz,
+                    s.n + WARMUP,
+                    seed,
+                    self.excitation_housing_hz,
+                )
+                .map(|e| e.seen(self.sensor_horizontal))
+            };
+            let e = match cache {
+                Some(c) => c.get_or_simulate(
+                    ExcitationKey {
+                        location: loc,
+                        size_bits: s.size_mm.to_bits(),
+                        rpm_bits: s.rpm.to_bits(),
+                        angle_bits: s.outer_angle_rad.to_bits(),
+                        n: s.n,
+                        seed,
+                    },
+                    simulate,
+                )?,
+                None => Arc::new(simulate()?),
+            };
             let tau = BURST_PERIODS * self.fs_hz / self.fault_rate_hz(loc, s.rpm).max(1e-9);
             let e = gated(
                 &e,
@@ -140,6 +233,29 @@ impl RigModel {
     /// [`CloseLoopError::InvalidRpm`], [`CloseLoopError::ParameterOutOfRange`] for a speed above
     /// 100 000 rpm or `n` below 1024, and the errors of [`RigModel::fault_signal`].
     pub fn synthesize(&self, s: &Synthesis) -> Result<Vec<f64>, CloseLoopError> {
+        self.synthesize_with(s, None)
+    }
+
+    /// [`RigModel::synthesize`] with the spalls' excitations taken from `cache` when it holds
+    /// them (simulated and added otherwise): the output is bit-identical to
+    /// [`RigModel::synthesize`]'s; only the work is shared between syntheses with the same
+    /// [`Synthesis::excitation_seed`].
+    ///
+    /// # Errors
+    /// As [`RigModel::synthesize`].
+    pub fn synthesize_cached(
+        &self,
+        s: &Synthesis,
+        cache: &ExcitationCache,
+    ) -> Result<Vec<f64>, CloseLoopError> {
+        self.synthesize_with(s, Some(cache))
+    }
+
+    fn synthesize_with(
+        &self,
+        s: &Synthesis,
+        cache: Option<&ExcitationCache>,
+    ) -> Result<Vec<f64>, CloseLoopError> {
         if !(s.rpm.is_finite() && s.rpm > 0.0) {
             return Err(CloseLoopError::InvalidRpm { rpm: s.rpm });
         }
@@ -151,7 +267,7 @@ impl RigModel {
         }
         let mut y = self.background(s.rpm, s.n, s.seed);
         if s.class != FaultClass::None {
-            let f = self.fault_signal(s)?;
+            let f = self.fault_signal_with(s, cache)?;
             for (a, b) in y.iter_mut().zip(&f) {
                 *a += b;
             }
