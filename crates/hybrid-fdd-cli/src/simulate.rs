@@ -48,7 +48,9 @@ pub struct Args {
     /// 3, 6 and 12).
     #[arg(long, default_value_t = 6)]
     pub outer_clock: u8,
-    /// Bearing: 6205 (CWRU drive end) | 6203 (fan end).
+    /// Bearing: 6205 (CWRU drive end) | 6203 (fan end) | a geometry
+    /// `n=8,d=0.235in,D=1.245in,angle=0deg` (mm, in or m; the bare 5-DOF sets only: the set's
+    /// shaft, pedestal, housing and contact stiffness with this geometry's balls and kinematics).
     #[arg(long, default_value = "6205")]
     pub bearing: String,
     /// Spall width (circumferential), mm. CWRU: 0.178 / 0.356 / 0.533 (0.007/0.014/0.021 in).
@@ -94,14 +96,16 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
         "auto" | "calibrated" => ParamSet::CwruRig,
         other => other.parse()?,
     };
-    let bearing: Bearing = args.bearing.parse()?;
+    let geometry = simulated_geometry(&args.bearing)?;
     check_rpm(args.rpm)?;
     anyhow::ensure!(
         args.slip.is_finite() && args.slip >= 0.0,
         "--slip must be >= 0 (got {})",
         args.slip
     );
-    let mut sc = Scenario::new(set, bearing, args.rpm)
+    let mut sc = Scenario::new(set, Bearing::Skf6205, args.rpm);
+    sc.spec.geometry = geometry;
+    let mut sc = sc
         .with_fs(args.fs)
         .with_duration(args.duration)
         .with_seed(args.seed)
@@ -134,6 +138,24 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
         sc = sc.with_fault_onset(t);
     }
     Ok(sc)
+}
+
+/// The geometry the bare 5-DOF model simulates for `--bearing`: a built-in bearing's, or one
+/// given as `n=…,d=…,D=…[,angle=…]` (the four fault multiples alone do not place balls).
+///
+/// # Errors
+/// The spec parser's typed errors, and a spec without a geometry.
+pub fn simulated_geometry(spec: &str) -> anyhow::Result<bearing_model::BearingGeometry> {
+    if let Ok(b) = spec.parse::<Bearing>() {
+        return Ok(b.geometry());
+    }
+    let b = crate::parse_bearing(spec)?;
+    b.geometry.ok_or_else(|| {
+        anyhow::anyhow!(
+            "--bearing {}: simulating needs the bearing's geometry (n=…,d=…,D=…[,angle=…]), not only its fault multiples",
+            spec.trim()
+        )
+    })
 }
 
 fn check_rpm(rpm: f64) -> anyhow::Result<()> {

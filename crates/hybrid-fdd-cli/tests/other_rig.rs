@@ -138,3 +138,81 @@ fn the_speed_of_a_simulated_csv_comes_from_its_sidecar() {
     assert_eq!(hybrid_fdd_cli::diagnose::sidecar_rpm(&csv), None);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `simulate --bearing <geometry>` on the bare 5-DOF model: another rig's bearing (MFPT's NICE
+/// bearing) simulated with an outer-race spall reads `outer` at that geometry's BPFO; the four
+/// multiples alone cannot place balls, and the calibrated rig is the 6205's only.
+#[test]
+fn a_bearing_given_by_its_geometry_is_simulated_and_diagnosed() {
+    let d = dir("simulate-geometry");
+    let geometry = "n=8,d=0.235in,D=1.245in,angle=0deg";
+    let simulate = |bearing: &str, params: &str, out: &std::path::Path| {
+        let a = Simulate::try_parse_from([
+            "simulate",
+            "--bearing",
+            bearing,
+            "--params",
+            params,
+            "--fault",
+            "outer",
+            "--rpm",
+            "1500",
+            "--fs",
+            "20000",
+            "--duration",
+            "4",
+            "--seed",
+            "5",
+            "--snr-db",
+            "10",
+            "--out",
+            s(out),
+        ])
+        .unwrap()
+        .a;
+        hybrid_fdd_cli::simulate::run(a)
+    };
+    let csv = d.join("nice.csv");
+    simulate(geometry, "cwru", &csv).expect("simulated with the given geometry");
+    let side = json(&csv.with_extension("json"));
+    assert_eq!(side["bearing"], geometry);
+    assert_eq!(side["spec"]["geometry"]["n_balls"], 8);
+    // MFPT's documented outer-race rate at 25 Hz shaft speed: 81.1 Hz
+    let bpfo = side["fault_orders"]["bpfo"].as_f64().unwrap();
+    assert!((bpfo * 25.0 - 81.12).abs() < 0.01, "BPFO {bpfo} x fr");
+    let report = d.join("nice-report.json");
+    let a = Diagnose::try_parse_from([
+        "diagnose",
+        "--input",
+        s(&csv),
+        "--bearing",
+        geometry,
+        "--report",
+        s(&report),
+    ])
+    .unwrap()
+    .a;
+    hybrid_fdd_cli::diagnose::run(&a).expect("diagnosed");
+    assert_eq!(json(&report)["verdict"], "outer");
+    // the four multiples alone: refused, naming what is missing
+    let e = simulate(
+        "bpfo=3.245,bpfi=4.755,ftf=0.4056,bsf=5.109",
+        "cwru",
+        &d.join("x.csv"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("geometry"), "{e}");
+    // the calibrated rig is the 6205's
+    let e = simulate(geometry, "calibrated", &d.join("y.csv"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("calibrated rig is the 6205"), "{e}");
+    // a recording simulated with one geometry, closed-looped as another bearing: refused
+    let e = hybrid_fdd_cli::diagnose::bearing_or_sidecar(&csv, Some("6205"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("was simulated with"), "{e}");
+    assert!(hybrid_fdd_cli::diagnose::bearing_or_sidecar(&csv, Some(geometry)).is_ok());
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -327,9 +327,15 @@ pub fn bearing_or_sidecar(
     let recorded = sidecar_bearing(path);
     match (given, recorded) {
         (Some(g), Some(r)) => {
-            let builtin = |s: &str| s.parse::<bearing_model::Bearing>().ok();
-            if let (Some(a), Some(b)) = (builtin(g), builtin(&r))
-                && a != b
+            // two specs that parse disagree when any fault multiple differs by more than 0.1 %
+            // (a geometry and its rounded catalogue multiples agree)
+            let orders = |s: &str| bearing_model::BearingSpec::parse(s).ok().map(|b| b.orders);
+            let differ = |a: f64, b: f64| (a - b).abs() > 1e-3 * b.abs().max(1e-9);
+            if let (Some(a), Some(b)) = (orders(g), orders(&r))
+                && (differ(a.bpfo, b.bpfo)
+                    || differ(a.bpfi, b.bpfi)
+                    || differ(a.ftf, b.ftf)
+                    || differ(a.ball_defect, b.ball_defect))
             {
                 anyhow::bail!(
                     "--bearing {g}, but {} was simulated with the {r} (its sidecar {})",
