@@ -33,6 +33,10 @@ pub struct PhysicsModel {
     /// declared fault leaves healthy: faults the loop found that nobody declared
     /// ([`DeclaredModel::with_added_fault`]).
     pub added_faults: Vec<(FaultLocation, f64)>,
+    /// A bearing given by its dimensions, simulated instead of `bearing`'s geometry (balls,
+    /// cage and defect kinematics; the parameter set's structure, housing and contact stay, as
+    /// for the 6203: `docs/equations/bearing-model.md`, "Other geometries"); `None`: `bearing`'s.
+    pub geometry: Option<bearing_model::BearingGeometry>,
 }
 
 impl Default for PhysicsModel {
@@ -47,11 +51,32 @@ impl Default for PhysicsModel {
             seed: 1,
             clearance_m: None,
             added_faults: Vec::new(),
+            geometry: None,
         }
     }
 }
 
 impl PhysicsModel {
+    /// The default model for the bearing `spec` names: a built-in bearing by its designation,
+    /// any other by its geometry; `None` for a bearing given by its four fault multiples only
+    /// (they do not place balls).
+    pub fn for_bearing(spec: &crate::BearingSpec) -> Option<Self> {
+        let named = [spec.name.as_str(), spec.given.as_str()]
+            .into_iter()
+            .find_map(|s| s.parse::<Bearing>().ok());
+        match (named, spec.geometry) {
+            (Some(bearing), _) => Some(Self {
+                bearing,
+                ..Self::default()
+            }),
+            (None, Some(g)) => Some(Self {
+                geometry: Some(g),
+                ..Self::default()
+            }),
+            (None, None) => None,
+        }
+    }
+
     /// The scenario simulated for `op`, `n` samples at `fs`.
     ///
     /// # Errors
@@ -68,6 +93,9 @@ impl PhysicsModel {
             .with_duration(n as f64 / fs)
             .with_noise(Noise::Off)
             .with_seed(self.seed);
+        if let Some(g) = self.geometry {
+            s.spec.geometry = g;
+        }
         let spall = |size_in: f64| {
             Spall::new(size_in * 0.0254).with_depth(bearing_model::scenario::CWRU_DEPTH_M)
         };
@@ -269,6 +297,25 @@ mod tests {
         assert_ne!(m.cache_key(), moved.cache_key());
         let added = m.with_added_fault(FaultLocation::Outer, 0.014).unwrap();
         assert_ne!(m.cache_key(), added.cache_key());
+    }
+
+    /// A built-in bearing is simulated by its designation, another by its geometry (its balls
+    /// in the scenario, its key apart), the four multiples alone not at all.
+    #[test]
+    fn a_bearing_is_simulated_by_its_designation_or_its_geometry() {
+        let b6205 = PhysicsModel::for_bearing(&crate::BearingSpec::parse("6205").unwrap()).unwrap();
+        assert_eq!((b6205.bearing, b6205.geometry), (Bearing::Skf6205, None));
+        let b6203 = PhysicsModel::for_bearing(&crate::BearingSpec::designated(Bearing::Skf6203));
+        assert_eq!(b6203.unwrap().bearing, Bearing::Skf6203);
+        let spec = crate::BearingSpec::parse("n=8,d=0.235in,D=1.245in,angle=0deg").unwrap();
+        let nice = PhysicsModel::for_bearing(&spec).unwrap();
+        assert_ne!(nice.cache_key(), PhysicsModel::default().cache_key());
+        let op = OperatingPoint::new(1500.0, spec, FaultClass::Outer).unwrap();
+        let s = nice.scenario(&op, 2048, 12_000.0).unwrap();
+        assert_eq!(s.spec.geometry.n_balls, 8);
+        assert!((s.spec.geometry.orders().bpfo - op.bearing.orders.bpfo).abs() < 1e-12);
+        let multiples = crate::BearingSpec::parse("bpfo=3.245,bpfi=4.755,ftf=0.4056,bsf=5.109");
+        assert!(PhysicsModel::for_bearing(&multiples.unwrap()).is_none());
     }
 
     /// A fault nobody declared is a second spall in the simulated scenario (the declared one

@@ -42,8 +42,8 @@ pub struct Args {
     /// Bearing: `6205`, `6203`, a geometry (`n=8,d=0.235in,D=1.245in,angle=0deg`) or the four
     /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
     /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
-    /// doubled (the 6205's textbook BSF is 2.3567). The physics model simulates 6205 and 6203
-    /// only (`--model arx-laguerre` or `phenomenological` for others). When omitted: a
+    /// doubled (the 6205's textbook BSF is 2.3567). The physics model simulates 6205, 6203 or a
+    /// geometry, not the multiples alone (`--model arx-laguerre` or `phenomenological` then). When omitted: a
     /// `simulate` CSV's sidecar's bearing (said on stderr), else 6205.
     #[arg(long)]
     pub bearing: Option<String>,
@@ -105,12 +105,12 @@ pub struct CalibrateArgs {
     /// Bearing: `6205`, `6203`, a geometry (`n=12,d=7.94mm,D=38.5mm,angle=0deg`) or the four
     /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
     /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
-    /// doubled (the 6205's textbook BSF is 2.3567). A bearing other than 6205/6203 needs
-    /// `--model arx-laguerre` or `phenomenological`. When omitted: a `simulate` CSV's sidecar's
+    /// doubled (the 6205's textbook BSF is 2.3567). A bearing given by its four multiples only
+    /// needs `--model arx-laguerre` or `phenomenological`. When omitted: a `simulate` CSV's sidecar's
     /// bearing (said on stderr), else 6205.
     #[arg(long)]
     pub bearing: Option<String>,
-    /// Declared model (as `close-loop --model`): physics (5-DOF; 6205 and 6203 only),
+    /// Declared model (as `close-loop --model`): physics (5-DOF; 6205, 6203 or a geometry),
     /// arx-laguerre (identified on the fitting segment; any bearing) or phenomenological
     /// (impact train; any bearing).
     #[arg(long, default_value = "physics")]
@@ -405,20 +405,19 @@ fn run_one_as(
     .check()?;
     let model: Box<dyn DeclaredModel> = match args.model.as_str() {
         "physics" => {
-            let b = builtin.with_context(|| {
+            let m = PhysicsModel::for_bearing(&op.bearing).with_context(|| {
                 format!(
-                    "the physics model simulates the built-in bearings only (6205, 6203), not `{}`; use --model arx-laguerre or phenomenological",
+                    "the physics model simulates a bearing's geometry (6205, 6203 or n=…,d=…,D=…[,angle=…]), not the four multiples `{}`; use --model arx-laguerre or phenomenological",
                     bearing_text
                 )
             })?;
             let size = args
                 .fault_size_in
                 .or(loaded.fault_size_in)
-                .unwrap_or(PhysicsModel::default().fault_size_in);
+                .unwrap_or(m.fault_size_in);
             Box::new(PhysicsModel {
-                bearing: b,
                 fault_size_in: size,
-                ..PhysicsModel::default()
+                ..m
             })
         }
         "phenomenological" => Box::new(PhenomenologicalModel {

@@ -9,7 +9,8 @@ use common::{BEARING, Calibrate, Diagnose, Fault, Simulate, dir, json, machine, 
 
 /// BUG-8: `calibrate --model arx-laguerre` on a healthy recording of a 12-ball bearing, then
 /// `diagnose --baseline m.json` on an outer-race fault of that bearing and on another healthy
-/// recording.
+/// recording. The physics model calibrates it too, from its geometry; given only its four
+/// multiples it cannot, and says which model can.
 #[test]
 fn calibrate_a_rig_with_a_bearing_that_is_not_built_in() {
     let d = dir("other-rig");
@@ -22,7 +23,7 @@ fn calibrate_a_rig_with_a_bearing_that_is_not_built_in() {
         ",",
     );
     let m = d.join("m.json");
-    let cal = |model: Option<&str>| {
+    let cal = |bearing: &str, model: Option<&str>| {
         let mut v = vec![
             "calibrate",
             "--input",
@@ -30,7 +31,7 @@ fn calibrate_a_rig_with_a_bearing_that_is_not_built_in() {
             "--rpm",
             "1500",
             "--bearing",
-            BEARING,
+            bearing,
             "--out",
             s(&m),
         ];
@@ -39,10 +40,18 @@ fn calibrate_a_rig_with_a_bearing_that_is_not_built_in() {
         }
         hybrid_fdd_cli::close_loop::calibrate(Calibrate::try_parse_from(v).unwrap().a)
     };
-    // the physics model cannot: the error names the option that can
-    let e = cal(None).unwrap_err().to_string();
+    // the physics model simulates the geometry (the machine model names it, normalised) ...
+    cal(BEARING, None).expect("calibrated from the 5-DOF model of this geometry");
+    let physics =
+        close_loop::machine::MachineModel::from_json(&std::fs::read_to_string(&m).unwrap())
+            .unwrap();
+    assert!(physics.bearing.starts_with("n=12,"), "{}", physics.bearing);
+    // ... but not the four multiples alone: the error names the option that can
+    let e = cal("bpfo=4.7626,bpfi=7.2374,ftf=0.39688,bsf=4.6428", None)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("--model arx-laguerre"), "{e}");
-    cal(Some("arx-laguerre")).expect("calibrated with an identified model");
+    cal(BEARING, Some("arx-laguerre")).expect("calibrated with an identified model");
     let model = close_loop::machine::MachineModel::from_json(&std::fs::read_to_string(&m).unwrap())
         .unwrap();
     assert!(model.path.is_some());
@@ -214,5 +223,64 @@ fn a_bearing_given_by_its_geometry_is_simulated_and_diagnosed() {
         .to_string();
     assert!(e.contains("was simulated with"), "{e}");
     assert!(hybrid_fdd_cli::diagnose::bearing_or_sidecar(&csv, Some(geometry)).is_ok());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `close-loop --model physics` on a bearing given by its geometry: its own 5-DOF simulation
+/// declared right adds nothing; declared healthy, the outer race nobody declared is named at that
+/// geometry's BPFO.
+#[test]
+fn the_loop_runs_the_physics_model_of_a_bearing_given_by_its_geometry() {
+    let d = dir("loop-geometry");
+    let geometry = "n=8,d=0.235in,D=1.245in,angle=0deg";
+    let csv = d.join("outer.csv");
+    let sim = Simulate::try_parse_from([
+        "simulate",
+        "--bearing",
+        geometry,
+        "--params",
+        "cwru",
+        "--fault",
+        "outer",
+        "--rpm",
+        "1500",
+        "--fs",
+        "20000",
+        "--duration",
+        "2",
+        "--seed",
+        "8",
+        "--out",
+        s(&csv),
+    ])
+    .unwrap();
+    hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+    let run = |fault: &str| {
+        let report = d.join(format!("loop-{fault}.json"));
+        let a = common::CloseLoop::try_parse_from([
+            "close-loop",
+            "--input",
+            s(&csv),
+            "--fault",
+            fault,
+            "--report",
+            s(&report),
+        ])
+        .unwrap()
+        .a;
+        hybrid_fdd_cli::close_loop::run(a).expect("the loop runs");
+        json(&report)
+    };
+    let own = run("outer");
+    assert_eq!(own["effects"].as_array().unwrap().len(), 0, "{own}");
+    let healthy = run("none");
+    let first = &healthy["effects"][0];
+    assert_eq!(first["kind"], "bearing_fault", "{healthy}");
+    let bpfo = 25.0 * 3.244_979_919_678_715;
+    let f = first["frequency_hz"].as_f64().unwrap();
+    assert!(
+        (f - bpfo).abs() < 0.005 * bpfo,
+        "{f} Hz against BPFO {bpfo}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -39,6 +39,20 @@ pub(crate) fn declared_healthy(bearing: bearing_model::Bearing) -> crate::physic
     }
 }
 
+/// The bearing a machine model names (`MachineModel::bearing`: a built-in designation, or the
+/// normalised spec of a bearing given by its geometry or its multiples).
+///
+/// # Errors
+/// [`CloseLoopError::UnknownBearing`] when the name is neither.
+pub(crate) fn named_bearing(name: &str) -> Result<crate::BearingSpec, CloseLoopError> {
+    name.parse::<bearing_model::Bearing>()
+        .map(crate::BearingSpec::designated)
+        .or_else(|_| crate::BearingSpec::parse(name))
+        .map_err(|_| CloseLoopError::UnknownBearing {
+            name: name.to_string(),
+        })
+}
+
 /// Verification passes a calibration runs at most ([`calibrate_with`]).
 pub const MAX_VERIFICATION_PASSES: usize = 2;
 

@@ -61,11 +61,7 @@ impl MachineModel {
                         .or(m);
                 }
             }
-            let rates = crate::BearingSpec::designated(self.bearing.parse().map_err(|_| {
-                CloseLoopError::UnknownBearing {
-                    name: self.bearing.clone(),
-                }
-            })?);
+            let rates = super::calibration::named_bearing(&self.bearing)?;
             let fault = crate::parse_fault(&self.declared_fault)?;
             let op = crate::OperatingPoint::new(rpm, rates, fault)?
                 .with_speed_ratio(self.speed_ratio * self.defect_rate_ratio);
@@ -142,13 +138,15 @@ impl MachineModel {
             });
         }
         let physics = if self.physics_gain > 0.0 {
-            let bearing = self
-                .bearing
-                .parse()
-                .map_err(|_| CloseLoopError::UnknownBearing {
-                    name: self.bearing.clone(),
-                })?;
-            let m = super::calibration::declared_healthy(bearing);
+            let m = crate::physics::PhysicsModel::for_bearing(
+                &super::calibration::named_bearing(&self.bearing)?,
+            )
+            .ok_or_else(|| CloseLoopError::Model {
+                reason: format!(
+                    "the machine model's bearing `{}` gives no geometry to simulate its physics with",
+                    self.bearing
+                ),
+            })?;
             if self.model != m.name() {
                 return Err(CloseLoopError::Model {
                     reason: format!(
