@@ -77,7 +77,9 @@ type SharedExcitation = Arc<OnceLock<Result<Arc<Vec<f64>>, CloseLoopError>>>;
 /// The spalls' excitations, as the sensor sees them, simulated so far
 /// ([`RigModel::synthesize_cached`]): keyed by location, spall size, speed, outer-race position,
 /// length and excitation seed, each simulated once even when threads ask for it at the same
-/// time. Holds about 2 MB per excitation of 10 s at 12 kHz; drop it when the syntheses are done.
+/// time. The key does not hold the rig: a cache serves the syntheses of one [`RigModel`] (its
+/// preload, load, sensor and sampling rate shape the excitation). Holds about 2 MB per
+/// excitation of 10 s at 12 kHz; drop it when the syntheses are done.
 #[derive(Debug, Default)]
 pub struct ExcitationCache {
     map: Mutex<HashMap<ExcitationKey, SharedExcitation>>,
