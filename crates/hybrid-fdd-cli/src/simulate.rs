@@ -146,11 +146,8 @@ pub fn scenario(args: &Args) -> anyhow::Result<Scenario> {
 /// # Errors
 /// The spec parser's typed errors, and a spec without a geometry.
 pub fn simulated_geometry(spec: &str) -> anyhow::Result<bearing_model::BearingGeometry> {
-    if let Ok(b) = spec.parse::<Bearing>() {
-        return Ok(b.geometry());
-    }
-    let b = crate::parse_bearing(spec)?;
-    b.geometry.ok_or_else(|| {
+    // the parser names a built-in bearing by its geometry too
+    crate::parse_bearing(spec)?.geometry.ok_or_else(|| {
         anyhow::anyhow!(
             "--bearing {}: simulating needs the bearing's geometry (n=…,d=…,D=…[,angle=…]), not only its fault multiples",
             spec.trim()

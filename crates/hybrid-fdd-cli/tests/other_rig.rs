@@ -148,6 +148,32 @@ fn the_speed_of_a_simulated_csv_comes_from_its_sidecar() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// `simulate --bearing <bearing> --params <params> --fault outer --rpm 1500 --fs 20000
+/// <extra…> --out <out>`.
+fn simulate_outer(
+    bearing: &str,
+    params: &str,
+    extra: &[&str],
+    out: &std::path::Path,
+) -> anyhow::Result<()> {
+    let mut v = vec![
+        "simulate",
+        "--bearing",
+        bearing,
+        "--params",
+        params,
+        "--fault",
+        "outer",
+        "--rpm",
+        "1500",
+        "--fs",
+        "20000",
+    ];
+    v.extend_from_slice(extra);
+    v.extend(["--out", s(out)]);
+    hybrid_fdd_cli::simulate::run(Simulate::try_parse_from(v).unwrap().a)
+}
+
 /// `simulate --bearing <geometry>` on the bare 5-DOF model: another rig's bearing (MFPT's NICE
 /// bearing) simulated with an outer-race spall reads `outer` at that geometry's BPFO; the four
 /// multiples alone cannot place balls, and the calibrated rig is the 6205's only.
@@ -156,30 +182,12 @@ fn a_bearing_given_by_its_geometry_is_simulated_and_diagnosed() {
     let d = dir("simulate-geometry");
     let geometry = "n=8,d=0.235in,D=1.245in,angle=0deg";
     let simulate = |bearing: &str, params: &str, out: &std::path::Path| {
-        let a = Simulate::try_parse_from([
-            "simulate",
-            "--bearing",
+        simulate_outer(
             bearing,
-            "--params",
             params,
-            "--fault",
-            "outer",
-            "--rpm",
-            "1500",
-            "--fs",
-            "20000",
-            "--duration",
-            "4",
-            "--seed",
-            "5",
-            "--snr-db",
-            "10",
-            "--out",
-            s(out),
-        ])
-        .unwrap()
-        .a;
-        hybrid_fdd_cli::simulate::run(a)
+            &["--duration", "4", "--seed", "5", "--snr-db", "10"],
+            out,
+        )
     };
     let csv = d.join("nice.csv");
     simulate(geometry, "cwru", &csv).expect("simulated with the given geometry");
@@ -234,27 +242,7 @@ fn the_loop_runs_the_physics_model_of_a_bearing_given_by_its_geometry() {
     let d = dir("loop-geometry");
     let geometry = "n=8,d=0.235in,D=1.245in,angle=0deg";
     let csv = d.join("outer.csv");
-    let sim = Simulate::try_parse_from([
-        "simulate",
-        "--bearing",
-        geometry,
-        "--params",
-        "cwru",
-        "--fault",
-        "outer",
-        "--rpm",
-        "1500",
-        "--fs",
-        "20000",
-        "--duration",
-        "2",
-        "--seed",
-        "8",
-        "--out",
-        s(&csv),
-    ])
-    .unwrap();
-    hybrid_fdd_cli::simulate::run(sim.a).unwrap();
+    simulate_outer(geometry, "cwru", &["--duration", "2", "--seed", "8"], &csv).unwrap();
     let run = |fault: &str| {
         let report = d.join(format!("loop-{fault}.json"));
         let a = common::CloseLoop::try_parse_from([
