@@ -52,6 +52,11 @@ impl<F: Float> LinearRows<F> {
         }
     }
 
+    /// The records when there is one feature (see `Kernel::single_feature_linear`).
+    pub fn single_feature(&self) -> Option<&[F]> {
+        (self.d == 1).then_some(self.rows.as_slice())
+    }
+
     fn row(&self, i: usize) -> &[F] {
         &self.rows[i * self.d..(i + 1) * self.d]
     }

@@ -161,6 +161,17 @@ impl<F: Float, K1: Inner<Elem = F>, K2: Inner<Elem = F>> KernelBase<K1, K2> {
     /// ## Panics
     ///
     /// If `i` is out of bounds
+    /// hybrid-fdd patch (see vendor/README.md): the records of a one-feature linear kernel
+    /// (`KernelInner::Linear` with d = 1), whose entry (i, j) is `0 + x_i·x_j` exactly as
+    /// [`Self::column`] computes it; `None` for any other kernel. Lets a caller that reads
+    /// columns in its own order (linfa-svm's permuted SMO kernel) compute them in that order.
+    pub fn single_feature_linear(&self) -> Option<&[F]> {
+        match &self.inner {
+            KernelInner::Linear(inn) => inn.single_feature(),
+            _ => None,
+        }
+    }
+
     pub fn column(&self, i: usize) -> Vec<F> {
         match &self.inner {
             KernelInner::Dense(inn) => inn.column(i),
