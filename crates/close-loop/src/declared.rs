@@ -90,7 +90,9 @@ impl OperatingPoint {
 /// spectrum and envelope are compared with the measurement's (the phases of a free-running
 /// simulation are not aligned with a recording). The 5-DOF physics model, an ARX-Laguerre model
 /// driven by its own innovation, or [`crate::scenario::PhenomenologicalModel`] implement it.
-pub trait DeclaredModel {
+///
+/// `Send + Sync`: the loop evaluates its candidate families in parallel on one shared model.
+pub trait DeclaredModel: Send + Sync {
     /// Short name for reports ("physics", "arx-laguerre", …).
     fn name(&self) -> &str;
     /// Simulate `n` samples at `fs` Hz at the operating point `op`.

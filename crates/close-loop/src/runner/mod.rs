@@ -11,6 +11,7 @@ use crate::report::{
 use crate::spectrum::Welch;
 use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
 use bearing_model::FaultLocation;
+use rayon::prelude::*;
 
 /// Smallest Welch segment the loop accepts.
 pub const MIN_NPERSEG: usize = 256;
@@ -538,16 +539,31 @@ fn refine_between(
 
 fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>, CloseLoopError> {
     let lr = log_ratio(ctx, st);
+    // The families are independent (each reads the context and the state; the simulation memo
+    // only saves work), so they run in parallel and are collected in this fixed order: the
+    // candidates, and so the run, are the same as evaluated one after another.
+    type Family<'f> = Box<dyn Fn() -> Result<Vec<Evaluated>, CloseLoopError> + Send + Sync + 'f>;
+    let families: Vec<Family<'_>> = vec![
+        Box::new(|| Ok(path_candidates(ctx, st).into_iter().collect())),
+        Box::new(|| Ok(line_candidates(ctx, st, &lr).into_iter().collect())),
+        Box::new(|| Ok(resonance_candidates(ctx, st, &lr).into_iter().collect())),
+        Box::new(|| Ok(speed_candidates(ctx, st)?.into_iter().collect())),
+        Box::new(|| Ok(slip_candidate(ctx, st).into_iter().collect())),
+        Box::new(|| Ok(highpass_candidate(ctx, st).into_iter().collect())),
+        Box::new(|| Ok(fault_size_candidate(ctx, st, fit_lsd).into_iter().collect())),
+        Box::new(|| {
+            Ok(added_fault_candidates(ctx, st, fit_lsd)
+                .into_iter()
+                .collect())
+        }),
+        Box::new(|| Ok(preload_candidate(ctx, st).into_iter().collect())),
+    ];
+    let found: Vec<Result<Vec<Evaluated>, CloseLoopError>> =
+        families.par_iter().map(|f| f()).collect();
     let mut out = Vec::new();
-    out.extend(path_candidates(ctx, st));
-    out.extend(line_candidates(ctx, st, &lr));
-    out.extend(resonance_candidates(ctx, st, &lr));
-    out.extend(speed_candidates(ctx, st)?);
-    out.extend(slip_candidate(ctx, st));
-    out.extend(highpass_candidate(ctx, st));
-    out.extend(fault_size_candidate(ctx, st, fit_lsd));
-    out.extend(added_fault_candidates(ctx, st, fit_lsd));
-    out.extend(preload_candidate(ctx, st));
+    for f in found {
+        out.extend(f?);
+    }
     Ok(out)
 }
 
