@@ -77,7 +77,7 @@ fn bench(c: &mut Criterion) {
     g.bench_function("calibration, healthy 10 s at 12 kHz", |b| {
         b.iter(|| close_loop(&model, &y, FS, &op, &cfg).unwrap())
     });
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     match bearing_data::DataLocation::resolve(None, &root)
         .map(|l| l.required().map(Path::to_path_buf))
     {

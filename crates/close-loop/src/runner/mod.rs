@@ -544,27 +544,19 @@ fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>,
     // candidates, and so the run, are the same as evaluated one after another.
     type Family<'f> = Box<dyn Fn() -> Result<Vec<Evaluated>, CloseLoopError> + Send + Sync + 'f>;
     let families: Vec<Family<'_>> = vec![
-        Box::new(|| Ok(path_candidates(ctx, st).into_iter().collect())),
-        Box::new(|| Ok(line_candidates(ctx, st, &lr).into_iter().collect())),
-        Box::new(|| Ok(resonance_candidates(ctx, st, &lr).into_iter().collect())),
-        Box::new(|| Ok(speed_candidates(ctx, st)?.into_iter().collect())),
-        Box::new(|| Ok(slip_candidate(ctx, st).into_iter().collect())),
-        Box::new(|| Ok(highpass_candidate(ctx, st).into_iter().collect())),
-        Box::new(|| Ok(fault_size_candidate(ctx, st, fit_lsd).into_iter().collect())),
-        Box::new(|| {
-            Ok(added_fault_candidates(ctx, st, fit_lsd)
-                .into_iter()
-                .collect())
-        }),
-        Box::new(|| Ok(preload_candidate(ctx, st).into_iter().collect())),
+        Box::new(|| Ok(path_candidates(ctx, st))),
+        Box::new(|| Ok(line_candidates(ctx, st, &lr))),
+        Box::new(|| Ok(resonance_candidates(ctx, st, &lr))),
+        Box::new(|| speed_candidates(ctx, st)),
+        Box::new(|| Ok(Vec::from_iter(slip_candidate(ctx, st)))),
+        Box::new(|| Ok(Vec::from_iter(highpass_candidate(ctx, st)))),
+        Box::new(|| Ok(Vec::from_iter(fault_size_candidate(ctx, st, fit_lsd)))),
+        Box::new(|| Ok(added_fault_candidates(ctx, st, fit_lsd))),
+        Box::new(|| Ok(Vec::from_iter(preload_candidate(ctx, st)))),
     ];
-    let found: Vec<Result<Vec<Evaluated>, CloseLoopError>> =
-        families.par_iter().map(|f| f()).collect();
-    let mut out = Vec::new();
-    for f in found {
-        out.extend(f?);
-    }
-    Ok(out)
+    // rayon collects in the families' order; only the speed family can fail
+    let found: Vec<Vec<Evaluated>> = families.par_iter().map(|f| f()).collect::<Result<_, _>>()?;
+    Ok(found.into_iter().flatten().collect())
 }
 
 mod fault;
