@@ -5,11 +5,14 @@ from the rig's machine model (`results/close-loop/rig-{12k,48k}.json`, mains 60 
 default), and prints what the loop names beside the truth. The untouched record's entry in
 `results/close-loop/<n>.json` (from `cargo xtask close-loop --all-real`) is the control.
 Findings and fixes: docs/equations/close-loop.md, "A second black-box check" (cases A-Y) and
-"A third black-box check" (cases a-q, on records neither the tests nor the earlier cases use).
+"A third black-box check" (cases a-q, on records neither the tests nor the earlier cases use),
+"A fourth black-box check" (r-z) and "A fifth black-box check" (`--random SEED`: seeded random
+effects, one kind per record in turn, each judged against the same record run untouched).
 
 Usage (after `cargo build --release -p hybrid-fdd-cli`, from the repository root; needs numpy
 and scipy):
     python3 docs/crosschecks/close_loop_blackbox.py [CASE ...]   (default: every case)
+    python3 docs/crosschecks/close_loop_blackbox.py --random SEED  (fifth round: random effects)
 Data: $HYBRID_FDD_DATA or ../shared/data. Work files go to /tmp/close_loop_blackbox.
 
 Amplitudes are fractions of the record's RMS (a tone of fraction q has amplitude q*sqrt(2)*RMS).
@@ -261,8 +264,99 @@ def case(c):
     raise SystemExit(f"unknown case {c}")
 
 
+# fifth round (2026-11-28, "A fifth black-box check"): seeded random effects on records no test
+# uses, one kind per record in turn, each judged against the same record run untouched
+RANDOM_RECORDS = [106, 119, 145, 186, 199, 248, 261, 172, 224, 158, 3002, 132]
+RANDOM_KINDS = ["tone", "order", "half", "am_shaft", "am_cage", "speed", "two_tones"]
+
+
+def random_case(n, kind, rng):
+    """(signal, truth) of one random case on record n: `truth` holds the kind the loop should
+    name (`kind`), the frequency (`f`, Hz), and the amplitude (`a`), depth (`depth`) or speed
+    ratio (`ratio`) it should report."""
+    y, fs, rpm = load(n)
+    fr = rpm / 60
+    if kind in ("tone", "two_tones"):
+        f = float(np.exp(rng.uniform(np.log(10), np.log(0.45 * fs))))
+        y2, a = tone(y, fs, f, rng.uniform(0.3, 0.45), ph=rng.uniform(0, 2 * np.pi))
+        truth = [dict(kind="tone", f=f, a=a)]
+        if kind == "two_tones":
+            f2 = float(np.exp(rng.uniform(np.log(10), np.log(0.45 * fs))))
+            y2, a2 = tone(y2, fs, f2, rng.uniform(0.3, 0.45))
+            truth.append(dict(kind="tone", f=f2, a=a2))
+        return y2, truth
+    if kind in ("order", "half"):
+        k = int(rng.integers(1, 6)) if kind == "order" else float(rng.choice([0.5, 1.5, 2.5]))
+        y2, a = tone(y, fs, k * fr, rng.uniform(0.3, 0.45), ph=1.0)
+        return y2, [dict(kind="shaft_harmonic", f=k * fr, a=a)]
+    if kind in ("am_shaft", "am_cage"):
+        fm = fr if kind == "am_shaft" else 0.39828 * fr
+        mu = rng.uniform(0.3, 0.5)
+        return am(y, fs, fm, mu), [dict(kind="modulation", f=fm, depth=mu)]
+    s = 1 + rng.choice([-1, 1]) * rng.uniform(0.01, 0.03)
+    return faster(y, s), [dict(kind="speed", ratio=s)]
+
+
+def run_loop(path, label, n, fs, rpm):
+    """The loop on `path` as a user runs it, from the rig's machine model; its JSON report."""
+    r = MAN[f"{n}.mat"]
+    fault = {"normal": "none"}.get(r["fault"], r["fault"])
+    report = f"{WORK}/{label}.report.json"
+    if not os.path.exists(report):
+        args = [CLI, "close-loop", "--input", path, "--fs", str(fs), "--rpm", str(rpm),
+                "--fault", fault, "--machine", "results/close-loop/rig-12k.json",
+                "--units", "g", "--report", report]
+        if fault != "none":
+            args += ["--fault-size-in", r["fault_diameter_in"]]
+        out = subprocess.run(args, capture_output=True, text=True)
+        if out.returncode != 0:
+            raise SystemExit(f"{label}: {' '.join(args)}\n{out.stderr}")
+    return json.load(open(report))
+
+
+def named(d, t):
+    """The effect of report `d` that names truth `t` (frequency within 0.5 %), or None."""
+    for e in d["effects"]:
+        if t["kind"] == "speed":
+            r = e["parameters"].get("ratio")
+            if e["kind"] in ("speed_offset", "defect_rate") and r and abs(r / t["ratio"] - 1) < 0.005:
+                return e
+        elif e["kind"] == t["kind"] and e["frequency_hz"] and abs(e["frequency_hz"] / t["f"] - 1) < 0.005:
+            return e
+        elif t["kind"] == "shaft_harmonic" and e["kind"] == "shaft_comb":
+            # a comb of shaft orders names its strongest order with that order's amplitude
+            p = e["parameters"]
+            if abs(p["strongest_order"] * e["frequency_hz"] / t["f"] - 1) < 0.005:
+                return dict(e, parameters=dict(p, amplitude=p["strongest_amplitude"]))
+    return None
+
+
+def random_round(seed):
+    rng = np.random.default_rng(seed)
+    for i, n in enumerate(RANDOM_RECORDS):
+        kind = RANDOM_KINDS[i % len(RANDOM_KINDS)]
+        y, truth = random_case(n, kind, np.random.default_rng(rng.integers(1 << 31)))
+        fs, rpm = load(n)[1:]
+        paths = {}
+        for label, sig in ((f"{n}_untouched", load(n)[0]), (f"{n}_{kind}_{seed}", y)):
+            paths[label] = f"{WORK}/{label}.csv"
+            if not os.path.exists(paths[label]):
+                np.savetxt(paths[label], sig, fmt="%.9e", header="accel", comments="")
+        ctrl, d = (run_loop(p, label, n, fs, rpm) for label, p in paths.items())
+        print(f"{n} {kind}: error {d['error_before']:.3f} -> {d['error_after']:.3f} dB")
+        for t in truth:
+            e, c = named(d, t), named(ctrl, t)
+            key = {"tone": "a", "shaft_harmonic": "a", "modulation": "depth", "speed": "ratio"}[t["kind"]]
+            got = e and e["parameters"].get({"a": "amplitude"}.get(key, key))
+            print(f"   added {t}: named {e['kind'] if e else 'NOT NAMED'}"
+                  f"{f' {got:.4g}' if got else ''}{' (also in the untouched record)' if c else ''}")
+
+
 def main():
     os.makedirs(WORK, exist_ok=True)
+    if sys.argv[1:2] == ["--random"]:
+        random_round(int(sys.argv[2]) if len(sys.argv) > 2 else 8)
+        return
     for c in sys.argv[1:] or list("ABCDEFGHIJNPRUVXY"):
         n, fault, size, y, fs, rpm, truth = case(c)
         path = f"{WORK}/{c}{n}.csv"
