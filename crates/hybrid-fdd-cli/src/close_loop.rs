@@ -579,19 +579,21 @@ pub fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
                 .map(|f| (i, f, format!("{} {}", i + 1, e.kind.as_str())))
         })
         .collect();
-    let spans: Vec<(i32, i32)> = marked
+    let right = c2.plotting_area().get_pixel_range().0.end;
+    let placed: Vec<((i32, i32), bool)> = marked
         .iter()
         .map(|(_, f, label)| {
-            (
-                c2.backend_coord(&(*f, rmax)).0,
-                crate::figure::label_width(label, font),
-            )
+            let width = crate::figure::label_width(label, font);
+            let (left, right_aligned) =
+                crate::figure::label_span(c2.backend_coord(&(*f, rmax)).0, width, right);
+            ((left, width), right_aligned)
         })
         .collect();
+    let spans: Vec<(i32, i32)> = placed.iter().map(|p| p.0).collect();
     let rows = crate::figure::label_rows(&spans, 3, 8);
     let plot_h = f64::from(c2.plotting_area().dim_in_pixel().1.max(1));
     let row_step = 2.0 * rmax * 13.0 / plot_h;
-    for ((i, f, label), row) in marked.into_iter().zip(rows) {
+    for (((i, f, label), row), (_, right_aligned)) in marked.into_iter().zip(rows).zip(placed) {
         let col = Palette99::pick(i + 2).to_rgba();
         c2.draw_series(LineSeries::new(
             vec![(f, -rmax), (f, rmax)],
@@ -601,7 +603,7 @@ pub fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
             c2.draw_series(std::iter::once(Text::new(
                 label,
                 (f, rmax - 0.2 * row_step - row_step * row as f64),
-                ("sans-serif", font).into_font().color(&col),
+                crate::figure::label_style(font, &col, right_aligned),
             )))?;
         }
     }
