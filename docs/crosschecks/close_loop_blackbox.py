@@ -12,7 +12,7 @@ effects, one kind per record in turn, each judged against the same record run un
 Usage (after `cargo build --release -p hybrid-fdd-cli`, from the repository root; needs numpy
 and scipy):
     python3 docs/crosschecks/close_loop_blackbox.py [CASE ...]   (default: every case)
-    python3 docs/crosschecks/close_loop_blackbox.py --random SEED  (fifth round: random effects)
+    python3 docs/crosschecks/close_loop_blackbox.py --random SEED [48k]  (fifth round: random effects)
 Data: $HYBRID_FDD_DATA or ../shared/data. Work files go to /tmp/close_loop_blackbox.
 
 Amplitudes are fractions of the record's RMS (a tone of fraction q has amplitude q*sqrt(2)*RMS).
@@ -267,6 +267,8 @@ def case(c):
 # fifth round (2026-11-28, "A fifth black-box check"): seeded random effects on records no test
 # uses, one kind per record in turn, each judged against the same record run untouched
 RANDOM_RECORDS = [106, 119, 145, 186, 199, 248, 261, 172, 224, 158, 3002, 132]
+# the 48 kHz drive-end records no test uses (`--random SEED 48k`)
+RANDOM_RECORDS_48K = [122, 161, 174, 189, 201, 238, 250, 262]
 RANDOM_KINDS = ["tone", "order", "half", "am_shaft", "am_cage", "speed", "two_tones"]
 
 
@@ -304,7 +306,8 @@ def run_loop(path, label, n, fs, rpm):
     report = f"{WORK}/{label}.report.json"
     if not os.path.exists(report):
         args = [CLI, "close-loop", "--input", path, "--fs", str(fs), "--rpm", str(rpm),
-                "--fault", fault, "--machine", "results/close-loop/rig-12k.json",
+                "--fault", fault, "--machine",
+                "results/close-loop/rig-%s.json" % ("48k" if fs == 48000 else "12k"),
                 "--units", "g", "--report", report]
         if fault != "none":
             args += ["--fault-size-in", r["fault_diameter_in"]]
@@ -331,9 +334,9 @@ def named(d, t):
     return None
 
 
-def random_round(seed):
+def random_round(seed, records):
     rng = np.random.default_rng(seed)
-    for i, n in enumerate(RANDOM_RECORDS):
+    for i, n in enumerate(records):
         kind = RANDOM_KINDS[i % len(RANDOM_KINDS)]
         y, truth = random_case(n, kind, np.random.default_rng(rng.integers(1 << 31)))
         fs, rpm = load(n)[1:]
@@ -355,7 +358,8 @@ def random_round(seed):
 def main():
     os.makedirs(WORK, exist_ok=True)
     if sys.argv[1:2] == ["--random"]:
-        random_round(int(sys.argv[2]) if len(sys.argv) > 2 else 8)
+        records = RANDOM_RECORDS_48K if sys.argv[3:4] == ["48k"] else RANDOM_RECORDS
+        random_round(int(sys.argv[2]) if len(sys.argv) > 2 else 8, records)
         return
     for c in sys.argv[1:] or list("ABCDEFGHIJNPRUVXY"):
         n, fault, size, y, fs, rpm, truth = case(c)
