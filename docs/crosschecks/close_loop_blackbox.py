@@ -272,11 +272,10 @@ RANDOM_RECORDS_48K = [122, 161, 174, 189, 201, 238, 250, 262]
 RANDOM_KINDS = ["tone", "order", "half", "am_shaft", "am_cage", "speed", "two_tones"]
 
 
-def random_case(n, kind, rng):
-    """(signal, truth) of one random case on record n: `truth` holds the kind the loop should
-    name (`kind`), the frequency (`f`, Hz), and the amplitude (`a`), depth (`depth`) or speed
-    ratio (`ratio`) it should report."""
-    y, fs, rpm = load(n)
+def random_case(y, fs, rpm, kind, rng):
+    """(signal, truth) of one random case on the record `y`: `truth` holds the kind the loop
+    should name (`kind`), the frequency (`f`, Hz), and the amplitude (`a`), depth (`depth`) or
+    speed ratio (`ratio`) it should report."""
     fr = rpm / 60
     if kind in ("tone", "two_tones"):
         f = float(np.exp(rng.uniform(np.log(10), np.log(0.45 * fs))))
@@ -338,10 +337,10 @@ def random_round(seed, records):
     rng = np.random.default_rng(seed)
     for i, n in enumerate(records):
         kind = RANDOM_KINDS[i % len(RANDOM_KINDS)]
-        y, truth = random_case(n, kind, np.random.default_rng(rng.integers(1 << 31)))
-        fs, rpm = load(n)[1:]
+        x, fs, rpm = load(n)
+        y, truth = random_case(x, fs, rpm, kind, np.random.default_rng(rng.integers(1 << 31)))
         paths = {}
-        for label, sig in ((f"{n}_untouched", load(n)[0]), (f"{n}_{kind}_{seed}", y)):
+        for label, sig in ((f"{n}_untouched", x), (f"{n}_{kind}_{seed}", y)):
             paths[label] = f"{WORK}/{label}.csv"
             if not os.path.exists(paths[label]):
                 np.savetxt(paths[label], sig, fmt="%.9e", header="accel", comments="")
