@@ -580,20 +580,15 @@ pub fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
         })
         .collect();
     let right = c2.plotting_area().get_pixel_range().0.end;
-    let placed: Vec<((i32, i32), bool)> = marked
+    let at: Vec<(i32, &str)> = marked
         .iter()
-        .map(|(_, f, label)| {
-            let width = crate::figure::label_width(label, font);
-            let (left, right_aligned) =
-                crate::figure::label_span(c2.backend_coord(&(*f, rmax)).0, width, right);
-            ((left, width), right_aligned)
-        })
+        .map(|(_, f, label)| (c2.backend_coord(&(*f, rmax)).0, label.as_str()))
         .collect();
-    let spans: Vec<(i32, i32)> = placed.iter().map(|p| p.0).collect();
-    let rows = crate::figure::label_rows(&spans, 3, 8);
+    let placed = crate::figure::place_labels(&at, font, right, 3, 8);
     let plot_h = f64::from(c2.plotting_area().dim_in_pixel().1.max(1));
     let row_step = 2.0 * rmax * 13.0 / plot_h;
-    for (((i, f, label), row), (_, right_aligned)) in marked.into_iter().zip(rows).zip(placed) {
+    for ((i, f, label), p) in marked.into_iter().zip(placed) {
+        let (row, right_aligned) = p.unwrap_or((0, false));
         let col = Palette99::pick(i + 2).to_rgba();
         c2.draw_series(LineSeries::new(
             vec![(f, -rmax), (f, rmax)],

@@ -63,6 +63,37 @@ pub fn label_span(x: i32, width: i32, right: i32) -> (i32, bool) {
     }
 }
 
+/// Where each label of a set of vertical lines goes: `labels` are the lines' pixel `x` and their
+/// label text (`""`: a line without a label). Each label is placed by [`label_span`] (ending at its
+/// line near the plot's right edge `right`), then the labelled ones get rows by [`label_rows`]
+/// (`gap`, `rows`). Returns, in input order, `(row, right_aligned)` for each labelled line and
+/// `None` for an unlabelled one. One placement for every figure (close-loop residual, diagnosis
+/// envelope).
+pub fn place_labels(
+    labels: &[(i32, &str)],
+    font: u32,
+    right: i32,
+    gap: i32,
+    rows: usize,
+) -> Vec<Option<(usize, bool)>> {
+    let placed: Vec<Option<((i32, i32), bool)>> = labels
+        .iter()
+        .map(|&(x, label)| {
+            (!label.is_empty()).then(|| {
+                let width = label_width(label, font);
+                let (left, right_aligned) = label_span(x, width, right);
+                ((left, width), right_aligned)
+            })
+        })
+        .collect();
+    let spans: Vec<(i32, i32)> = placed.iter().flatten().map(|p| p.0).collect();
+    let mut row = label_rows(&spans, gap, rows).into_iter();
+    placed
+        .into_iter()
+        .map(|p| p.map(|(_, right_aligned)| (row.next().unwrap_or(0), right_aligned)))
+        .collect()
+}
+
 /// The text style of a label placed by [`label_span`]: anchored at its top left, or at its top
 /// right when `right_aligned`.
 pub fn label_style(font: u32, color: &RGBAColor, right_aligned: bool) -> TextStyle<'static> {
@@ -235,27 +266,11 @@ fn envelope_panel(
     let plot_h = f64::from(c.plotting_area().dim_in_pixel().1.max(1));
     let row_step = (ymax - ymin) * row_px / plot_h;
     let right = c.plotting_area().get_pixel_range().0.end;
-    let placed: Vec<((i32, i32), bool)> = marks
+    let at: Vec<(i32, &str)> = marks
         .iter()
-        .map(|(label, x, _, _)| {
-            let width = if label.is_empty() {
-                0
-            } else {
-                label_width(label, font)
-            };
-            let (left, right_aligned) = label_span(c.backend_coord(&(*x, ymax)).0, width, right);
-            ((left, width), right_aligned)
-        })
+        .map(|(label, x, _, _)| (c.backend_coord(&(*x, ymax)).0, label.as_str()))
         .collect();
-    let spans: Vec<(i32, i32)> = placed.iter().map(|p| p.0).collect();
-    let labelled: Vec<usize> = (0..marks.len())
-        .filter(|&i| !marks[i].0.is_empty())
-        .collect();
-    let rows = label_rows(
-        &labelled.iter().map(|&i| spans[i]).collect::<Vec<_>>(),
-        3,
-        6,
-    );
+    let placed = place_labels(&at, font, right, 3, 6);
     for (i, (label, x, col, side)) in marks.iter().enumerate() {
         let style = if *side {
             col.mix(0.45).stroke_width(1)
@@ -263,12 +278,12 @@ fn envelope_panel(
             col.mix(0.8).stroke_width(1)
         };
         c.draw_series(LineSeries::new(vec![(*x, ymin), (*x, ymax)], style))?;
-        if let (true, Some(j)) = (text, labelled.iter().position(|&m| m == i)) {
-            let y = ymax - 0.3 * row_step - row_step * rows[j] as f64;
+        if let (true, Some((row, right_aligned))) = (text, placed[i]) {
+            let y = ymax - 0.3 * row_step - row_step * row as f64;
             c.draw_series(std::iter::once(Text::new(
                 label.clone(),
                 (*x, y),
-                label_style(font, &col.to_rgba(), placed[i].1),
+                label_style(font, &col.to_rgba(), right_aligned),
             )))?;
         }
     }
@@ -308,7 +323,7 @@ fn envelope_panel(
 
 #[cfg(test)]
 mod tests {
-    use super::{label_rows, label_span};
+    use super::{label_rows, label_span, place_labels};
 
     /// A label that would run past the plot's right edge ends at its line instead; one with room
     /// starts at it; one with room on neither side keeps its start (the plot clips it).
@@ -319,6 +334,31 @@ mod tests {
         assert_eq!(label_span(580, 60, 640), (580, false));
         assert_eq!(label_span(581, 60, 640), (521, true));
         assert_eq!(label_span(30, 60, 50), (30, false));
+    }
+
+    /// Unlabelled lines get no place; overlapping labels get different rows, and the one near
+    /// the right edge ends at its line.
+    #[test]
+    fn place_labels_skips_unlabelled_lines_and_places_the_rest() {
+        let at = [
+            (100, "BPFO"),
+            (104, ""),
+            (106, "2xBPFO"),
+            (630, "resonance"),
+        ];
+        let placed = place_labels(&at, 10, 640, 3, 6);
+        assert_eq!(placed[1], None);
+        let rows: Vec<usize> = [0, 2, 3].iter().map(|&i| placed[i].unwrap().0).collect();
+        // the first two overlap (100 + 24 px > 106), so they take different rows
+        assert_ne!(rows[0], rows[1]);
+        assert!(
+            !placed[0].unwrap().1,
+            "room on the right: starts at its line"
+        );
+        assert!(
+            placed[3].unwrap().1,
+            "630 px + 54 px > 640: ends at its line"
+        );
     }
 
     /// Labels that share a row never overlap while rows remain; crowded labels spread over rows.
