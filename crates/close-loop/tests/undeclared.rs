@@ -121,6 +121,25 @@ fn tone_at_the_upper_band_edge_is_found() {
     assert!(o.ledger.error_after < o.ledger.error_before);
 }
 
+/// And at its lower edge: on a short record the line spectrum's bins are wide (2 s at 12 kHz:
+/// 2048-sample segments of the 1 s fitting half, 5.86 Hz bins from 5.86 Hz), and a 7 Hz tone
+/// peaks in the band's first bin, which has no left neighbour in the band to be compared with.
+/// Until 2026-11-28 it was never a line candidate (174.mat, 1.33 s at 48 kHz, with a 0.5× line at
+/// 15 Hz in the first of its 11.7 Hz bins: a 12.5 Hz "resonance" took it).
+#[test]
+fn tone_at_the_lower_band_edge_is_found() {
+    let f = 7.0;
+    let y = recording(DeclaredFault::Outer, RPM, |mut x| {
+        add_tone(&mut x, FS, f, 0.08, 0.4);
+        x
+    });
+    let o = run(&y, DeclaredFault::Outer);
+    let e = near(&o, f);
+    assert_eq!(e.kind, EffectKind::Tone);
+    assert!((e.parameters["amplitude"] / 0.08 - 1.0).abs() < 0.2);
+    assert!(o.ledger.error_after < o.ledger.error_before);
+}
+
 #[test]
 fn shaft_harmonic_is_found() {
     let fr = RPM / 60.0;

@@ -95,8 +95,16 @@ pub(super) fn line_candidates(ctx: &Ctx<'_>, st: &State, lr: &[f64]) -> Vec<Eval
             ly[i] - my[i] - model_ex
         })
         .collect();
-    let mut peaks: Vec<(usize, f64)> = (1..in_band.min(ex.len().saturating_sub(1)))
-        .filter(|&i| ex[i] > c.line_threshold_db && ly[i] >= ly[i - 1] && ly[i] >= ly[i + 1])
+    // the band's first bin has no left neighbour in the band: beyond the band nothing blocks a
+    // peak there (as at the ends of `resonance::band_extrema`), so it is tested against its right
+    // neighbour only. On a short record the line spectrum's bins are wide (174.mat, 1.33 s at
+    // 48 kHz: 11.7 Hz) and a 0.5× line at 15 Hz falls into the first bin; skipping it let a
+    // 12.5 Hz "resonance" of ζ 0.17 take the line (docs/equations/close-loop.md, "A fifth
+    // black-box check")
+    let mut peaks: Vec<(usize, f64)> = (0..in_band.min(ex.len().saturating_sub(1)))
+        .filter(|&i| {
+            ex[i] > c.line_threshold_db && (i == 0 || ly[i] >= ly[i - 1]) && ly[i] >= ly[i + 1]
+        })
         .map(|i| {
             let k = bins.start + i;
             let above = s[k] - 10f64.powf(my[i] / 10.0);
