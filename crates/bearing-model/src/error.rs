@@ -62,6 +62,13 @@ pub enum ModelError {
         /// Final force residual norm.
         residual_n: f64,
     },
+    /// The linearised model's response cannot be computed at a frequency (a singular
+    /// dynamic-stiffness matrix: an undamped mode exactly there, or a non-finite frequency).
+    #[error("the linearised response at {frequency_hz} Hz is singular or not finite")]
+    SingularResponse {
+        /// The frequency asked for, Hz.
+        frequency_hz: f64,
+    },
     /// The simulated response became NaN or infinite.
     #[error("simulation diverged at t = {time_s} s")]
     Diverged {

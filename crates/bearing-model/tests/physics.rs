@@ -299,3 +299,60 @@ fn bad_parameters_are_typed_errors() {
     bad.spec.slip = Slip::Random { fraction: 0.5 };
     assert!(bad.model().is_err());
 }
+
+/// The linearised contact-force response predicts how moving the housing mode changes the
+/// simulated spectrum: the ratio of the two models' responses matches the ratio of their
+/// simulated Welch PSDs to a fraction of a dB over 200–5000 Hz, where leaving the spectrum as
+/// it was is off by dBs (so the check can fail), for a mode moved down and up.
+#[test]
+fn contact_force_response_predicts_a_moved_housing_mode() {
+    let (fs, n, nper) = (12_000.0, 24_000, 1024);
+    let base = Scenario::cwru(FaultClass::Outer, 0.007, 1797.0)
+        .unwrap()
+        .with_fs(fs)
+        .with_duration(n as f64 / fs);
+    let h0 = base.spec.housing;
+    let freqs: Vec<f64> = (0..=nper / 2)
+        .map(|k| k as f64 * fs / nper as f64)
+        .collect();
+    let p0 = common::welch(&base.simulate().unwrap().accel, nper);
+    let t0 = base
+        .model()
+        .unwrap()
+        .contact_force_response(&freqs)
+        .unwrap();
+    for r in [0.9, 1.15] {
+        let moved = base.clone().with_housing(Housing {
+            resonance_hz: h0.resonance_hz * r,
+            ..h0
+        });
+        let p1 = common::welch(&moved.simulate().unwrap().accel, nper);
+        let t1 = moved
+            .model()
+            .unwrap()
+            .contact_force_response(&freqs)
+            .unwrap();
+        let (mut err, mut unchanged, mut count) = (0.0, 0.0, 0.0);
+        for (k, f) in freqs.iter().enumerate() {
+            if !(200.0..5000.0).contains(f) {
+                continue;
+            }
+            let simulated = 10.0 * (p1[k] / p0[k]).log10();
+            let predicted = 10.0 * (t1[k] / t0[k]).log10();
+            err += (simulated - predicted).powi(2);
+            unchanged += simulated.powi(2);
+            count += 1.0;
+        }
+        let (err, unchanged) = ((err / count).sqrt(), (unchanged / count).sqrt());
+        assert!(err < 0.2, "x{r}: predicted ratio off by {err:.3} dB RMS");
+        assert!(
+            unchanged > 2.0,
+            "x{r}: the move changes only {unchanged:.2} dB"
+        );
+    }
+    let m = base.model().unwrap();
+    assert!(matches!(
+        m.contact_force_response(&[f64::NAN]),
+        Err(ModelError::SingularResponse { .. })
+    ));
+}

@@ -66,3 +66,26 @@ pub fn argmax_in(df: f64, mags: &[f64], a: f64, b: f64) -> f64 {
 pub fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
+
+/// Welch PSD (Hann, 50 % overlap, one-sided, unnormalised scale: ratios only) with `n` samples
+/// per segment; bin k is at k·fs/n.
+#[allow(dead_code)]
+pub fn welch(x: &[f64], n: usize) -> Vec<f64> {
+    let fft = FftPlanner::new().plan_fft_forward(n);
+    let w: Vec<f64> = (0..n)
+        .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos())
+        .collect();
+    let mut acc = vec![0.0; n / 2 + 1];
+    let mut start = 0;
+    while start + n <= x.len() {
+        let mut buf: Vec<Complex<f64>> = (0..n)
+            .map(|i| Complex::new(x[start + i] * w[i], 0.0))
+            .collect();
+        fft.process(&mut buf);
+        for (a, c) in acc.iter_mut().zip(&buf) {
+            *a += c.norm_sqr();
+        }
+        start += n / 2;
+    }
+    acc
+}
