@@ -136,6 +136,22 @@ pub trait DeclaredModel: Send + Sync {
         None
     }
 
+    /// How the model's output PSD changes when its housing mode moves to `frequency_hz`,
+    /// damping `damping_ratio`: the power ratio (moved / as is) at each of `freqs_hz`, at the
+    /// operating point `op` and rate `fs` — when the model can say without simulating (`None`,
+    /// the default: the loop simulates the moved model). The loop searches the housing
+    /// frequency on this prediction and simulates only the frequency it settles on.
+    fn housing_move_gain(
+        &self,
+        _op: &OperatingPoint,
+        _fs: f64,
+        _frequency_hz: f64,
+        _damping_ratio: f64,
+        _freqs_hz: &[f64],
+    ) -> Option<Vec<f64>> {
+        None
+    }
+
     /// The model's random slip fraction, if it has slip.
     fn slip_fraction(&self) -> Option<f64> {
         None

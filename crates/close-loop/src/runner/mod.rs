@@ -537,6 +537,133 @@ fn refine_between(
     (x_best, s_best, lsd_best)
 }
 
+/// A grid search's best point `best` = (x, state, fitting LSD) at `grid[k]`, refined between
+/// its grid neighbours for an objective that costs a simulation per point: at most `iters` new
+/// evaluations — first the midpoints between the best point and its neighbours, then each at
+/// the vertex of the parabola through the best point so far and the two points nearest it (at
+/// an end of the grid the next points inward), on a lattice of step `lattice` so that later rounds re-trying the same model meet
+/// the simulation memo. A vertex that is not a convex parabola's, falls outside the bracket
+/// around the best point or within one lattice step of a point tried gives way to a
+/// golden-section step into the bracket's larger side (Brent's safeguard: an objective with
+/// fine-scale scatter, or a minimum just inside an end of the grid, does not stall the
+/// parabola). The refinement stops when the next point was tried already; the best point tried
+/// is kept (a failed evaluation, `None`, counts as infinitely bad). Used where
+/// [`refine_between`]'s golden section (8 steps, each a simulation) was most of a run's time.
+fn refine_parabolic<S>(
+    grid: &[f64],
+    k: usize,
+    best: (f64, S, f64),
+    eval: impl Fn(f64) -> Option<(S, f64)>,
+    iters: usize,
+    lattice: f64,
+) -> (f64, S, f64) {
+    /// 1 − 1/φ: the golden-section step into an interval.
+    const GOLD: f64 = 0.381_966_011_250_105_1;
+    let n = grid.len();
+    if n < 3 || k >= n {
+        return best;
+    }
+    let (mut x_best, mut s_best, mut lsd_best) = best;
+    // the refinement never leaves the best grid point's neighbours
+    let (lo, hi) = (grid[k.saturating_sub(1)], grid[(k + 1).min(n - 1)]);
+    let mut tried: Vec<(f64, f64)> = vec![(x_best, lsd_best)];
+    let at = |x: f64, tried: &mut Vec<(f64, f64)>| -> (Option<S>, f64) {
+        match tried.iter().find(|t| (t.0 - x).abs() < 1e-12) {
+            Some(&(_, l)) => (None, l),
+            None => {
+                let (s, l) = eval(x).map_or((None, f64::INFINITY), |(s, l)| (Some(s), l));
+                tried.push((x, l));
+                (s, l)
+            }
+        }
+    };
+    let (ia, ic) = match k {
+        0 => (1, 2),
+        _ if k == n - 1 => (n - 3, n - 2),
+        _ => (k - 1, k + 1),
+    };
+    let mut pts: Vec<(f64, f64)> = vec![
+        (grid[ia], at(grid[ia], &mut tried).1),
+        (grid[ic], at(grid[ic], &mut tried).1),
+    ];
+    pts.push((x_best, lsd_best));
+    let snap = |x: f64| (x / lattice).round() * lattice;
+    // first the midpoints between the best grid point and its neighbours: a parabola through
+    // points half a grid step apart is not led astray by the objective's fine-scale scatter
+    let mut left_budget = iters;
+    let b0 = x_best;
+    for side in [lo, hi] {
+        let x = snap(0.5 * (b0 + side));
+        if left_budget == 0 || (x - b0).abs() < lattice || (x - side).abs() < lattice {
+            continue;
+        }
+        let (s, l) = at(x, &mut tried);
+        left_budget -= 1;
+        if let Some(s) = s
+            && l < lsd_best
+        {
+            (x_best, s_best, lsd_best) = (x, s, l);
+        }
+        pts.push((x, l));
+    }
+    keep_best_three(&mut pts);
+    for _ in 0..left_budget {
+        pts.sort_by(|p, q| p.0.total_cmp(&q.0));
+        let ib = (0..pts.len())
+            .min_by(|&i, &j| pts[i].1.total_cmp(&pts[j].1))
+            .unwrap_or(0);
+        let b = pts[ib].0;
+        let left = if ib > 0 { pts[ib - 1].0.max(lo) } else { lo };
+        let right = if ib + 1 < pts.len() {
+            pts[ib + 1].0.min(hi)
+        } else {
+            hi
+        };
+        let ((xa, fa), (xb, fb), (xc, fc)) = (pts[0], pts[1], pts[2]);
+        let den = (xb - xa) * (fb - fc) - (xb - xc) * (fb - fa);
+        let num = (xb - xa).powi(2) * (fb - fc) - (xb - xc).powi(2) * (fb - fa);
+        let new = |x: f64| {
+            x >= left + lattice - 1e-12
+                && x <= right - lattice + 1e-12
+                && (x - b).abs() >= lattice - 1e-12
+                && !tried.iter().any(|t| (t.0 - x).abs() < 1e-12)
+        };
+        let vertex = (den < 0.0 && fa.is_finite() && fb.is_finite() && fc.is_finite())
+            .then(|| snap(xb - 0.5 * num / den))
+            .filter(|&x| new(x));
+        let golden = snap(if right - b >= b - left {
+            b + GOLD * (right - b)
+        } else {
+            b - GOLD * (b - left)
+        });
+        let Some(x) = vertex.or_else(|| new(golden).then_some(golden)) else {
+            break;
+        };
+        let (s, l) = at(x, &mut tried);
+        if let Some(s) = s
+            && l < lsd_best
+        {
+            (x_best, s_best, lsd_best) = (x, s, l);
+        }
+        pts.push((x, l));
+        keep_best_three(&mut pts);
+    }
+    (x_best, s_best, lsd_best)
+}
+
+/// `pts` (x, value) sorted by x and cut to the best point and the two nearest it (the three at
+/// an end when the best is there); unchanged when it holds three or fewer.
+fn keep_best_three(pts: &mut Vec<(f64, f64)>) {
+    pts.sort_by(|p, q| p.0.total_cmp(&q.0));
+    if pts.len() > 3 {
+        let i = (0..pts.len())
+            .min_by(|&i, &j| pts[i].1.total_cmp(&pts[j].1))
+            .unwrap_or(1)
+            .clamp(1, pts.len() - 2);
+        *pts = pts[i - 1..=i + 1].to_vec();
+    }
+}
+
 fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>, CloseLoopError> {
     let lr = log_ratio(ctx, st);
     // The families are independent (each reads the context and the state; the simulation memo
@@ -582,3 +709,48 @@ use resonance::resonance_candidates;
 use spectra::{log_ratio, observer_rms, residual_observer, segments, spectra};
 use speed::{fault_size_candidate, preload_candidate, slip_candidate, speed_candidates};
 use start::{prior_state, start_from};
+
+#[cfg(test)]
+mod tests {
+    use super::refine_parabolic;
+    use std::cell::Cell;
+
+    /// The parabolic refinement finds a smooth minimum between grid points to the lattice's
+    /// resolution in at most its few evaluations, counts new points only, holds an end point's
+    /// refinement between the end and its neighbour, and keeps the grid's best when nothing
+    /// tried is better.
+    #[test]
+    fn parabolic_refinement_finds_a_smooth_minimum_in_few_evaluations() {
+        let grid: Vec<f64> = (-4..=4).map(|k| 0.5 * f64::from(k)).collect();
+        let lattice = 1.0 / 32.0;
+        for (x0, k) in [(0.3, 5), (-1.13, 2), (1.9, 8)] {
+            let calls = Cell::new(0usize);
+            let f = |x: f64| (x - x0).powi(2) + 0.3 * (x - x0).powi(4);
+            let eval = |x: f64| {
+                calls.set(calls.get() + 1);
+                Some(((), f(x)))
+            };
+            let best = (grid[k], (), f(grid[k]));
+            let (x, (), v) = refine_parabolic(&grid, k, best, eval, 3, lattice);
+            // the two bracketing grid points are evaluated again (the memo makes them free in
+            // the loop), then at most 3 new points
+            assert!(calls.get() <= 2 + 3, "{} evaluations", calls.get());
+            let want = if k == 8 { x0.min(2.0 - lattice) } else { x0 };
+            assert!((x - want).abs() <= lattice, "min {x0}: found {x} ({v})");
+        }
+        // a minimum just inside an end of the grid, on an objective with fine-scale scatter
+        // (a parabola through the end and the next two points extrapolates past the end; the
+        // golden-section step reaches inside)
+        let f = |x: f64| (x + 1.84).powi(2) + 0.002 * (97.0 * x).sin();
+        let eval = |x: f64| Some(((), f(x)));
+        let (x, (), _) = refine_parabolic(&grid, 0, (-2.0, (), f(-2.0)), eval, 3, lattice);
+        assert!(
+            (x + 1.84).abs() <= 2.0 * lattice,
+            "min -1.84 near the end: found {x}"
+        );
+        // a grid point better than anything between its neighbours is kept
+        let eval = |x: f64| Some(((), if x == 0.5 { -1.0 } else { x.abs() }));
+        let (x, (), v) = refine_parabolic(&grid, 5, (0.5, (), -1.0), eval, 3, lattice);
+        assert_eq!((x, v), (0.5, -1.0));
+    }
+}

@@ -448,13 +448,19 @@ pub(super) fn preload_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> 
 /// width, k = −4 … 4 (¼ … 4 ×; CWRU's sizes span 0.007–0.028 in, a factor 4).
 const FAULT_SIZE_GRID: i32 = 4;
 
-/// Golden-section refinements of the spall width between the best grid point's neighbours.
-const FAULT_SIZE_REFINE: usize = 8;
+/// Simulations of the spall width's refinement between the best grid point's neighbours (the
+/// midpoints, then successive parabolic interpolation, [`refine_parabolic`]; 8 golden-section
+/// steps, 10 simulations, until 2026-11-28).
+const FAULT_SIZE_REFINE: usize = 4;
+
+/// The refinement's lattice in log₂ width (1/32: 2.2 % steps), on which re-tried widths meet
+/// the simulation memo.
+const FAULT_SIZE_LATTICE: f64 = 1.0 / 32.0;
 
 /// The declared fault's spall width: the model re-simulated at widths 2^(k/2) × the declared one
-/// (k = −4 … 4), the best on the fitting segment refined by golden section between its
-/// neighbours (in log width). The width sets how long each impact lasts, hence the shape and
-/// level of the impacts' spectrum: a wider spall than declared was named a housing mode moved
+/// (k = −4 … 4), the best on the fitting segment refined between its neighbours (in log width)
+/// by at most [`FAULT_SIZE_REFINE`] more simulations. The width sets how long each impact
+/// lasts, hence the shape and level of the impacts' spectrum: a wider spall than declared was named a housing mode moved
 /// from 3300 to 1948 Hz and two channel modes (inner race, 0.021 in against the declared
 /// 0.007), or a path and patches (outer, 0.014 in). Only with a declared fault and a model
 /// that has a spall width, and only while the width is still the declared one. The loop keeps
@@ -497,7 +503,14 @@ pub(super) fn fault_size_candidate(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> O
         }
     }
     let best = best.filter(|b| b.2 < fit_lsd)?;
-    let (x_best, s_best, lsd_best) = refine_between(&grid, best_k, best, eval, FAULT_SIZE_REFINE);
+    let (x_best, s_best, lsd_best) = refine_parabolic(
+        &grid,
+        best_k,
+        best,
+        eval,
+        FAULT_SIZE_REFINE,
+        FAULT_SIZE_LATTICE,
+    );
     let end = 0.5 * f64::from(FAULT_SIZE_GRID);
     Some(Evaluated {
         effect: Effect::FaultSize {
