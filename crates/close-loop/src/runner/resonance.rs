@@ -260,7 +260,7 @@ fn housing_predicted(
 /// ([`housing_predicted`]) when the model gives one, else on a simulation. The searches call
 /// it 10–30 times and simulate only the frequency they settle on ([`housing_at`]): the
 /// prediction is within 0.01–0.03 dB of the simulated spectrum (the 5-DOF model; 131.mat's run
-/// went from 72 housing simulations to 7).
+/// went from 72 housing simulations to 6).
 fn housing_objective(
     ctx: &Ctx<'_>,
     st: &State,
