@@ -136,20 +136,37 @@ pub trait DeclaredModel: Send + Sync {
         None
     }
 
-    /// How the model's output PSD changes when its housing mode moves to `frequency_hz`,
-    /// damping `damping_ratio`: the power ratio (moved / as is) at each of `freqs_hz`, at the
-    /// operating point `op` and rate `fs` — when the model can say without simulating (`None`,
-    /// the default: the loop simulates the moved model). The loop searches the housing
-    /// frequency on this prediction and simulates only the frequency it settles on.
-    fn housing_move_gain(
+    /// The linearised power response |T(f)|² of the model's output to a contact force at each
+    /// of `freqs_hz`, at the operating point `op` and rate `fs`, with the housing mode as it is
+    /// (`moved_to` = `None`) or moved to `(frequency_hz, damping_ratio)` — when the model can
+    /// say without simulating (`None`, the default: the loop simulates the moved model).
+    /// [`housing_move_gain`](Self::housing_move_gain) is the ratio of two such responses.
+    fn housing_response(
         &self,
         _op: &OperatingPoint,
         _fs: f64,
-        _frequency_hz: f64,
-        _damping_ratio: f64,
+        _moved_to: Option<(f64, f64)>,
         _freqs_hz: &[f64],
     ) -> Option<Vec<f64>> {
         None
+    }
+
+    /// How the model's output PSD changes when its housing mode moves to `frequency_hz`,
+    /// damping `damping_ratio`: the power ratio (moved / as is) at each of `freqs_hz`
+    /// ([`response_ratio`] of two [`housing_response`](Self::housing_response)s). The loop
+    /// searches the housing frequency on this prediction and simulates only the frequency it
+    /// settles on; a search computes the unmoved response once and calls [`response_ratio`].
+    fn housing_move_gain(
+        &self,
+        op: &OperatingPoint,
+        fs: f64,
+        frequency_hz: f64,
+        damping_ratio: f64,
+        freqs_hz: &[f64],
+    ) -> Option<Vec<f64>> {
+        let to = self.housing_response(op, fs, Some((frequency_hz, damping_ratio)), freqs_hz)?;
+        let from = self.housing_response(op, fs, None, freqs_hz)?;
+        response_ratio(&to, &from, freqs_hz)
     }
 
     /// The model's random slip fraction, if it has slip.
@@ -219,4 +236,22 @@ pub trait DeclaredModel: Send + Sync {
     fn cache_key(&self) -> Option<String> {
         None
     }
+}
+
+/// The power ratio `to / from` of two responses at `freqs_hz`, as
+/// [`DeclaredModel::housing_move_gain`] gives it: `None` when a ratio is not finite or not
+/// positive. An acceleration has no response at 0 Hz (both are round-off there); below the
+/// modes the sprung mass moves with the pedestal, so the ratio's limit there is 1.
+pub fn response_ratio(to: &[f64], from: &[f64], freqs_hz: &[f64]) -> Option<Vec<f64>> {
+    to.iter()
+        .zip(from)
+        .zip(freqs_hz)
+        .map(|((t, f), hz)| {
+            if *hz == 0.0 {
+                return Some(1.0);
+            }
+            let g = t / f;
+            (g.is_finite() && g > 0.0).then_some(g)
+        })
+        .collect()
 }

@@ -190,44 +190,35 @@ impl DeclaredModel for PhysicsModel {
     /// force (`bearing_model::BearingModel::contact_force_response`): the impacts drive the
     /// structure as a force source and the housing mode is a linear part of it, so the ratio is
     /// how the simulated PSD changes (0.01–0.03 dB RMS on the CWRU rig, the crate's test).
-    fn housing_move_gain(
+    fn housing_response(
         &self,
         op: &OperatingPoint,
         fs: f64,
-        frequency_hz: f64,
-        damping_ratio: f64,
+        moved_to: Option<(f64, f64)>,
         freqs_hz: &[f64],
     ) -> Option<Vec<f64>> {
-        let moved = Self {
-            housing: Some(Housing {
-                resonance_hz: frequency_hz,
-                damping_ratio,
-                ..self.effective_housing()
-            }),
-            ..self.clone()
+        let moved;
+        let model = match moved_to {
+            Some((resonance_hz, damping_ratio)) => {
+                moved = Self {
+                    housing: Some(Housing {
+                        resonance_hz,
+                        damping_ratio,
+                        ..self.effective_housing()
+                    }),
+                    ..self.clone()
+                };
+                &moved
+            }
+            None => self,
         };
-        let response = |m: &Self| {
-            m.scenario(op, 1, fs)
-                .ok()?
-                .model()
-                .ok()?
-                .contact_force_response(freqs_hz)
-                .ok()
-        };
-        let (to, from) = (response(&moved)?, response(self)?);
-        to.iter()
-            .zip(&from)
-            .zip(freqs_hz)
-            .map(|((t, f), hz)| {
-                // an acceleration has no response at 0 Hz (both are round-off there); below
-                // the modes the sprung mass moves with the pedestal, so the ratio's limit is 1
-                if *hz == 0.0 {
-                    return Some(1.0);
-                }
-                let g = t / f;
-                (g.is_finite() && g > 0.0).then_some(g)
-            })
-            .collect()
+        model
+            .scenario(op, 1, fs)
+            .ok()?
+            .model()
+            .ok()?
+            .contact_force_response(freqs_hz)
+            .ok()
     }
 
     fn slip_fraction(&self) -> Option<f64> {

@@ -1,8 +1,9 @@
 //! Golden-section search: the workspace's one copy (the Laguerre pole search here, the closed
 //! loop's effect fits in `close-loop`).
 
-/// 1/φ = (√5 − 1)/2.
-const INV_PHI: f64 = 0.618_033_988_749_894_9;
+/// 1/φ = (√5 − 1)/2, the golden-section interval ratio (also the closed loop's parabolic
+/// refinement's fallback step, `1 − INV_PHI`).
+pub const INV_PHI: f64 = 0.618_033_988_749_894_9;
 
 /// Golden-section search for the maximum of a unimodal `f` on `[lo, hi]` (`iters` shrink
 /// steps); returns `(x, f(x))` of the better of the two final interior points (the upper one on

@@ -558,7 +558,7 @@ fn refine_parabolic<S>(
     lattice: f64,
 ) -> (f64, S, f64) {
     /// 1 − 1/φ: the golden-section step into an interval.
-    const GOLD: f64 = 0.381_966_011_250_105_1;
+    const GOLD: f64 = 1.0 - crate::optimize::INV_PHI;
     let n = grid.len();
     if n < 3 || k >= n {
         return best;

@@ -226,51 +226,73 @@ fn housing_moved(
     Some(s2)
 }
 
-/// The state with the physics model's housing mode moved to `f` (declared damping `zeta`)
-/// predicted without simulating: the stored simulation's PSD times the model's response ratio
-/// ([`DeclaredModel::housing_move_gain`]); `None` when the model gives none. Only the
-/// fitting-segment PSD is predicted (the time signal and the fine PSD stay the unmoved
-/// model's): the state serves the housing searches' objective and is never a candidate.
-fn housing_predicted(
-    ctx: &Ctx<'_>,
-    st: &State,
-    model: &dyn DeclaredModel,
-    f: f64,
-    zeta: f64,
-) -> Option<State> {
-    let op = ctx.op.with_speed_ratio(st.base.ratio);
-    let grid: Vec<f64> = (0..ctx.welch.n_bins())
-        .map(|k| ctx.welch.frequency(k))
-        .collect();
-    let gain = model.housing_move_gain(&op, ctx.fs, f, zeta, &grid)?;
-    let psd = st.base.psd.iter().zip(&gain).map(|(p, g)| p * g).collect();
-    let base = Base {
-        ratio: st.base.ratio,
-        signal: st.base.signal.clone(),
-        psd,
-        psd_hi: st.base.psd_hi.clone(),
-    };
-    let mut s2 = st.clone();
-    ctx.rebase(&mut s2, Arc::new(base));
-    Some(s2)
+/// The stored simulation's housing response, computed once per search: the fitting PSD's
+/// frequency grid and the unmoved model's response on it
+/// ([`DeclaredModel::housing_response`]); `None` when the model gives none.
+struct HousingPredictor {
+    op: crate::OperatingPoint,
+    grid: Vec<f64>,
+    unmoved: Vec<f64>,
+}
+
+impl HousingPredictor {
+    fn new(ctx: &Ctx<'_>, st: &State, model: &dyn DeclaredModel) -> Option<Self> {
+        let op = ctx.op.with_speed_ratio(st.base.ratio);
+        let grid: Vec<f64> = (0..ctx.welch.n_bins())
+            .map(|k| ctx.welch.frequency(k))
+            .collect();
+        let unmoved = model.housing_response(&op, ctx.fs, None, &grid)?;
+        Some(Self { op, grid, unmoved })
+    }
+
+    /// The state with the physics model's housing mode moved to `f` (declared damping `zeta`)
+    /// predicted without simulating: the stored simulation's PSD times the model's response
+    /// ratio ([`DeclaredModel::housing_move_gain`]). Only the fitting-segment PSD is predicted
+    /// (the time signal and the fine PSD stay the unmoved model's): the state serves the
+    /// housing searches' objective and is never a candidate.
+    fn predict(
+        &self,
+        ctx: &Ctx<'_>,
+        st: &State,
+        model: &dyn DeclaredModel,
+        f: f64,
+        zeta: f64,
+    ) -> Option<State> {
+        let moved = model.housing_response(&self.op, ctx.fs, Some((f, zeta)), &self.grid)?;
+        let gain = crate::declared::response_ratio(&moved, &self.unmoved, &self.grid)?;
+        let psd = st.base.psd.iter().zip(&gain).map(|(p, g)| p * g).collect();
+        let base = Base {
+            ratio: st.base.ratio,
+            signal: st.base.signal.clone(),
+            psd,
+            psd_hi: st.base.psd_hi.clone(),
+        };
+        let mut s2 = st.clone();
+        ctx.rebase(&mut s2, Arc::new(base));
+        Some(s2)
+    }
 }
 
 /// The housing searches' objective: the fitting-segment LSD with the housing mode at `f`,
 /// calibrated warm (and cold too when `cold`), on the predicted spectrum
-/// ([`housing_predicted`]) when the model gives one, else on a simulation. The searches call
-/// it 10–30 times and simulate only the frequency they settle on ([`housing_at`]): the
-/// prediction is within 0.01–0.03 dB of the simulated spectrum (the 5-DOF model; 131.mat's run
-/// went from 72 housing simulations to 6).
-fn housing_objective(
-    ctx: &Ctx<'_>,
-    st: &State,
-    model: &dyn DeclaredModel,
+/// ([`HousingPredictor::predict`]) when the model gives one, else on a simulation. The
+/// searches call it 10–30 times and simulate only the frequency they settle on
+/// ([`housing_at`]): the prediction is within 0.01–0.03 dB of the simulated spectrum (the
+/// 5-DOF model; 131.mat's run went from 72 housing simulations to 6).
+fn housing_objective<'a>(
+    ctx: &'a Ctx<'a>,
+    st: &'a State,
+    model: &'a dyn DeclaredModel,
     zeta: f64,
     cold: bool,
-) -> impl Fn(f64) -> Option<f64> {
+) -> impl Fn(f64) -> Option<f64> + 'a {
+    let predictor = HousingPredictor::new(ctx, st, model);
     move |f| {
-        let s2 = housing_predicted(ctx, st, model, f, zeta)
-            .or_else(|| housing_moved(ctx, st, model, f, zeta))?;
+        let s2 = match &predictor {
+            Some(p) => p.predict(ctx, st, model, f, zeta),
+            None => None,
+        }
+        .or_else(|| housing_moved(ctx, st, model, f, zeta))?;
         let lsd = if cold {
             ctx.calibrate_warm_and_cold(s2).1
         } else {
