@@ -84,14 +84,25 @@ pub(crate) struct State {
 pub(crate) struct PathPsd {
     pub path: StructuralPath,
     pub psd: Vec<f64>,
+    /// The path's power gain |1/A|² on the same grid ([`StructuralPath::power_gain`]), which
+    /// every re-simulation behind the path is shaped with ([`Ctx::physics_shape`]).
+    pub gain: Vec<f64>,
     pub modes: Vec<PathMode>,
 }
 
 impl PathPsd {
     pub fn new(path: StructuralPath, n_bins: usize, df: f64) -> Self {
         let psd = path.psd(n_bins, df);
+        let gain = (0..n_bins)
+            .map(|k| path.power_gain(k as f64 * df))
+            .collect();
         let modes = path.modes();
-        Self { path, psd, modes }
+        Self {
+            path,
+            psd,
+            gain,
+            modes,
+        }
     }
 }
 
@@ -219,14 +230,14 @@ impl Ctx<'_> {
     /// path's power gain |1/A|², so the physics contributes its line structure (kinematic lines,
     /// sidebands) and the path its resonances. The level is free (the physics gain is
     /// calibrated).
-    pub fn physics_shape(&self, base_psd: &[f64], path: &StructuralPath) -> Vec<f64> {
+    pub fn physics_shape(&self, base_psd: &[f64], path: &PathPsd) -> Vec<f64> {
         let df = self.welch.df();
         let half = ((60.0 / df).round() as usize).max(3);
         let smooth = crate::path::line_free(base_psd, half, 3.0);
         smooth
             .iter()
-            .enumerate()
-            .map(|(k, sm)| path.power_gain(k as f64 * df) / sm.max(1e-300))
+            .zip(&path.gain)
+            .map(|(sm, g)| g / sm.max(1e-300))
             .collect()
     }
 
@@ -234,7 +245,7 @@ impl Ctx<'_> {
     /// physics shaping from it when the physics is behind a path.
     pub fn rebase(&self, st: &mut State, base: Arc<Base>) {
         if let Some(p) = &st.phys_path {
-            st.phys_shape = Some(Arc::new(self.physics_shape(&base.psd, &p.path)));
+            st.phys_shape = Some(Arc::new(self.physics_shape(&base.psd, p)));
         }
         st.base = base;
     }
@@ -450,17 +461,20 @@ pub(crate) fn fit_weights(
     let cs: Vec<&[f64]> = comps.iter().map(|c| &c[bins.clone()]).collect();
     let dd = &d[bins.clone()];
     let n = ly.len().max(1) as f64;
-    let model = |u: &[f64], k: usize| -> f64 {
+    // the weights e^{u_j} are taken once per evaluation, not once per bin
+    let weights = |u: &[f64]| -> Vec<f64> { u.iter().map(|v| v.exp()).collect() };
+    let model = |w: &[f64], k: usize| -> f64 {
         let mut m = dd[k] + eps;
         for (j, c) in cs.iter().enumerate() {
-            m += u[j].exp() * c[k];
+            m += w[j] * c[k];
         }
         m.max(TINY)
     };
     let cost = |u: &[f64]| -> f64 {
+        let w = weights(u);
         (0..ly.len())
             .map(|k| {
-                let r = ly[k] - model(u, k).ln();
+                let r = ly[k] - model(&w, k).ln();
                 r * r
             })
             .sum::<f64>()
@@ -500,10 +514,14 @@ pub(crate) fn fit_weights(
         for _ in 0..80 {
             let mut jtj = nalgebra::DMatrix::<f64>::zeros(nc, nc);
             let mut g = nalgebra::DVector::<f64>::zeros(nc);
+            let w = weights(&u);
+            let mut jac = vec![0.0; nc];
             for k in 0..ly.len() {
-                let m = model(&u, k);
+                let m = model(&w, k);
                 let r = ly[k] - m.ln();
-                let jac: Vec<f64> = (0..nc).map(|j| -u[j].exp() * cs[j][k] / m).collect();
+                for (j, jj) in jac.iter_mut().enumerate() {
+                    *jj = -w[j] * cs[j][k] / m;
+                }
                 for a in 0..nc {
                     g[a] += jac[a] * r;
                     for b in 0..nc {

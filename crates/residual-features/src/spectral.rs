@@ -226,9 +226,18 @@ impl WelchConfig {
 }
 
 /// FFT plan cache for the spectral functions; reuse one per thread when processing many windows.
+///
+/// An engine's results can differ in the last bits with what it transformed before: rustfft
+/// builds a length's plan from the sub-plans its planner already holds. For results that do not
+/// depend on call order, use one engine per fixed sequence of calls, or the free functions
+/// (their per-thread engine builds every plan independently).
 pub struct SpectralEngine {
     real: RealFftPlanner<f64>,
     complex: FftPlanner<f64>,
+    /// Plans built each by a planner of its own and kept by length (the free functions'
+    /// engine): a shared planner builds a length's plan from the sub-plans it already holds, so
+    /// its result can differ in the last bits with what was planned before; these plans do not.
+    independent: Option<IndependentPlans>,
     /// Hann weights by length, for repeated Welch estimates at the same segment length.
     hann: Vec<(usize, Arc<[f64]>)>,
     /// A reusable segment buffer.
@@ -247,6 +256,73 @@ impl std::fmt::Debug for SpectralEngine {
     }
 }
 
+thread_local! {
+    /// The free functions' plan cache, one per thread: a plan for a length that is not a power
+    /// of two costs as much as several transforms to build (its twiddles), and callers such as
+    /// the closed loop take the envelope of same-length signals hundreds of times.
+    static ENGINE: std::cell::RefCell<SpectralEngine> =
+        std::cell::RefCell::new(SpectralEngine::independent());
+}
+
+/// Lengths kept by [`IndependentPlans`] before it starts afresh (a batch over files of many
+/// lengths does not grow it without bound).
+const INDEPENDENT_PLANS_KEPT: usize = 32;
+
+/// FFT plans by length, each built by a planner of its own ([`SpectralEngine::independent`]).
+#[derive(Default)]
+struct IndependentPlans {
+    real_forward: Vec<(usize, Arc<dyn RealToComplex<f64>>)>,
+    real_inverse: Vec<(usize, Arc<dyn realfft::ComplexToReal<f64>>)>,
+    complex_inverse: Vec<(usize, Arc<dyn rustfft::Fft<f64>>)>,
+}
+
+/// The plan for `n` in `cache`, built by `build` when missing.
+fn kept_plan<P: ?Sized>(
+    cache: &mut Vec<(usize, Arc<P>)>,
+    n: usize,
+    build: impl FnOnce() -> Arc<P>,
+) -> Arc<P> {
+    if let Some((_, p)) = cache.iter().find(|(m, _)| *m == n) {
+        return p.clone();
+    }
+    if cache.len() >= INDEPENDENT_PLANS_KEPT {
+        cache.clear();
+    }
+    let p = build();
+    cache.push((n, p.clone()));
+    p
+}
+
+impl IndependentPlans {
+    fn real_forward(&mut self, n: usize) -> Arc<dyn RealToComplex<f64>> {
+        kept_plan(&mut self.real_forward, n, || {
+            RealFftPlanner::new().plan_fft_forward(n)
+        })
+    }
+
+    fn real_inverse(&mut self, n: usize) -> Arc<dyn realfft::ComplexToReal<f64>> {
+        kept_plan(&mut self.real_inverse, n, || {
+            RealFftPlanner::new().plan_fft_inverse(n)
+        })
+    }
+
+    fn complex_inverse(&mut self, n: usize) -> Arc<dyn rustfft::Fft<f64>> {
+        kept_plan(&mut self.complex_inverse, n, || {
+            FftPlanner::new().plan_fft_inverse(n)
+        })
+    }
+}
+
+/// Run `f` on this thread's [`SpectralEngine`] (a fresh one if it is already in use); its plans
+/// are independent of one another ([`SpectralEngine::independent`]), so every free function
+/// gives the bits a fresh engine gives.
+fn with_engine<T>(f: impl FnOnce(&mut SpectralEngine) -> T) -> T {
+    ENGINE.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut engine) => f(&mut engine),
+        Err(_) => f(&mut SpectralEngine::new()),
+    })
+}
+
 /// One-sided scale factor for bin `k` of an `n`-point transform.
 fn one_sided(k: usize, n: usize) -> f64 {
     if k == 0 || (n % 2 == 0 && k == n / 2) {
@@ -262,8 +338,33 @@ impl SpectralEngine {
         Self {
             real: RealFftPlanner::new(),
             complex: FftPlanner::new(),
+            independent: None,
             hann: Vec::new(),
             scratch: Vec::new(),
+        }
+    }
+
+    /// An engine whose every plan is built as a fresh engine would build it (and then kept):
+    /// its results never depend on what it transformed before, so a cache shared by unrelated
+    /// callers (the free functions' per-thread engine) gives the same bits in any order.
+    fn independent() -> Self {
+        Self {
+            independent: Some(IndependentPlans::default()),
+            ..Self::new()
+        }
+    }
+
+    fn complex_inverse(&mut self, n: usize) -> Arc<dyn rustfft::Fft<f64>> {
+        match &mut self.independent {
+            Some(p) => p.complex_inverse(n),
+            None => self.complex.plan_fft_inverse(n),
+        }
+    }
+
+    fn real_inverse(&mut self, n: usize) -> Arc<dyn realfft::ComplexToReal<f64>> {
+        match &mut self.independent {
+            Some(p) => p.real_inverse(n),
+            None => self.real.plan_fft_inverse(n),
         }
     }
 
@@ -281,7 +382,10 @@ impl SpectralEngine {
     }
 
     fn forward(&mut self, n: usize) -> Arc<dyn RealToComplex<f64>> {
-        self.real.plan_fft_forward(n)
+        match &mut self.independent {
+            Some(p) => p.real_forward(n),
+            None => self.real.plan_fft_forward(n),
+        }
     }
 
     fn rfft(&mut self, mut buf: Vec<f64>) -> Result<Vec<Complex<f64>>> {
@@ -407,7 +511,7 @@ impl SpectralEngine {
         for (k, c) in spec.iter().enumerate() {
             z[k] = c * one_sided(k, n);
         }
-        let inv = self.complex.plan_fft_inverse(n);
+        let inv = self.complex_inverse(n);
         inv.process(&mut z);
         let scale = 1.0 / n as f64;
         Ok(z.iter().map(|c| c.norm() * scale).collect())
@@ -487,7 +591,7 @@ impl SpectralEngine {
             for (j, k) in keep.enumerate() {
                 z[j] = spec[k] * one_sided(k, n);
             }
-            let inv = self.complex.plan_fft_inverse(m);
+            let inv = self.complex_inverse(m);
             inv.process(&mut z);
             let scale = 1.0 / n as f64;
             out.push(BandEnvelope {
@@ -527,7 +631,7 @@ impl SpectralEngine {
         if n % 2 == 0 {
             spec[n / 2].im = 0.0;
         }
-        let inv = self.real.plan_fft_inverse(n);
+        let inv = self.real_inverse(n);
         let mut out = inv.make_output_vec();
         inv.process(&mut spec, &mut out)
             .map_err(|_| FeatureError::Fft { len: n })?;
@@ -573,7 +677,7 @@ impl SpectralEngine {
         // realfft requires a real Nyquist bin
         z[half].im = 0.0;
         spec.clear();
-        let inv = self.real.plan_fft_inverse(m);
+        let inv = self.real_inverse(m);
         let mut out = inv.make_output_vec();
         inv.process(&mut z, &mut out)
             .map_err(|_| FeatureError::Fft { len: m })?;
@@ -610,7 +714,7 @@ impl SpectralEngine {
 /// # Errors
 /// As the engine method.
 pub fn amplitude_spectrum(x: &[f64], fs_hz: f64, taper: Taper) -> Result<Spectrum> {
-    SpectralEngine::new().amplitude_spectrum(x, fs_hz, taper)
+    with_engine(|e| e.amplitude_spectrum(x, fs_hz, taper))
 }
 
 /// Welch PSD with Hann segments (see [`SpectralEngine::welch_psd`]).
@@ -618,7 +722,7 @@ pub fn amplitude_spectrum(x: &[f64], fs_hz: f64, taper: Taper) -> Result<Spectru
 /// # Errors
 /// As the engine method.
 pub fn welch_psd(x: &[f64], fs_hz: f64, config: WelchConfig) -> Result<Spectrum> {
-    SpectralEngine::new().welch_psd(x, fs_hz, config)
+    with_engine(|e| e.welch_psd(x, fs_hz, config))
 }
 
 /// Hilbert envelope (see [`SpectralEngine::hilbert_envelope`]).
@@ -626,7 +730,7 @@ pub fn welch_psd(x: &[f64], fs_hz: f64, config: WelchConfig) -> Result<Spectrum>
 /// # Errors
 /// As the engine method.
 pub fn hilbert_envelope(x: &[f64]) -> Result<Vec<f64>> {
-    SpectralEngine::new().hilbert_envelope(x)
+    with_engine(|e| e.hilbert_envelope(x))
 }
 
 /// Envelope spectrum (see [`SpectralEngine::envelope_spectrum`]).
@@ -639,7 +743,7 @@ pub fn envelope_spectrum(
     demodulation_band: Option<Band>,
     taper: Taper,
 ) -> Result<Spectrum> {
-    SpectralEngine::new().envelope_spectrum(x, fs_hz, demodulation_band, taper)
+    with_engine(|e| e.envelope_spectrum(x, fs_hz, demodulation_band, taper))
 }
 
 /// Band-pass by FFT masking (see [`SpectralEngine::bandpass_fft`]).
@@ -647,7 +751,7 @@ pub fn envelope_spectrum(
 /// # Errors
 /// As the engine method.
 pub fn bandpass_fft(x: &[f64], fs_hz: f64, band: Band) -> Result<Vec<f64>> {
-    SpectralEngine::new().bandpass_fft(x, fs_hz, band)
+    with_engine(|e| e.bandpass_fft(x, fs_hz, band))
 }
 
 /// Squared envelopes in several bands (see [`SpectralEngine::band_squared_envelopes`]).
@@ -655,7 +759,7 @@ pub fn bandpass_fft(x: &[f64], fs_hz: f64, band: Band) -> Result<Vec<f64>> {
 /// # Errors
 /// As the engine method.
 pub fn band_squared_envelopes(x: &[f64], fs_hz: f64, bands: &[Band]) -> Result<Vec<BandEnvelope>> {
-    SpectralEngine::new().band_squared_envelopes(x, fs_hz, bands)
+    with_engine(|e| e.band_squared_envelopes(x, fs_hz, bands))
 }
 
 /// Band energy by Parseval (see [`SpectralEngine::band_energy`]).
@@ -663,7 +767,7 @@ pub fn band_squared_envelopes(x: &[f64], fs_hz: f64, bands: &[Band]) -> Result<V
 /// # Errors
 /// As the engine method.
 pub fn band_energy(x: &[f64], fs_hz: f64, band: Band) -> Result<f64> {
-    SpectralEngine::new().band_energy(x, fs_hz, band)
+    with_engine(|e| e.band_energy(x, fs_hz, band))
 }
 
 /// |Σ xw\[i\]·e^(−j2πf·i/fs)|²: the DFT power of an already windowed signal at any frequency f.
@@ -706,6 +810,32 @@ pub fn zoom_power(xw: &[f64], fs: f64, f: f64) -> f64 {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// A shared planner builds a length's plan from the sub-plans it already holds: after a
+    /// 32 639-point spectrum, the 121 702-point Hilbert envelope of a planner that made it
+    /// differs from a fresh engine's in most samples (last bits). The free functions' engine
+    /// keeps its plans independent, so their result does not depend on what ran before them.
+    #[test]
+    fn free_functions_give_a_fresh_engines_bits_whatever_ran_before() {
+        let sig = |n: usize| -> Vec<f64> {
+            (0..n)
+                .map(|i| (i as f64 * 0.123).sin() + ((i * 7919 % 1000) as f64) * 1e-3)
+                .collect()
+        };
+        let (before, x) = (sig(32_639), sig(121_702));
+        let fresh = SpectralEngine::new().hilbert_envelope(&x).unwrap();
+        let mut shared = SpectralEngine::new();
+        shared
+            .amplitude_spectrum(&before, 12_000.0, Taper::Rectangular)
+            .unwrap();
+        let after_shared = shared.hilbert_envelope(&x).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
+        // the premise: with a shared planner the order matters
+        assert_ne!(bits(&after_shared), bits(&fresh));
+        amplitude_spectrum(&before, 12_000.0, Taper::Rectangular).unwrap();
+        let free = hilbert_envelope(&x).unwrap();
+        assert_eq!(bits(&free), bits(&fresh));
+    }
 
     /// 2 + 0.7 cos 2π·25t + cos 2π·2000t at 10 kHz, 4 s, band-limited to 100 Hz: the mean and
     /// the 2 kHz tone go, the 25 Hz line is kept sample for sample at the new rate, and the

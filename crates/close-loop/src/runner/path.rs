@@ -127,7 +127,7 @@ pub(super) fn with_impacts_path(ctx: &Ctx<'_>, st: &State) -> Option<(State, Arc
     let path = identify_path(ctx, st, target)?;
     let pp = Arc::new(PathPsd::new(path, ctx.welch.n_bins(), ctx.welch.df()));
     let mut s2 = st.clone();
-    s2.phys_shape = Some(Arc::new(ctx.physics_shape(&st.base.psd, &pp.path)));
+    s2.phys_shape = Some(Arc::new(ctx.physics_shape(&st.base.psd, &pp)));
     s2.phys_path = Some(pp.clone());
     s2.phys_path_fitted = true;
     Some((s2, pp))

@@ -128,7 +128,7 @@ pub(super) fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, Clos
     let phys_path_fitted = false;
     let phys_shape = phys_path
         .as_ref()
-        .map(|p| Arc::new(ctx.physics_shape(&base.psd, &p.path)));
+        .map(|p| Arc::new(ctx.physics_shape(&base.psd, p)));
     Ok(State {
         model: model.map(crate::engine::ModelRef),
         physics_lines,
