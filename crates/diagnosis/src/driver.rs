@@ -27,9 +27,11 @@ pub fn diagnose(
     baseline: Option<&Baseline>,
 ) -> Result<Diagnosis> {
     thread_local! {
-        // FFT plans and Hann windows kept between recordings of one thread
+        // FFT plans and Hann windows kept between recordings of one thread, each plan built
+        // on its own so that a recording's result does not depend on which recordings the
+        // thread diagnosed before it (a batch runs them in parallel, in no fixed order)
         static ENGINE: std::cell::RefCell<SpectralEngine> =
-            std::cell::RefCell::new(SpectralEngine::new());
+            std::cell::RefCell::new(SpectralEngine::order_independent());
     }
     ENGINE.with_borrow_mut(|engine| diagnose_with(engine, x, fs_hz, rpm, bearing, baseline))
 }

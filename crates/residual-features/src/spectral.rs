@@ -229,8 +229,8 @@ impl WelchConfig {
 ///
 /// An engine's results can differ in the last bits with what it transformed before: rustfft
 /// builds a length's plan from the sub-plans its planner already holds. For results that do not
-/// depend on call order, use one engine per fixed sequence of calls, or the free functions
-/// (their per-thread engine builds every plan independently).
+/// depend on call order, use [`SpectralEngine::order_independent`] (the free functions' per-thread
+/// engine is one).
 pub struct SpectralEngine {
     real: RealFftPlanner<f64>,
     complex: FftPlanner<f64>,
@@ -261,14 +261,14 @@ thread_local! {
     /// of two costs as much as several transforms to build (its twiddles), and callers such as
     /// the closed loop take the envelope of same-length signals hundreds of times.
     static ENGINE: std::cell::RefCell<SpectralEngine> =
-        std::cell::RefCell::new(SpectralEngine::independent());
+        std::cell::RefCell::new(SpectralEngine::order_independent());
 }
 
 /// Lengths kept by [`IndependentPlans`] before it starts afresh (a batch over files of many
 /// lengths does not grow it without bound).
 const INDEPENDENT_PLANS_KEPT: usize = 32;
 
-/// FFT plans by length, each built by a planner of its own ([`SpectralEngine::independent`]).
+/// FFT plans by length, each built by a planner of its own ([`SpectralEngine::order_independent`]).
 #[derive(Default)]
 struct IndependentPlans {
     real_forward: Vec<(usize, Arc<dyn RealToComplex<f64>>)>,
@@ -314,7 +314,7 @@ impl IndependentPlans {
 }
 
 /// Run `f` on this thread's [`SpectralEngine`] (a fresh one if it is already in use); its plans
-/// are independent of one another ([`SpectralEngine::independent`]), so every free function
+/// are independent of one another ([`SpectralEngine::order_independent`]), so every free function
 /// gives the bits a fresh engine gives.
 fn with_engine<T>(f: impl FnOnce(&mut SpectralEngine) -> T) -> T {
     ENGINE.with(|cell| match cell.try_borrow_mut() {
@@ -346,8 +346,9 @@ impl SpectralEngine {
 
     /// An engine whose every plan is built as a fresh engine would build it (and then kept):
     /// its results never depend on what it transformed before, so a cache shared by unrelated
-    /// callers (the free functions' per-thread engine) gives the same bits in any order.
-    fn independent() -> Self {
+    /// callers (the free functions' per-thread engine, a batch's per-thread engine) gives the
+    /// same bits in any order. It keeps at most 32 lengths per kind of transform.
+    pub fn order_independent() -> Self {
         Self {
             independent: Some(IndependentPlans::default()),
             ..Self::new()
@@ -412,9 +413,13 @@ impl SpectralEngine {
                 found: n,
             });
         }
-        let w = taper.weights(n);
+        // the engine's Hann cache: the speed search takes the spectrum of same-length blocks
+        let w: Arc<[f64]> = match taper {
+            Taper::Hann => self.hann(n),
+            other => other.weights(n).into(),
+        };
         let gain: f64 = w.iter().sum();
-        let buf: Vec<f64> = x.iter().zip(&w).map(|(a, b)| a * b).collect();
+        let buf: Vec<f64> = x.iter().zip(w.iter()).map(|(a, b)| a * b).collect();
         let spec = self.rfft(buf)?;
         let values = spec
             .iter()
