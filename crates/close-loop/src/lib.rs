@@ -48,6 +48,7 @@ pub use bearing_data::SampleUnit;
 pub use config::{CheckedConfig, LoopConfig};
 pub use declared::{
     BearingSpec, DeclaredFault, DeclaredModel, OperatingPoint, impact_orders, parse_fault,
+    response_ratio,
 };
 pub use effect::{Effect, EffectKind, Placement};
 pub use error::CloseLoopError;

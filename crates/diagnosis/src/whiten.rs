@@ -166,14 +166,56 @@ impl ArWhitener {
         if x.len() <= p {
             return Vec::new();
         }
-        (p..x.len())
-            .map(|k| {
-                let mut s = x[k];
-                for (i, a) in self.coefficients.iter().enumerate() {
-                    s -= a * x[k - 1 - i];
+        // four outputs at a time: each keeps its own sum in the same order (the same bits as
+        // one at a time), and the four independent chains run side by side instead of each
+        // subtraction waiting on the one before (order 142 at 12 kHz: a CWRU machine model)
+        let mut out = Vec::with_capacity(x.len() - p);
+        let mut k = p;
+        while k + 4 <= x.len() {
+            let mut s = [x[k], x[k + 1], x[k + 2], x[k + 3]];
+            for (i, a) in self.coefficients.iter().enumerate() {
+                let past = &x[k - 1 - i..k + 3 - i];
+                for (sj, xj) in s.iter_mut().zip(past) {
+                    *sj -= a * xj;
                 }
-                s
-            })
-            .collect()
+            }
+            out.extend_from_slice(&s);
+            k += 4;
+        }
+        out.extend((k..x.len()).map(|k| self.one_residual(x, k)));
+        out
+    }
+
+    /// `e(k)` of [`ArWhitener::residual`] for one `k ≥ p`.
+    fn one_residual(&self, x: &[f64], k: usize) -> f64 {
+        let mut s = x[k];
+        for (i, a) in self.coefficients.iter().enumerate() {
+            s -= a * x[k - 1 - i];
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod residual_tests {
+    use super::*;
+
+    /// The blocked residual gives the bits of the one-at-a-time definition, for every length
+    /// around the block size.
+    #[test]
+    fn blocked_residual_is_the_definition_bit_for_bit() {
+        let coefficients: Vec<f64> = (0..7).map(|i| 0.3 / (i as f64 + 1.0) - 0.05).collect();
+        let w = ArWhitener::from_coefficients(coefficients, 1000.0, "test").unwrap();
+        for n in 8..20 {
+            let x: Vec<f64> = (0..n)
+                .map(|k| (0.7 * k as f64).sin() + 0.01 * k as f64)
+                .collect();
+            let blocked: Vec<u64> = w.residual(&x).iter().map(|v| v.to_bits()).collect();
+            let one: Vec<u64> = (w.order..n)
+                .map(|k| w.one_residual(&x, k).to_bits())
+                .collect();
+            assert_eq!(blocked, one, "length {n}");
+        }
+        assert!(w.residual(&[1.0; 7]).is_empty());
     }
 }
