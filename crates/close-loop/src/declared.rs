@@ -140,7 +140,9 @@ pub trait DeclaredModel: Send + Sync {
     /// of `freqs_hz`, at the operating point `op` and rate `fs`, with the housing mode as it is
     /// (`moved_to` = `None`) or moved to `(frequency_hz, damping_ratio)` — when the model can
     /// say without simulating (`None`, the default: the loop simulates the moved model).
-    /// [`housing_move_gain`](Self::housing_move_gain) is the ratio of two such responses.
+    /// The ratio of two such responses ([`response_ratio`], moved / as is) is how the model's
+    /// output PSD changes when the mode moves: the loop searches the housing frequency on that
+    /// prediction and simulates only the frequency it settles on.
     fn housing_response(
         &self,
         _op: &OperatingPoint,
@@ -149,24 +151,6 @@ pub trait DeclaredModel: Send + Sync {
         _freqs_hz: &[f64],
     ) -> Option<Vec<f64>> {
         None
-    }
-
-    /// How the model's output PSD changes when its housing mode moves to `frequency_hz`,
-    /// damping `damping_ratio`: the power ratio (moved / as is) at each of `freqs_hz`
-    /// ([`response_ratio`] of two [`housing_response`](Self::housing_response)s). The loop
-    /// searches the housing frequency on this prediction and simulates only the frequency it
-    /// settles on; a search computes the unmoved response once and calls [`response_ratio`].
-    fn housing_move_gain(
-        &self,
-        op: &OperatingPoint,
-        fs: f64,
-        frequency_hz: f64,
-        damping_ratio: f64,
-        freqs_hz: &[f64],
-    ) -> Option<Vec<f64>> {
-        let to = self.housing_response(op, fs, Some((frequency_hz, damping_ratio)), freqs_hz)?;
-        let from = self.housing_response(op, fs, None, freqs_hz)?;
-        response_ratio(&to, &from, freqs_hz)
     }
 
     /// The model's random slip fraction, if it has slip.
@@ -238,8 +222,8 @@ pub trait DeclaredModel: Send + Sync {
     }
 }
 
-/// The power ratio `to / from` of two responses at `freqs_hz`, as
-/// [`DeclaredModel::housing_move_gain`] gives it: `None` when a ratio is not finite or not
+/// The power ratio `to / from` of two [`DeclaredModel::housing_response`]s at `freqs_hz`
+/// (moved / as is): `None` when a ratio is not finite or not
 /// positive. An acceleration has no response at 0 Hz (both are round-off there); below the
 /// modes the sprung mass moves with the pedestal, so the ratio's limit there is 1.
 pub fn response_ratio(to: &[f64], from: &[f64], freqs_hz: &[f64]) -> Option<Vec<f64>> {

@@ -247,7 +247,8 @@ impl HousingPredictor {
 
     /// The state with the physics model's housing mode moved to `f` (declared damping `zeta`)
     /// predicted without simulating: the stored simulation's PSD times the model's response
-    /// ratio ([`DeclaredModel::housing_move_gain`]). Only the fitting-segment PSD is predicted
+    /// ratio ([`response_ratio`](crate::response_ratio) of two
+    /// [`DeclaredModel::housing_response`]s). Only the fitting-segment PSD is predicted
     /// (the time signal and the fine PSD stay the unmoved model's): the state serves the
     /// housing searches' objective and is never a candidate.
     fn predict(
