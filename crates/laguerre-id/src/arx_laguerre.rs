@@ -186,6 +186,10 @@ impl StateSpace {
     }
 }
 
+/// One candidate's orders (N_a, N_b) and its held-out one-step NRMSE
+/// ([`ArxLaguerreModel::identify_orders`]).
+pub type OrderScore = ((usize, usize), f64);
+
 /// An identified ARX-Laguerre model (eq. 4.11): two Laguerre banks and the Fourier coefficients.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ArxLaguerreModel {
@@ -254,6 +258,31 @@ impl ArxLaguerreModel {
         holdout: f64,
         poles: PoleChoice,
     ) -> Result<(Self, Vec<(usize, f64)>)> {
+        let pairs: Vec<(usize, usize)> = candidates.iter().map(|&n_a| (n_a, 0)).collect();
+        let (m, scores) = Self::identify_orders(y, None, &pairs, holdout, poles)?;
+        Ok((
+            m,
+            scores.into_iter().map(|((n_a, _), e)| (n_a, e)).collect(),
+        ))
+    }
+
+    /// [`Self::identify_order`] with an exogenous input: the orders (N_a, N_b) are chosen
+    /// together among `candidates` by held-out one-step NRMSE (identify on the first
+    /// `1 − holdout` of `y` and `u`, score the rest); the smallest N_a + N_b within 1 % of the
+    /// best wins (the smaller N_a on equal sums), re-identified on the whole of `y`. `u` must be
+    /// `Some` exactly when a candidate has N_b > 0. Returns the model and the held-out NRMSE of
+    /// every candidate that could be identified.
+    ///
+    /// # Errors
+    /// As [`Self::identify_order`], and [`Self::identify`]'s input errors (`u` missing, or of
+    /// another length than `y`).
+    pub fn identify_orders(
+        y: &[f64],
+        u: Option<&[f64]>,
+        candidates: &[(usize, usize)],
+        holdout: f64,
+        poles: PoleChoice,
+    ) -> Result<(Self, Vec<OrderScore>)> {
         if !(0.1..=0.5).contains(&holdout) {
             return Err(IdentError::InvalidParameter {
                 which: "holdout",
@@ -269,16 +298,19 @@ impl ArxLaguerreModel {
             });
         }
         let n_fit = ((1.0 - holdout) * y.len() as f64).round() as usize;
+        let head = |v: &[f64]| -> Vec<f64> { v[..n_fit.min(v.len())].to_vec() };
+        let u_fit = u.map(head);
         let mut scores = Vec::with_capacity(candidates.len());
-        for &n_a in candidates {
-            let cfg = ArxLaguerreConfig::new(n_a, 0, poles)?;
-            let Ok(m) = Self::identify(&y[..n_fit], None, &cfg) else {
+        for &(n_a, n_b) in candidates {
+            let cfg = ArxLaguerreConfig::new(n_a, n_b, poles)?;
+            let u_c = if n_b > 0 { u_fit.as_deref() } else { None };
+            let Ok(m) = Self::identify(&y[..n_fit], u_c, &cfg) else {
                 continue;
             };
-            let yhat = m.predict(y, None)?;
+            let yhat = m.predict(y, if n_b > 0 { u } else { None })?;
             let fit = crate::FitMetrics::compute(&y[n_fit..], &yhat[n_fit..])?;
             if fit.nrmse.is_finite() {
-                scores.push((n_a, fit.nrmse));
+                scores.push(((n_a, n_b), fit.nrmse));
             }
         }
         let best = scores.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
@@ -286,14 +318,19 @@ impl ArxLaguerreModel {
             .iter()
             .filter(|s| s.1 <= best * 1.01)
             .map(|s| s.0)
-            .min()
+            .min_by_key(|&(n_a, n_b)| (n_a + n_b, n_a))
             .ok_or(IdentError::OrderOutOfRange {
                 which: "candidates (none could be identified)",
                 found: candidates.len(),
                 min: 1,
                 max: MAX_ORDER,
             })?;
-        let m = Self::identify(y, None, &ArxLaguerreConfig::new(chosen, 0, poles)?)?;
+        let (n_a, n_b) = chosen;
+        let m = Self::identify(
+            y,
+            if n_b > 0 { u } else { None },
+            &ArxLaguerreConfig::new(n_a, n_b, poles)?,
+        )?;
         Ok((m, scores))
     }
 

@@ -57,7 +57,8 @@ pub mod optimize;
 
 pub use arx::{ArxModel, ArxOrders};
 pub use arx_laguerre::{
-    ArxLaguerreConfig, ArxLaguerreModel, LaguerreState, MAX_STATES, PoleChoice, StateSpace,
+    ArxLaguerreConfig, ArxLaguerreModel, LaguerreState, MAX_STATES, OrderScore, PoleChoice,
+    StateSpace,
 };
 pub use basis::{LaguerreBank, MAX_ORDER, Pole};
 pub use error::{IdentError, Result};

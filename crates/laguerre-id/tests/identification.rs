@@ -443,3 +443,34 @@ fn identify_order_picks_the_true_order_by_held_out_error() {
         Err(IdentError::OrderOutOfRange { .. })
     ));
 }
+
+/// Joint (N_a, N_b) choice with an exogenous input: y is an AR(1) process plus an input whose
+/// two past values enter (pure delays, pole 0). Without the input (N_b = 0) or with one input
+/// function the held-out error stays clearly larger; the choice is the smallest pair that
+/// reaches the best error, (1, 2), and a missing input is a typed error.
+#[test]
+fn identify_orders_chooses_the_input_order_with_the_output_order() {
+    let e = white(6000, 23);
+    let u = white(6000, 29);
+    let mut y = vec![0.0; e.len()];
+    for k in 0..e.len() {
+        let past = |v: &[f64], i: usize| if k >= i { v[k - i] } else { 0.0 };
+        y[k] = 0.6 * past(&y, 1) + 1.5 * past(&u, 1) - 1.0 * past(&u, 2) + 0.3 * e[k];
+    }
+    let poles = PoleChoice::Fixed {
+        zeta_a: 0.0,
+        zeta_b: 0.0,
+    };
+    let pairs = [(1, 0), (2, 0), (1, 1), (1, 2), (2, 2), (4, 4)];
+    let (m, scores) = ArxLaguerreModel::identify_orders(&y, Some(&u), &pairs, 0.3, poles).unwrap();
+    assert_eq!(scores.len(), pairs.len(), "{scores:?}");
+    assert_eq!((m.n_a(), m.n_b()), (1, 2), "{scores:?}");
+    let s = |p: (usize, usize)| scores.iter().find(|s| s.0 == p).unwrap().1;
+    assert!(s((1, 0)) > 2.0 * s((1, 2)), "{scores:?}");
+    assert!(s((1, 1)) > 1.25 * s((1, 2)), "{scores:?}");
+    // the AR-form wrapper gives the same as the pairs with N_b = 0
+    let (ar, ar_scores) = ArxLaguerreModel::identify_order(&y, &[1, 2], 0.3, poles).unwrap();
+    assert_eq!(ar_scores, vec![(1, s((1, 0))), (2, s((2, 0)))]);
+    assert_eq!(ar.n_b(), 0);
+    assert!(ArxLaguerreModel::identify_orders(&y, None, &[(1, 2)], 0.3, poles).is_err());
+}

@@ -47,6 +47,15 @@ pub enum PipelineError {
         /// Samples found.
         found: usize,
     },
+    /// A precomputed machine-model input ([`crate::Prepared::machine_input`]) of another length
+    /// than the recording it is used with.
+    #[error("the machine model's input has {found} samples, the recording {expected}")]
+    InputLength {
+        /// The recording's length.
+        expected: usize,
+        /// The input's length.
+        found: usize,
+    },
     /// A silent healthy fit segment (zero RMS).
     #[error("the healthy fit segment is silent (zero RMS)")]
     SilentFitSegment,

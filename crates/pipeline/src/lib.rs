@@ -112,8 +112,18 @@ use observers::{
 /// the one with the smallest held-out one-step error on the healthy fit segment wins
 /// (`laguerre_id::ArxLaguerreModel::identify_order`).
 pub const N_A_CANDIDATES: [usize; 6] = [2, 4, 6, 8, 12, 16];
-/// Share of the healthy fit segment held out to choose N_a.
+/// Input orders N_b tried when the ARX-Laguerre models take the calibrated machine model's
+/// one-step prediction as their exogenous input ([`Prepared::new`] with `physics`): N_a is
+/// chosen by held-out one-step error with the first (smallest) N_b, then N_b at that N_a
+/// (`laguerre_id::ArxLaguerreModel::identify_orders`).
+pub const N_B_CANDIDATES: [usize; 3] = [1, 2, 4];
+/// Share of the healthy fit segment held out to choose N_a (and N_b).
 pub const ORDER_HOLDOUT: f64 = 0.3;
+/// Share of the healthy fit segment skipped before the ARX-Laguerre models with the machine
+/// model's input are identified: the machine model's observer starts from rest at the segment's
+/// first sample, and its prediction is meaningless until it has settled (on the first second
+/// of 97 its first 1 000 samples predict 2.4 × worse than the signal's own RMS).
+pub const INPUT_SETTLE: f64 = 0.25;
 /// Multiples c of the measured bound Γ₀ tried as Γ = c·Γ₀. Only c = 1: the gains follow from
 /// the bound of eqs 2.44, 3.21, 5.28 measured on the healthy fit segment ([`Prepared::tune`]).
 /// A prediction-error search over c always runs to the smallest c tried (on a healthy segment
@@ -137,13 +147,21 @@ pub struct Prepared {
     arx: observers::LinearModel,
     fal: Option<Box<fuzzy_ts::FuzzyArxLaguerre>>,
     path: Option<observers::LinearModel>,
+    input: Option<MachineInput>,
     fit: Vec<f64>,
     /// Pole ζ_a chosen by the identification.
     pub zeta_a: f64,
+    /// Input pole ζ_b (None in AR form, without the machine model's input).
+    pub zeta_b: Option<f64>,
     /// Output order N_a chosen by held-out prediction error.
     pub n_a: usize,
-    /// Held-out one-step NRMSE of every N_a tried.
-    pub order_scores: Vec<(usize, f64)>,
+    /// Input order N_b chosen with N_a (0 in AR form).
+    pub n_b: usize,
+    /// Held-out one-step NRMSE of every (N_a, N_b) tried (N_b = 0 in AR form).
+    pub order_scores: Vec<((usize, usize), f64)>,
+    /// Held-out one-step NRMSE of the machine model's prediction alone on the same samples the
+    /// orders are scored on (None in AR form).
+    pub input_nrmse: Option<f64>,
     /// Samples per shaft revolution (the averaging window of the bound measurement).
     pub revolution: usize,
     /// Order of the calibrated structural path (AR order p).
@@ -158,6 +176,32 @@ pub struct Prepared {
     /// Held-out error of the calibration loop on the fit segment, before → after (dB), and
     /// whether the loop itself added the path (else it was identified from the segment).
     pub calibration_error: Option<(f64, f64, bool)>,
+}
+
+/// The calibrated machine model's linear observer (FLO's law on the whole-model predictor,
+/// `close_loop::machine::MachineModel::predictor_model`, its linear design chosen on the fit
+/// segment as [`Prepared::tune`] chooses FLO's): its one-step prediction is the exogenous input
+/// u of the ARX-Laguerre and fuzzy ARX-Laguerre models (eq. 2.33's u read as the physics
+/// model's output at the sensor; `docs/equations/xtask-chapters.md`, "ARX-Laguerre on the
+/// calibrated machine model").
+#[derive(Debug, Clone)]
+struct MachineInput {
+    model: ModelConfig,
+    settings: ObserverSettings,
+}
+
+impl MachineInput {
+    /// u(k) = the machine model's prediction of y(k + 1) from y(0..=k): y(k+1) − r(k+1) of its
+    /// observer, which is causal (its residual r(k) = y(k) − ŷ(k), ŷ(k) from y(0..k)). The last
+    /// sample's u predicts beyond the recording; no prediction inside it uses it, so it is 0.
+    fn prediction(&self, y: &[f64]) -> Result<Vec<f64>> {
+        let mut obs = observers::build_observer(ObserverKind::Flo, &self.model, &self.settings)?;
+        let r = obs.run(y)?.residual;
+        let n = y.len();
+        Ok((0..n)
+            .map(|k| if k + 1 < n { y[k + 1] - r[k + 1] } else { 0.0 })
+            .collect())
+    }
 }
 
 /// The gains chosen for one observer on one healthy fit segment.
@@ -200,25 +244,7 @@ impl Prepared {
     /// from the segment directly when the loop added none because the declared model already
     /// explained it).
     pub fn new(healthy: &[f64], fs: f64, rpm: f64, fuzzy: bool, physics: bool) -> Result<Self> {
-        let (m, order_scores) = laguerre_id::ArxLaguerreModel::identify_order(
-            healthy,
-            &N_A_CANDIDATES,
-            ORDER_HOLDOUT,
-            PoleChoice::DEFAULT_SEARCH,
-        )?;
-        let n_a = m.n_a();
-        let arx = observers::LinearModel::from_state_space(&m.state_space())?;
-        let fal = if fuzzy {
-            let cfg = ArxLaguerreConfig::new(n_a, 0, PoleChoice::DEFAULT_SEARCH)?;
-            let f = fuzzy_ts::FuzzyArxLaguerre::identify(
-                healthy,
-                None,
-                &fuzzy_ts::FalConfig::with_base(cfg),
-            )?;
-            Some(Box::new(f))
-        } else {
-            None
-        };
+        let revolution = (fs * 60.0 / rpm).round().max(1.0) as usize;
         let (path, path_modes, calibration_error, path_order, path_lines) = if physics {
             let cfg = close_loop::LoopConfig::default().check()?;
             let machine = close_loop::machine::calibrate(
@@ -260,21 +286,120 @@ impl Prepared {
         } else {
             (None, 0, None, 0, 0)
         };
+        // the machine model's linear observer, tuned on the segment as FLO is: its prediction
+        // is the ARX-Laguerre models' input
+        let input = match &path {
+            Some(p) => {
+                let model = ModelConfig::CalibratedPath(p.clone());
+                let t = tune_on(
+                    Method::Flo,
+                    ObserverKind::Flo,
+                    &model,
+                    healthy,
+                    revolution,
+                    None,
+                )?;
+                Some(MachineInput {
+                    model,
+                    settings: t.settings,
+                })
+            }
+            None => None,
+        };
+        let u_fit = input.as_ref().map(|i| i.prediction(healthy)).transpose()?;
+        let skip = if u_fit.is_some() {
+            (INPUT_SETTLE * healthy.len() as f64).round() as usize
+        } else {
+            0
+        };
+        let (y_id, u_id) = (&healthy[skip..], u_fit.as_ref().map(|u| &u[skip..]));
+        let poles = PoleChoice::DEFAULT_SEARCH;
+        let identify = laguerre_id::ArxLaguerreModel::identify_orders;
+        let (m, order_scores) = match u_id {
+            // N_a with the smallest input order, then N_b at that N_a: 9 fits instead of the
+            // joint grid's 18, which took `cargo xtask all` over its 60 s
+            // (docs/equations/xtask-chapters.md, "ARX-Laguerre on the calibrated machine model")
+            Some(u) => {
+                let by_a: Vec<(usize, usize)> = N_A_CANDIDATES
+                    .iter()
+                    .map(|&a| (a, N_B_CANDIDATES[0]))
+                    .collect();
+                let (m_a, mut scores) = identify(y_id, Some(u), &by_a, ORDER_HOLDOUT, poles)?;
+                let by_b: Vec<(usize, usize)> =
+                    N_B_CANDIDATES.iter().map(|&b| (m_a.n_a(), b)).collect();
+                let (m, scores_b) = identify(y_id, Some(u), &by_b, ORDER_HOLDOUT, poles)?;
+                scores.extend(scores_b.into_iter().filter(|s| s.0.1 != N_B_CANDIDATES[0]));
+                (m, scores)
+            }
+            None => {
+                let by_a: Vec<(usize, usize)> = N_A_CANDIDATES.iter().map(|&a| (a, 0)).collect();
+                identify(y_id, None, &by_a, ORDER_HOLDOUT, poles)?
+            }
+        };
+        let input_nrmse = match u_id {
+            Some(u) => {
+                let n_fit = ((1.0 - ORDER_HOLDOUT) * y_id.len() as f64).round() as usize;
+                let yhat: Vec<f64> = (n_fit..y_id.len()).map(|k| u[k - 1]).collect();
+                Some(laguerre_id::FitMetrics::compute(&y_id[n_fit..], &yhat)?.nrmse)
+            }
+            None => None,
+        };
+        let (n_a, n_b) = (m.n_a(), m.n_b());
+        let arx = observers::LinearModel::from_state_space(&m.state_space())?;
+        let fal = if fuzzy {
+            let cfg = ArxLaguerreConfig::new(n_a, n_b, PoleChoice::DEFAULT_SEARCH)?;
+            let f = fuzzy_ts::FuzzyArxLaguerre::identify(
+                y_id,
+                if n_b > 0 { u_id } else { None },
+                &fuzzy_ts::FalConfig::with_base(cfg),
+            )?;
+            Some(Box::new(f))
+        } else {
+            None
+        };
         Ok(Self {
             arx,
             fal,
-            revolution: (fs * 60.0 / rpm).round().max(1.0) as usize,
+            revolution,
             path_order,
             path_lines,
             predictor_order: path.as_ref().map_or(0, |p| p.order()),
             path_modes,
             calibration_error,
             path,
+            input,
             fit: healthy.to_vec(),
             zeta_a: m.pole_a().value(),
+            zeta_b: m.pole_b().map(|p| p.value()),
             n_a,
+            n_b,
             order_scores,
+            input_nrmse,
         })
+    }
+
+    /// The exogenous input of the ARX-Laguerre and fuzzy ARX-Laguerre observers over `signal`:
+    /// the calibrated machine model's one-step prediction (None when the models are in AR form).
+    /// It is the same for every such method, so a caller running several of them over one
+    /// recording computes it once and hands it to [`residual_with_input`].
+    ///
+    /// # Errors
+    /// The machine model's observer's errors.
+    pub fn machine_input(&self, signal: &[f64]) -> Result<Option<Vec<f64>>> {
+        match &self.input {
+            Some(i) if self.n_b > 0 => Ok(Some(i.prediction(signal)?)),
+            _ => Ok(None),
+        }
+    }
+
+    /// Whether `method` runs on a model that takes the machine model's input
+    /// ([`Prepared::machine_input`]).
+    pub fn takes_input(&self, method: Method) -> bool {
+        let arx_model = matches!(
+            method,
+            Method::Apio | Method::Smalpio | Method::Asmo | Method::Afsmo | Method::SmoFuzzy
+        );
+        arx_model && self.input.is_some() && self.n_b > 0
     }
 
     fn kind_and_model(&self, method: Method) -> Result<(ObserverKind, ModelConfig)> {
@@ -326,105 +451,130 @@ impl Prepared {
     /// No test window and no label is used.
     pub fn tune(&self, method: Method) -> Result<Tuning> {
         let (kind, model) = self.kind_and_model(method)?;
-        let order = if kind.family() == LawFamily::Levant {
-            3
+        let u = if self.takes_input(method) {
+            self.machine_input(&self.fit)?
         } else {
-            2
+            None
         };
-        let n = self.fit.len();
-        let (q2, half, q4) = (n / 4, n / 2, 3 * n / 4);
-        let linear_only = kind.family() == LawFamily::Linear;
-        let mut best: Option<Tuning> = None;
-        // Γ = Γ₀; only when no design runs stably with it, Γ₀/2, Γ₀/4, … (GAMMA_MULTIPLES)
-        for fallback in 0..GAMMA_MULTIPLES.len() {
-            if best.is_some() || (fallback > 0 && linear_only) {
-                break;
+        tune_on(
+            method,
+            kind,
+            &model,
+            &self.fit,
+            self.revolution,
+            u.as_deref(),
+        )
+    }
+}
+
+/// [`Prepared::tune`] for `kind` on `model` over the healthy fit segment `fit` (with the
+/// model's input `input`, when it has one).
+fn tune_on(
+    method: Method,
+    kind: ObserverKind,
+    model: &ModelConfig,
+    fit: &[f64],
+    revolution: usize,
+    input: Option<&[f64]>,
+) -> Result<Tuning> {
+    use observers::RunObserver;
+    let order = if kind.family() == LawFamily::Levant {
+        3
+    } else {
+        2
+    };
+    let n = fit.len();
+    let (q2, half, q4) = (n / 4, n / 2, 3 * n / 4);
+    let linear_only = kind.family() == LawFamily::Linear;
+    let mut best: Option<Tuning> = None;
+    // Γ = Γ₀; only when no design runs stably with it, Γ₀/2, Γ₀/4, … (GAMMA_MULTIPLES)
+    for fallback in 0..GAMMA_MULTIPLES.len() {
+        if best.is_some() || (fallback > 0 && linear_only) {
+            break;
+        }
+        for (design, linear) in [
+            ("default", LinearDesign::default()),
+            ("for_recordings", LinearDesign::for_recordings()),
+            ("innovations", LinearDesign::innovations()),
+        ] {
+            // the bound, measured with the linear law on the same model
+            let mut lin_settings = ObserverSettings::new(1.0);
+            lin_settings.linear = linear;
+            let Ok(mut lin) = observers::build_observer(ObserverKind::Apio, model, &lin_settings)
+            else {
+                continue;
+            };
+            let Ok(r0) = RunObserver::run(&mut lin, fit, input) else {
+                continue;
+            };
+            // lumped uncertainty seen by the linear observer: what it estimates (d̂₀) plus what
+            // it leaves (r₀), averaged over one shaft revolution so that the innovation — which
+            // no observer can predict and no bound has to cover — averages out
+            let w = revolution.clamp(1, half / 4);
+            let u: Vec<f64> = r0.fault[..half]
+                .iter()
+                .zip(&r0.residual[..half])
+                .map(|(d, r)| d + r)
+                .collect();
+            let mut d: Vec<f64> = u
+                .windows(w)
+                .map(|x| x.iter().sum::<f64>() / w as f64)
+                .collect();
+            for _ in 0..order - 1 {
+                for i in 0..d.len() - 1 {
+                    d[i] = d[i + 1] - d[i];
+                }
+                d.pop();
             }
-            for (design, linear) in [
-                ("default", LinearDesign::default()),
-                ("for_recordings", LinearDesign::for_recordings()),
-                ("innovations", LinearDesign::innovations()),
-            ] {
-                // the bound, measured with the linear law on the same model
-                let mut lin_settings = ObserverSettings::new(1.0);
-                lin_settings.linear = linear;
-                let Ok(mut lin) =
-                    observers::build_observer(ObserverKind::Apio, &model, &lin_settings)
-                else {
+            let bound = rms(&d);
+            let error_scale = rms(&r0.residual[..half]);
+            if !(bound.is_finite() && bound > 0.0 && error_scale > 0.0) {
+                continue;
+            }
+            let multiples: &[f64] = if linear_only {
+                &[1.0]
+            } else {
+                &GAMMA_MULTIPLES[fallback..=fallback]
+            };
+            for &c in multiples {
+                let mut settings = ObserverSettings::new(c * bound);
+                settings.linear = linear;
+                settings.error_scale = error_scale;
+                // AFSMO's schedule (5.29): "normal" within 3σ of the healthy residual, "faulty"
+                // beyond 6σ, σ = E₀ (docs/equations/observers.md, item 16)
+                settings.fuzzy_thresholds = Some([3.0 * error_scale, 6.0 * error_scale]);
+                let Ok(mut obs) = observers::build_observer(kind, model, &settings) else {
                     continue;
                 };
-                let Ok(r0) = lin.run(&self.fit) else {
+                let Ok(out) = RunObserver::run(&mut obs, fit, input) else {
                     continue;
                 };
-                // lumped uncertainty seen by the linear observer: what it estimates (d̂₀) plus what
-                // it leaves (r₀), averaged over one shaft revolution so that the innovation — which
-                // no observer can predict and no bound has to cover — averages out
-                let w = self.revolution.clamp(1, half / 4);
-                let u: Vec<f64> = r0.fault[..half]
-                    .iter()
-                    .zip(&r0.residual[..half])
-                    .map(|(d, r)| d + r)
-                    .collect();
-                let mut d: Vec<f64> = u
-                    .windows(w)
-                    .map(|x| x.iter().sum::<f64>() / w as f64)
-                    .collect();
-                for _ in 0..order - 1 {
-                    for i in 0..d.len() - 1 {
-                        d[i] = d[i + 1] - d[i];
-                    }
-                    d.pop();
-                }
-                let bound = rms(&d);
-                let error_scale = rms(&r0.residual[..half]);
-                if !(bound.is_finite() && bound > 0.0 && error_scale > 0.0) {
+                let r = &out.residual;
+                if r.iter().any(|v| !v.is_finite()) {
                     continue;
                 }
-                let multiples: &[f64] = if linear_only {
-                    &[1.0]
-                } else {
-                    &GAMMA_MULTIPLES[fallback..=fallback]
+                let growth = rms(&r[q4..]) / rms(&r[q2..half]).max(1e-300);
+                if growth > 2.0 {
+                    continue;
+                }
+                let t = Tuning {
+                    settings,
+                    multiple: (!linear_only).then_some(c),
+                    bound,
+                    order,
+                    design,
+                    fit_ratio: rms_ratio(&r[half..], &fit[half..]),
+                    growth,
                 };
-                for &c in multiples {
-                    let mut settings = ObserverSettings::new(c * bound);
-                    settings.linear = linear;
-                    settings.error_scale = error_scale;
-                    // AFSMO's schedule (5.29): "normal" within 3σ of the healthy residual, "faulty"
-                    // beyond 6σ, σ = E₀ (docs/equations/observers.md, item 16)
-                    settings.fuzzy_thresholds = Some([3.0 * error_scale, 6.0 * error_scale]);
-                    let Ok(mut obs) = observers::build_observer(kind, &model, &settings) else {
-                        continue;
-                    };
-                    let Ok(out) = obs.run(&self.fit) else {
-                        continue;
-                    };
-                    let r = &out.residual;
-                    if r.iter().any(|v| !v.is_finite()) {
-                        continue;
-                    }
-                    let growth = rms(&r[q4..]) / rms(&r[q2..half]).max(1e-300);
-                    if growth > 2.0 {
-                        continue;
-                    }
-                    let t = Tuning {
-                        settings,
-                        multiple: (!linear_only).then_some(c),
-                        bound,
-                        order,
-                        design,
-                        fit_ratio: rms_ratio(&r[half..], &self.fit[half..]),
-                        growth,
-                    };
-                    if best.is_none_or(|b| t.fit_ratio < b.fit_ratio) {
-                        best = Some(t);
-                    }
+                if best.is_none_or(|b| t.fit_ratio < b.fit_ratio) {
+                    best = Some(t);
                 }
             }
         }
-        best.ok_or(PipelineError::NoStableGain {
-            method: method.name(),
-        })
     }
+    best.ok_or(PipelineError::NoStableGain {
+        method: method.name(),
+    })
 }
 
 /// The residual r = y − ŷ of `method` over the whole recording (eqs 2.45, 3.25, 4.30, 5.32),
@@ -435,9 +585,41 @@ pub fn residual(
     tuning: &Tuning,
     signal: &[f64],
 ) -> Result<Vec<f64>> {
+    residual_with_input(method, prepared, tuning, signal, None)
+}
+
+/// [`residual`] with the machine model's input over `signal` computed beforehand by
+/// [`Prepared::machine_input`] (`None`: computed here when `method` needs it; ignored by methods
+/// that do not).
+///
+/// # Errors
+/// [`PipelineError::InputLength`] when `input` is not as long as `signal`; the observer's errors.
+pub fn residual_with_input(
+    method: Method,
+    prepared: &Prepared,
+    tuning: &Tuning,
+    signal: &[f64],
+    input: Option<&[f64]>,
+) -> Result<Vec<f64>> {
+    use observers::RunObserver;
     let (kind, model) = prepared.kind_and_model(method)?;
+    let computed;
+    let u = match input {
+        _ if !prepared.takes_input(method) => None,
+        Some(u) if u.len() != signal.len() => {
+            return Err(PipelineError::InputLength {
+                expected: signal.len(),
+                found: u.len(),
+            });
+        }
+        Some(u) => Some(u),
+        None => {
+            computed = prepared.machine_input(signal)?;
+            computed.as_deref()
+        }
+    };
     let mut obs = observers::build_observer(kind, &model, &tuning.settings)?;
-    Ok(obs.run(signal)?.residual)
+    Ok(RunObserver::run(&mut obs, signal, u)?.residual)
 }
 
 /// Window energies Σr² (eq. 2.46 / 5.33) of the first `count` non-overlapping windows of `len`

@@ -359,7 +359,9 @@ pub struct SourceFeatures {
 
 /// Run `method` (with the gains `tuning`, on the models `prepared` from the recording's healthy
 /// fit segment) over `rec`, or take the raw signal when `method` is `None`, and window the
-/// scored segment.
+/// scored segment. `input`: the machine model's input over `rec` when computed beforehand
+/// ([`crate::Prepared::machine_input`], once per recording for every method that takes it;
+/// `None` computes it when needed).
 ///
 /// # Errors
 /// The observer's error, or [`PipelineError::TooShort`] when the scored segment holds no
@@ -367,9 +369,10 @@ pub struct SourceFeatures {
 pub fn source_features(
     method: Option<(crate::Method, &crate::Prepared, &crate::Tuning)>,
     rec: &Rec,
+    input: Option<&[f64]>,
 ) -> Result<SourceFeatures> {
     let full = match method {
-        Some((m, prep, t)) => crate::residual(m, prep, t, &rec.signal)?,
+        Some((m, prep, t)) => crate::residual_with_input(m, prep, t, &rec.signal, input)?,
         None => rec.signal.clone(),
     };
     let residual = full.get(rec.window_start..).unwrap_or(&[]);

@@ -48,7 +48,14 @@ pub struct Cache {
     /// Window energies, residual trace and RMS ratio of each (observer or raw signal,
     /// recording) so far.
     pub features: BTreeMap<(Option<::pipeline::Method>, RecKey), SourceFeatures>,
+    /// The machine model's input over each recording (`pipeline::Prepared::machine_input`),
+    /// computed by the first observer that needs it and shared by every other (a deterministic
+    /// function of the recording and its healthy model).
+    pub machine_inputs: BTreeMap<RecKey, std::sync::Arc<MachineInputCell>>,
 }
+
+/// One recording's machine-model input, computed once ([`Cache::machine_inputs`]).
+pub type MachineInputCell = std::sync::OnceLock<Result<Option<std::sync::Arc<Vec<f64>>>, String>>;
 
 impl Cache {
     /// Load or simulate every key not yet present (in parallel; order-independent results).

@@ -169,12 +169,9 @@ pub fn run_chapter(
     let fuzzy = methods
         .iter()
         .any(|m| matches!(m, Method::Afsmo | Method::Asmo | Method::SmoFuzzy));
-    let physics = methods.iter().any(|m| {
-        matches!(
-            m,
-            Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
-        )
-    });
+    // every method needs the calibrated machine model: the physics observers run on it, and
+    // its one-step prediction is the ARX-Laguerre models' exogenous input
+    let physics = !methods.is_empty();
     let reusable = |cache: &Cache, h: &RecKey| {
         cache
             .models
@@ -187,13 +184,15 @@ pub fn run_chapter(
         .filter(|h| reusable(cache, h).is_none())
         .map(|h| {
             let rec = cache.get(h)?;
-            let p = pl::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, fuzzy, physics)
+            // the fuzzy model too, whichever chapter asks first: it costs little beside the
+            // machine model's calibration, which a later chapter then reuses
+            let p = pl::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, true, physics)
                 .with_context(|| format!("model identification on {}", rec.id))?;
             Ok((*h, std::sync::Arc::new(p)))
         })
         .collect::<anyhow::Result<_>>()?;
     for (h, p) in made {
-        cache.models.insert(h, (fuzzy, physics, p));
+        cache.models.insert(h, (true, physics, p));
     }
     let prepared: BTreeMap<RecKey, std::sync::Arc<pl::Prepared>> = healthy
         .iter()
@@ -215,21 +214,48 @@ pub fn run_chapter(
             let scores: Vec<String> = p
                 .order_scores
                 .iter()
-                .map(|(n, e)| format!("{n}: {e:.3}"))
+                .map(|((a, b), e)| {
+                    if p.n_b > 0 {
+                        format!("{a}/{b}: {e:.3}")
+                    } else {
+                        format!("{a}: {e:.3}")
+                    }
+                })
                 .collect();
-            notes.push(format!(
-                "{} model (AR form) identified on the first {} s of {id}: N_a = {} chosen by held-out one-step NRMSE on the last {:.0} % of that segment (N_a: NRMSE = {}), pole ζ_a = {:.4}.",
-                if fuzzy { "Fuzzy ARX-Laguerre (eq. 5.19, Table 5.1 rules, N_f = 2, ±3σ universes; its ARX-Laguerre part)" } else { "ARX-Laguerre" },
-                inputs::FIT_SECONDS,
-                p.n_a,
-                100.0 * pl::ORDER_HOLDOUT,
-                scores.join(", "),
-                p.zeta_a
-            ));
+            let what = if fuzzy {
+                "Fuzzy ARX-Laguerre (eq. 5.19, Table 5.1 rules, N_f = 2, ±3σ universes; its ARX-Laguerre part)"
+            } else {
+                "ARX-Laguerre"
+            };
+            match (p.zeta_b, p.input_nrmse) {
+                (Some(zeta_b), Some(alone)) if p.n_b > 0 => notes.push(format!(
+                    "{what} model identified on the first {} s of {id} with the calibrated machine model's one-step prediction as its exogenous input u (eq. 2.33's u read as the physics model's output at the sensor; docs/equations/xtask-chapters.md, \"ARX-Laguerre on the calibrated machine model\"), after the first {:.0} % of the segment (the machine model's observer settling): (N_a, N_b) = ({}, {}) chosen by held-out one-step NRMSE on the last {:.0} % (N_a/N_b: NRMSE = {}; the machine model's prediction alone {alone:.3}), poles ζ_a = {:.4}, ζ_b = {zeta_b:.4}.",
+                    inputs::FIT_SECONDS,
+                    100.0 * pl::INPUT_SETTLE,
+                    p.n_a,
+                    p.n_b,
+                    100.0 * pl::ORDER_HOLDOUT,
+                    scores.join(", "),
+                    p.zeta_a
+                )),
+                _ => notes.push(format!(
+                    "{what} model (AR form) identified on the first {} s of {id}: N_a = {} chosen by held-out one-step NRMSE on the last {:.0} % of that segment (N_a: NRMSE = {}), pole ζ_a = {:.4}.",
+                    inputs::FIT_SECONDS,
+                    p.n_a,
+                    100.0 * pl::ORDER_HOLDOUT,
+                    scores.join(", "),
+                    p.zeta_a
+                )),
+            }
         }
         if let Some((before, after, by_loop)) = p.calibration_error.filter(|_| physics) {
             notes.push(format!(
-                "Physics observers run on the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, and its {} lines (shaft harmonics and tones), together as the one-step predictor of the whole model, AR order {} (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
+                "{} the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, and its {} lines (shaft harmonics and tones), together as the one-step predictor of the whole model, AR order {} (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
+                if methods.iter().any(|m| matches!(m, Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo)) {
+                    "Physics observers run on"
+                } else {
+                    "The ARX-Laguerre models' input comes from"
+                },
                 inputs::FIT_SECONDS,
                 if by_loop { "" } else { " (the loop added none — the declared model already explained the segment — so the path is identified from the segment directly)" },
                 p.path_order,
@@ -280,6 +306,9 @@ pub fn run_chapter(
         .iter()
         .flat_map(|s| keys.iter().map(move |k| (*s, *k)))
         .collect();
+    for k in &keys {
+        cache.machine_inputs.entry(*k).or_default();
+    }
     let pb = progress(cfg, jobs.len() as u64, format!("chapter {ch}: observers"));
     let results: Vec<anyhow::Result<SourceOut>> = jobs
         .par_iter()
@@ -302,8 +331,30 @@ pub fn run_chapter(
                 }
                 None => None,
             };
-            let f = pl::recordings::source_features(method, rec)
-                .with_context(|| format!("{} on recording {}", source_name(*src), rec.id))?;
+            let input = match method {
+                Some((m, p, _)) if p.takes_input(m) => {
+                    let cell = cache
+                        .machine_inputs
+                        .get(key)
+                        .ok_or_else(|| anyhow::anyhow!("no input cell for {}", rec.id))?;
+                    let made = cell.get_or_init(|| {
+                        p.machine_input(&rec.signal)
+                            .map(|u| u.map(std::sync::Arc::new))
+                            .map_err(|e| e.to_string())
+                    });
+                    match made {
+                        Ok(u) => u.clone(),
+                        Err(e) => anyhow::bail!("the machine model's input on {}: {e}", rec.id),
+                    }
+                }
+                _ => None,
+            };
+            let f = pl::recordings::source_features(
+                method,
+                rec,
+                input.as_deref().map(|u| u.as_slice()),
+            )
+            .with_context(|| format!("{} on recording {}", source_name(*src), rec.id))?;
             pb.inc(1);
             Ok((f.energies, f.trace, f.rms_ratio))
         })
