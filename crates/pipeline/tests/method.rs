@@ -4,19 +4,24 @@
 
 use pipeline::{Method, PipelineError, Prepared, SimKind, residual, simulate, window_energies};
 
-#[test]
-fn prepared_method_predicts_the_healthy_signal_and_errors_are_typed() {
-    let fs = 12_000.0;
-    let y = simulate(
+/// 2 s of a simulated healthy CWRU-like record at 12 kHz, 1797 rpm.
+fn healthy_record(seed: u64) -> Vec<f64> {
+    simulate(
         SimKind::Cwru,
         bearing_model::FaultClass::None,
         0.007,
         1797.0,
-        fs,
+        12_000.0,
         24_000,
-        3,
+        seed,
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn prepared_method_predicts_the_healthy_signal_and_errors_are_typed() {
+    let fs = 12_000.0;
+    let y = healthy_record(3);
     let (fit, held) = y.split_at(12_000);
     // ARX-Laguerre only (no fuzzy model, no machine model)
     let p = Prepared::new(fit, fs, 1797.0, false, false).unwrap();
@@ -68,16 +73,7 @@ fn prepared_method_predicts_the_healthy_signal_and_errors_are_typed() {
 #[test]
 fn arx_laguerre_on_the_machine_model_takes_its_prediction_as_input() {
     let fs = 12_000.0;
-    let y = simulate(
-        SimKind::Cwru,
-        bearing_model::FaultClass::None,
-        0.007,
-        1797.0,
-        fs,
-        24_000,
-        5,
-    )
-    .unwrap();
+    let y = healthy_record(5);
     let (fit, held) = y.split_at(12_000);
     let ar = Prepared::new(fit, fs, 1797.0, false, false).unwrap();
     let hybrid = Prepared::new(fit, fs, 1797.0, false, true).unwrap();
