@@ -438,7 +438,8 @@ impl Prepared {
     /// Set Γ and the linear design of `method` on the healthy fit segment only.
     ///
     /// The bound of eqs 2.44 / 3.21 / 4.20–4.29 / 5.28 is measured first on the segment's first
-    /// half: the lumped uncertainty seen by the same model under its linear (PI) law, û = d̂₀ + r₀
+    /// half (from [`INPUT_SETTLE`] of the segment on for a model that takes the machine model's
+    /// input, whose observer starts from rest at the segment's first sample): the lumped uncertainty seen by the same model under its linear (PI) law, û = d̂₀ + r₀
     /// (what its extended state estimates plus what it leaves), averaged over one shaft
     /// revolution so that the innovation — which no observer can predict and no bound has to
     /// cover — averages out, and Γ₀ = RMS(Δᵐ⁻¹ û) (m = 3 for Levant laws: second difference;
@@ -485,6 +486,12 @@ fn tune_on(
     };
     let n = fit.len();
     let (q2, half, q4) = (n / 4, n / 2, 3 * n / 4);
+    // with the machine model's input, the bound and error scale are measured after that input
+    // has settled (INPUT_SETTLE), not over its start-up transient
+    let start = match input {
+        Some(_) => ((INPUT_SETTLE * n as f64).round() as usize).min(half / 2),
+        None => 0,
+    };
     let linear_only = kind.family() == LawFamily::Linear;
     let mut best: Option<Tuning> = None;
     // Γ = Γ₀; only when no design runs stably with it, Γ₀/2, Γ₀/4, … (GAMMA_MULTIPLES)
@@ -510,10 +517,10 @@ fn tune_on(
             // lumped uncertainty seen by the linear observer: what it estimates (d̂₀) plus what
             // it leaves (r₀), averaged over one shaft revolution so that the innovation — which
             // no observer can predict and no bound has to cover — averages out
-            let w = revolution.clamp(1, half / 4);
-            let u: Vec<f64> = r0.fault[..half]
+            let w = revolution.clamp(1, (half - start) / 4);
+            let u: Vec<f64> = r0.fault[start..half]
                 .iter()
-                .zip(&r0.residual[..half])
+                .zip(&r0.residual[start..half])
                 .map(|(d, r)| d + r)
                 .collect();
             let mut d: Vec<f64> = u
@@ -527,7 +534,7 @@ fn tune_on(
                 d.pop();
             }
             let bound = rms(&d);
-            let error_scale = rms(&r0.residual[..half]);
+            let error_scale = rms(&r0.residual[start..half]);
             if !(bound.is_finite() && bound > 0.0 && error_scale > 0.0) {
                 continue;
             }
