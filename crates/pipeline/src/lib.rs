@@ -149,6 +149,9 @@ pub struct Prepared {
     path: Option<observers::LinearModel>,
     input: Option<MachineInput>,
     fit: Vec<f64>,
+    /// The machine model's input over `fit` (None in AR form), computed once for the
+    /// identification and every method's tuning.
+    fit_input: Option<Vec<f64>>,
     /// Pole ζ_a chosen by the identification.
     pub zeta_a: f64,
     /// Input pole ζ_b (None in AR form, without the machine model's input).
@@ -369,6 +372,7 @@ impl Prepared {
             path,
             input,
             fit: healthy.to_vec(),
+            fit_input: if n_b > 0 { u_fit } else { None },
             zeta_a: m.pole_a().value(),
             zeta_b: m.pole_b().map(|p| p.value()),
             n_a,
@@ -452,19 +456,11 @@ impl Prepared {
     /// No test window and no label is used.
     pub fn tune(&self, method: Method) -> Result<Tuning> {
         let (kind, model) = self.kind_and_model(method)?;
-        let u = if self.takes_input(method) {
-            self.machine_input(&self.fit)?
-        } else {
-            None
-        };
-        tune_on(
-            method,
-            kind,
-            &model,
-            &self.fit,
-            self.revolution,
-            u.as_deref(),
-        )
+        let u = self
+            .fit_input
+            .as_deref()
+            .filter(|_| self.takes_input(method));
+        tune_on(method, kind, &model, &self.fit, self.revolution, u)
     }
 }
 

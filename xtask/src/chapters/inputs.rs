@@ -38,10 +38,10 @@ pub type SourceFeatures = (Vec<f64>, Vec<f64>, f64);
 pub struct Cache {
     recs: BTreeMap<RecKey, Rec>,
     cwru_sim: bool,
-    /// Models identified on each healthy fit segment so far, with whether they hold the fuzzy
-    /// model and the calibrated machine: a chapter reuses one that holds what it needs (the
-    /// identification is deterministic, so a model is the same whichever chapter made it).
-    pub models: BTreeMap<RecKey, (bool, bool, std::sync::Arc<::pipeline::Prepared>)>,
+    /// Models prepared on each healthy fit segment so far, every one with the fuzzy model and the
+    /// calibrated machine, so any later chapter reuses it (the preparation is deterministic, so a
+    /// model is the same whichever chapter made it).
+    pub models: BTreeMap<RecKey, std::sync::Arc<::pipeline::Prepared>>,
     /// Gains tuned so far, per observer and healthy recording (a deterministic function of the
     /// model the observer runs on, which every reused [`Cache::models`] entry shares).
     pub tunings: BTreeMap<(::pipeline::Method, RecKey), ::pipeline::Tuning>,

@@ -169,30 +169,22 @@ pub fn run_chapter(
     let fuzzy = methods
         .iter()
         .any(|m| matches!(m, Method::Afsmo | Method::Asmo | Method::SmoFuzzy));
-    // every method needs the calibrated machine model: the physics observers run on it, and
-    // its one-step prediction is the ARX-Laguerre models' exogenous input
-    let physics = !methods.is_empty();
-    let reusable = |cache: &Cache, h: &RecKey| {
-        cache
-            .models
-            .get(h)
-            .filter(|(f, ph, _)| (*f || !fuzzy) && (*ph || !physics))
-            .map(|(.., p)| std::sync::Arc::clone(p))
-    };
+    // every model is prepared with the fuzzy model and the calibrated machine model (the physics
+    // observers run on it, its one-step prediction is the ARX-Laguerre models' input), whichever
+    // chapter asks first: a later chapter then reuses it
+    let reusable = |cache: &Cache, h: &RecKey| cache.models.get(h).map(std::sync::Arc::clone);
     let made: Vec<(RecKey, std::sync::Arc<pl::Prepared>)> = healthy
         .par_iter()
         .filter(|h| reusable(cache, h).is_none())
         .map(|h| {
             let rec = cache.get(h)?;
-            // the fuzzy model too, whichever chapter asks first: it costs little beside the
-            // machine model's calibration, which a later chapter then reuses
-            let p = pl::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, true, physics)
+            let p = pl::Prepared::new(cache.healthy_for(h)?, rec.fs, rec.rpm, true, true)
                 .with_context(|| format!("model identification on {}", rec.id))?;
             Ok((*h, std::sync::Arc::new(p)))
         })
         .collect::<anyhow::Result<_>>()?;
     for (h, p) in made {
-        cache.models.insert(h, (true, physics, p));
+        cache.models.insert(h, p);
     }
     let prepared: BTreeMap<RecKey, std::sync::Arc<pl::Prepared>> = healthy
         .iter()
@@ -248,7 +240,7 @@ pub fn run_chapter(
                 )),
             }
         }
-        if let Some((before, after, by_loop)) = p.calibration_error.filter(|_| physics) {
+        if let Some((before, after, by_loop)) = p.calibration_error {
             notes.push(format!(
                 "{} the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, and its {} lines (shaft harmonics and tones), together as the one-step predictor of the whole model, AR order {} (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
                 if methods.iter().any(|m| matches!(m, Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo)) {
