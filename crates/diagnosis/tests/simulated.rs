@@ -203,6 +203,27 @@ fn skf_6203_at_900_rpm_48k() {
     }
 }
 
+/// A 6203's inner-race family k·BPFI ± m·fr is a near-comb at 0.989 fr (BPFI = 4.947 fr):
+/// self-referenced, 6 s at 25.6 kHz (bins of 1/6 Hz, wider than the 1 % between the combs), the
+/// envelope speed search found that near-comb and its refinement agreed on the flanks of the
+/// shaft's own 1× and 2× lines at the edges of their windows: the record was analysed at
+/// 891.4 rpm and its BPFI − fr line read as the ball-defect rate (verdict `ball`,
+/// `residual_features::speed`'s `refine_ignores_lines_outside_their_windows`).
+#[test]
+fn skf_6203_inner_race_near_comb_does_not_move_the_speed() {
+    let spec = BearingSpec::parse("6203").unwrap();
+    let (rpm, fs) = (900.0, 25_600.0);
+    let x = scenario(BearingGeometry::skf_6203(), FaultClass::Inner, rpm, fs, 3)
+        .with_duration(6.0)
+        .simulate()
+        .unwrap()
+        .accel;
+    let d = diagnose(&x, fs, rpm, &spec, None).unwrap();
+    let used = d.operating_point.rpm_used;
+    assert!((used / rpm - 1.0).abs() < 2e-3, "analysed at {used} rpm");
+    assert_eq!(d.verdict, "inner");
+}
+
 #[test]
 fn made_up_bearing_at_1750_rpm_self_referenced() {
     let spec = BearingSpec::parse("n=12,d=0.25in,D=1.6in,angle=0deg").unwrap();
