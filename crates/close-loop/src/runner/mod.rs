@@ -159,6 +159,7 @@ pub fn close_loop_from(
         eps,
         rejected_ratios: std::sync::Mutex::new(Vec::new()),
         bases: std::sync::Mutex::new(std::collections::HashMap::new()),
+        residuals: crate::engine::ResidualMemo::default(),
         s_fit,
         s_held: welch.try_psd(&y[n_fit..])?,
         s_fit_hi: welch_hi.try_psd(&y[..n_fit])?,
@@ -680,6 +681,25 @@ fn candidates(ctx: &Ctx<'_>, st: &State, fit_lsd: f64) -> Result<Vec<Evaluated>,
         Box::new(|| Ok(Vec::from_iter(fault_size_candidate(ctx, st, fit_lsd)))),
         Box::new(|| Ok(added_fault_candidates(ctx, st, fit_lsd))),
         Box::new(|| Ok(Vec::from_iter(preload_candidate(ctx, st)))),
+        // a modulation at the shaft, twice-shaft or cage rate competes with the lines it
+        // explains (the sidebands of the model's own lines, which tones would otherwise take one
+        // by one), and only where the held-out envelope confirms it by itself, as in the envelope
+        // phase: a spectral patch is no modulation. Other rates wait for the envelope phase (a
+        // fault's own sideband 0.3 % off its geometric rate, BPFO − 2·fr, was taken at depth 1)
+        Box::new(|| {
+            Ok(modulation_candidates(ctx, st)
+                .into_iter()
+                .filter(|cand| match &cand.effect {
+                    Effect::Modulation {
+                        modulation, rate, ..
+                    } => {
+                        *rate != "other"
+                            && modulation::held_out_confirms(ctx, st, modulation).is_some()
+                    }
+                    _ => false,
+                })
+                .collect())
+        }),
     ];
     // rayon collects in the families' order; only the speed family can fail
     let found: Vec<Vec<Evaluated>> = families.par_iter().map(|f| f()).collect::<Result<_, _>>()?;
