@@ -21,7 +21,8 @@ pub struct LoopConfig {
     /// Stop rule: an effect is kept only if it lowers the held-out error by at least this
     /// fraction of the error before it (0.01 = 1 %).
     pub margin: f64,
-    /// At most this many effects are added.
+    /// At most this many effects are added besides amplitude modulations, which have their own
+    /// budget (`runner::MAX_MODULATIONS`, 2) in whichever phase they are found.
     pub max_effects: usize,
     /// A residual line must stand this far (dB) above the running median of the log spectral ratio.
     pub line_threshold_db: f64,

@@ -126,6 +126,11 @@ pub(crate) struct Ctx<'a> {
     /// the candidates of every round re-try the same models (a slip fraction, the declared
     /// physics at the current speed), and the 5-DOF simulation is most of a round's time.
     pub bases: std::sync::Mutex<std::collections::HashMap<(String, u64), Arc<Base>>>,
+    /// The last few residuals y − lines ([`Ctx::held_residual`], [`Ctx::fit_residual`]) by the
+    /// exact bits of their lines and segment: every candidate that adds no line is scored with
+    /// its state's lines, and a rig's machine model carries some forty (their sum over a
+    /// segment was 9 % of a measured record's loop).
+    pub residuals: ResidualMemo,
     /// The shaft speed over the declared one that the fitting segment's own shaft-harmonic comb
     /// shows (`residual_features::speed`; `None`: no comb clear enough to read).
     pub shaft: Option<f64>,
@@ -138,6 +143,50 @@ pub(crate) struct Ctx<'a> {
     pub op: OperatingPoint,
     pub model: &'a dyn DeclaredModel,
     pub cfg: &'a CheckedConfig,
+}
+
+/// A bounded memo of line residuals: the [`RESIDUAL_MEMO_LEN`] most recently computed, keyed
+/// by the segment and the bits of every line (frequency, a, b) in order; a hit returns the very
+/// vector that was computed, so results are bit-identical with and without it.
+#[derive(Default)]
+pub(crate) struct ResidualMemo {
+    slots: std::sync::Mutex<std::collections::VecDeque<(ResidualKey, Arc<Vec<f64>>)>>,
+}
+
+/// Segment start and end, then each line's frequency, cosine and sine coefficient bits.
+type ResidualKey = Vec<u64>;
+
+/// Residuals kept by [`ResidualMemo`] (each a segment long: ~0.5 MB at 12 kHz).
+const RESIDUAL_MEMO_LEN: usize = 8;
+
+impl ResidualMemo {
+    fn get_or_compute(
+        &self,
+        lines: &[Line],
+        range: &Range<usize>,
+        compute: impl FnOnce() -> Vec<f64>,
+    ) -> Arc<Vec<f64>> {
+        let mut key: ResidualKey = Vec::with_capacity(2 + 3 * lines.len());
+        key.extend([range.start as u64, range.end as u64]);
+        for l in lines {
+            key.extend([l.frequency_hz.to_bits(), l.a.to_bits(), l.b.to_bits()]);
+        }
+        let lock = || {
+            self.slots
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+        };
+        if let Some((_, r)) = lock().iter().find(|(k, _)| *k == key) {
+            return r.clone();
+        }
+        let r = Arc::new(compute());
+        let mut slots = lock();
+        if slots.len() == RESIDUAL_MEMO_LEN {
+            slots.pop_front();
+        }
+        slots.push_back((key, r.clone()));
+        r
+    }
 }
 
 /// Scores of a state.
@@ -398,20 +447,25 @@ impl Ctx<'_> {
     }
 
     /// Held-out residual y − (all lines of `st`).
-    pub fn held_residual(&self, st: &State) -> Vec<f64> {
-        let held = self.held();
-        let d = self.lines_signal(&st.all_lines(), held.clone());
-        self.y[held].iter().zip(&d).map(|(a, b)| a - b).collect()
+    pub fn held_residual(&self, st: &State) -> Arc<Vec<f64>> {
+        self.residual(&st.all_lines(), self.held())
     }
 
     /// Fitting-segment residual y − (all lines of `st`).
-    pub fn fit_residual(&self, st: &State) -> Vec<f64> {
-        let d = self.lines_signal(&st.all_lines(), 0..self.n_fit);
-        self.y[..self.n_fit]
-            .iter()
-            .zip(&d)
-            .map(|(a, b)| a - b)
-            .collect()
+    pub fn fit_residual(&self, st: &State) -> Arc<Vec<f64>> {
+        self.residual(&st.all_lines(), 0..self.n_fit)
+    }
+
+    /// y − `lines` over `range`, through the memo.
+    fn residual(&self, lines: &[Line], range: Range<usize>) -> Arc<Vec<f64>> {
+        self.residuals.get_or_compute(lines, &range, || {
+            let d = self.lines_signal(lines, range.clone());
+            self.y[range.clone()]
+                .iter()
+                .zip(&d)
+                .map(|(a, b)| a - b)
+                .collect()
+        })
     }
 }
 
