@@ -60,7 +60,8 @@ pub struct Args {
     /// Use at most this many seconds of the recording (from its start).
     #[arg(long)]
     pub seconds: Option<f64>,
-    /// Maximum number of effects.
+    /// Maximum number of effects besides amplitude modulations (at most 2 more, found in the
+    /// spectral loop or the envelope phase after it).
     #[arg(long, default_value_t = 8)]
     pub max_effects: usize,
     /// JSON report path (Markdown and PNG are written beside it).
