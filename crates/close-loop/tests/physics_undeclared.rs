@@ -219,6 +219,44 @@ fn physics_modulation() {
     assert!(o.ledger.error_after < o.ledger.error_before);
 }
 
+/// A healthy 6203 (another geometry, another rate: 1100 rpm, 20 kHz, 8 s) whose vibration — the
+/// model's varying-compliance lines at k·BPFO — is modulated 50 % at the shaft rate: one
+/// `modulation` at fr, not tones at the sidebands k·BPFO ± fr. Before the modulation competed in
+/// the spectral loop (2026-11-29) the loop spent all eight effects on such tones (37.6, 74.3,
+/// 261.5 … Hz, 1.22 → 0.65 dB) and the modulation came too late to explain anything.
+#[test]
+fn physics_modulation_at_the_shaft_rate_is_not_split_into_sideband_tones() {
+    let (rpm, fs, n) = (1100.0, 20_000.0, 160_000);
+    let truth = PhysicsModel {
+        bearing: bearing_model::Bearing::Skf6203,
+        ..PhysicsModel::default()
+    };
+    let op = OperatingPoint::new(
+        rpm,
+        BearingSpec::designated(bearing_model::Bearing::Skf6203),
+        DeclaredFault::None,
+    )
+    .unwrap();
+    let x = truth.simulate(&op, n, fs).unwrap();
+    let sigma = 0.1 * close_loop::metric::rms(&x);
+    let fr = rpm / 60.0;
+    let mut y = modulate(&x, fs, fr, 0.5);
+    add_noise(&mut y, sigma, 99);
+    let cfg = LoopConfig::default().check().unwrap();
+    let o = close_loop(&truth, &y, fs, &op, &cfg).unwrap();
+    eprintln!("{}", o.ledger.to_markdown("physics"));
+    let e = first(&o, EffectKind::Modulation);
+    assert!((e.frequency_hz.unwrap() / fr - 1.0).abs() < 0.005);
+    let tones = o
+        .ledger
+        .effects
+        .iter()
+        .filter(|e| e.kind == EffectKind::Tone)
+        .count();
+    assert_eq!(tones, 0, "the sidebands are the modulation's");
+    assert!(o.ledger.error_after < 0.5 * o.ledger.error_before);
+}
+
 /// Slip four times the declared one: the loop sets the slip once, from the whole range of
 /// fractions, instead of doubling it step after step (one slip effect, the true fraction).
 #[test]
