@@ -487,6 +487,16 @@ pub fn font_available() -> bool {
     })
 }
 
+/// The PSD axis's label in the recording's unit: `PSD (dB re 1 g²/Hz)`,
+/// `PSD (dB re 1 (m/s²)²/Hz)`, `PSD (dB re 1 (file units)²/Hz)`.
+fn psd_axis_label(unit: &str) -> String {
+    if unit == "g" {
+        "PSD (dB re 1 g²/Hz)".to_string()
+    } else {
+        format!("PSD (dB re 1 ({unit})²/Hz)")
+    }
+}
+
 /// Two panels: held-out PSD (measured, model before, model after) and the residual log ratio
 /// 10·log10(S_y/S_m) before and after, effects marked by vertical lines.
 pub fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
@@ -540,7 +550,7 @@ pub fn figure(out: &Outcome, path: &Path, title: &str) -> anyhow::Result<()> {
         ),
         ymin,
         ymax + 3.0,
-        "PSD (dB)",
+        &psd_axis_label(l.unit.label()),
     )?;
     let gray = RGBColor(120, 120, 120);
     c1.draw_series(LineSeries::new(meas, &gray))?
