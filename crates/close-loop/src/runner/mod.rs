@@ -497,8 +497,9 @@ fn run(ctx: &Ctx<'_>, prior: Option<&MachineModel>) -> Result<Outcome, CloseLoop
     })
 }
 
-/// Most amplitude modulations a run adds — in the spectral loop (confirmed ones at a shaft or cage
-/// rate, outside its `max_effects` rounds) and in the envelope phase after it, strongest first (`docs/equations/close-loop.md`, "Modulation"): a fault record's envelope holds many
+/// Most amplitude modulations a run adds — in the spectral loop (confirmed ones at a shaft or
+/// cage rate, outside its `max_effects` rounds) and in the envelope phase after it, strongest
+/// first (`docs/equations/close-loop.md`, "Modulation"): a fault record's envelope holds many
 /// real lines (cage and shaft sidebands of the fault itself), and the largest excesses over the
 /// model are the ones worth a name.
 pub const MAX_MODULATIONS: usize = 2;
