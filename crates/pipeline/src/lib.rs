@@ -145,6 +145,9 @@ pub const TREE_MIN_LEAF: usize = 5;
 #[derive(Debug, Clone)]
 pub struct Prepared {
     arx: observers::LinearModel,
+    /// The identified ARX-Laguerre model `arx` was built from (its one-step predictor,
+    /// [`Prepared::record_nrmse`]).
+    identified: laguerre_id::ArxLaguerreModel,
     fal: Option<Box<fuzzy_ts::FuzzyArxLaguerre>>,
     path: Option<observers::LinearModel>,
     input: Option<MachineInput>,
@@ -362,6 +365,7 @@ impl Prepared {
         };
         Ok(Self {
             arx,
+            identified: m,
             fal,
             revolution,
             path_order,
@@ -380,6 +384,38 @@ impl Prepared {
             order_scores,
             input_nrmse,
         })
+    }
+
+    /// One-step NRMSE over `signal[from..]` of the identified ARX-Laguerre model's predictor
+    /// (eq. 4.16's ŷ(k) from y(0..k) and, with the machine model's input, u(0..k)), and of the
+    /// machine model's prediction alone on the same samples (None in AR form). Run over the
+    /// whole healthy recording with `from` = the fit segment's length, every scored sample is
+    /// one the identification never saw, and the predictors have settled on the segment.
+    ///
+    /// # Errors
+    /// [`PipelineError::Ident`] when `from` leaves fewer than 2 samples; the machine model's
+    /// observer's errors.
+    pub fn record_nrmse(&self, signal: &[f64], from: usize) -> Result<(f64, Option<f64>)> {
+        // the first sample has no prediction from the past (ŷ(0) = 0)
+        let from = from.max(1);
+        if from + 2 > signal.len() {
+            return Err(laguerre_id::IdentError::TooFewSamples {
+                found: signal.len().saturating_sub(from),
+                needed: 2,
+            }
+            .into());
+        }
+        let u = self.machine_input(signal)?;
+        let yhat = self.identified.predict(signal, u.as_deref())?;
+        let fit = laguerre_id::FitMetrics::compute(&signal[from..], &yhat[from..])?;
+        let alone = match &u {
+            Some(u) => {
+                let prev: Vec<f64> = (from..signal.len()).map(|k| u[k - 1]).collect();
+                Some(laguerre_id::FitMetrics::compute(&signal[from..], &prev)?.nrmse)
+            }
+            None => None,
+        };
+        Ok((fit.nrmse, alone))
     }
 
     /// The exogenous input of the ARX-Laguerre and fuzzy ARX-Laguerre observers over `signal`:

@@ -105,4 +105,19 @@ fn arx_laguerre_on_the_machine_model_takes_its_prediction_as_input() {
         pipeline::residual_with_input(Method::Apio, &hybrid, &t, held, Some(&u[1..])),
         Err(PipelineError::InputLength { .. })
     ));
+    // the identified predictors on the samples after the fit segment: the machine model's input
+    // predicts better than the AR form, and better than the machine model's prediction alone
+    let (n_ar, alone_ar) = ar.record_nrmse(&y, fit.len()).unwrap();
+    let (n_h, alone_h) = hybrid.record_nrmse(&y, fit.len()).unwrap();
+    assert!(alone_ar.is_none());
+    let alone_h = alone_h.unwrap();
+    assert!(
+        n_h.is_finite() && n_h > 0.0 && n_h < n_ar,
+        "{n_h} vs AR form {n_ar}"
+    );
+    assert!(n_h <= alone_h * 1.001, "{n_h} vs the input alone {alone_h}");
+    assert!(matches!(
+        hybrid.record_nrmse(&y, y.len() - 1),
+        Err(PipelineError::Ident(_))
+    ));
 }

@@ -196,7 +196,21 @@ pub fn run_chapter(
         .collect::<anyhow::Result<_>>()?;
 
     for (h, p) in &prepared {
-        let id = &cache.get(h)?.id;
+        let rec = cache.get(h)?;
+        let id = &rec.id;
+        // the identified predictor on the rest of the healthy recording, which no
+        // identification saw (the scored normal windows are cut from it)
+        let fit_len = (inputs::FIT_SECONDS * rec.fs) as usize;
+        let rest = match p.record_nrmse(&rec.signal, fit_len) {
+            Ok((nrmse, alone)) => format!(
+                " On the rest of {id} after the fit segment ({} samples, never seen by the identification), the identified model predicts one step ahead to an NRMSE of {nrmse:.3}{}.",
+                rec.signal.len().saturating_sub(fit_len),
+                alone.map_or(String::new(), |a| format!(
+                    " (the machine model's prediction alone {a:.3})"
+                ))
+            ),
+            Err(_) => String::new(),
+        };
         if methods.iter().any(|m| {
             !matches!(
                 m,
@@ -221,7 +235,7 @@ pub fn run_chapter(
             };
             match (p.zeta_b, p.input_nrmse) {
                 (Some(zeta_b), Some(alone)) if p.n_b > 0 => notes.push(format!(
-                    "{what} model identified on the first {} s of {id} with the calibrated machine model's one-step prediction as its exogenous input u (eq. 2.33's u read as the physics model's output at the sensor; docs/equations/xtask-chapters.md, \"ARX-Laguerre on the calibrated machine model\"), after the first {:.0} % of the segment (the machine model's observer settling): (N_a, N_b) = ({}, {}) chosen by held-out one-step NRMSE on the last {:.0} % (N_a/N_b: NRMSE = {}; the machine model's prediction alone {alone:.3}), poles ζ_a = {:.4}, ζ_b = {zeta_b:.4}.",
+                    "{what} model identified on the first {} s of {id} with the calibrated machine model's one-step prediction as its exogenous input u (eq. 2.33's u read as the physics model's output at the sensor; docs/equations/xtask-chapters.md, \"ARX-Laguerre on the calibrated machine model\"), after the first {:.0} % of the segment (the machine model's observer settling): (N_a, N_b) = ({}, {}) chosen by held-out one-step NRMSE on the last {:.0} % (N_a/N_b: NRMSE = {}; the machine model's prediction alone {alone:.3}), poles ζ_a = {:.4}, ζ_b = {zeta_b:.4}.{rest}",
                     inputs::FIT_SECONDS,
                     100.0 * pl::INPUT_SETTLE,
                     p.n_a,
@@ -231,7 +245,7 @@ pub fn run_chapter(
                     p.zeta_a
                 )),
                 _ => notes.push(format!(
-                    "{what} model (AR form) identified on the first {} s of {id}: N_a = {} chosen by held-out one-step NRMSE on the last {:.0} % of that segment (N_a: NRMSE = {}), pole ζ_a = {:.4}.",
+                    "{what} model (AR form) identified on the first {} s of {id}: N_a = {} chosen by held-out one-step NRMSE on the last {:.0} % of that segment (N_a: NRMSE = {}), pole ζ_a = {:.4}.{rest}",
                     inputs::FIT_SECONDS,
                     p.n_a,
                     100.0 * pl::ORDER_HOLDOUT,
