@@ -63,7 +63,36 @@ fn bench(c: &mut Criterion) {
     }
     g.finish();
 
-    // ARX-Laguerre with N_a = 16 (the chapters' held-out order choice on 97) in AR form.
+    // ARX-Laguerre with N_a = 12, N_b = 1 (13 states, the chapters' held-out order and pole
+    // choice on 97: 0.8941 for the output bank, -0.0391 for the input bank), input fault.
+    let k13: Vec<f64> = (0..13)
+        .map(|j| if j % 2 == 0 { 0.05 } else { -0.03 })
+        .collect();
+    let model13 = LinearModel::from_poles(0.8941, 12, -0.0391, 1, k13).unwrap();
+    let f13 = FaultDirection::Input.vector(&model13);
+    let mut plant13 = ArxPlant::new(&model13, &f13).unwrap();
+    let (y13, u13) = plant13.simulate(N, |k| ((k as f64) * 0.05).sin(), |_| 0.0);
+    let mut g = c.benchmark_group("arx_laguerre_13_states");
+    g.throughput(Throughput::Elements(N as u64));
+    g.sample_size(20);
+    for kind in ObserverKind::ALL {
+        let mut o = arx_observer(
+            kind,
+            &model13,
+            &FaultDirection::Input,
+            &ObserverSettings::new(1e-3),
+        )
+        .unwrap();
+        g.bench_with_input(BenchmarkId::from_parameter(kind), &y13, |b, y| {
+            b.iter(|| {
+                o.reset();
+                o.run_into(black_box(y), Some(&u13), &mut out).unwrap();
+            })
+        });
+    }
+    g.finish();
+
+    // ARX-Laguerre with N_a = 16 (the largest output bank the order search may pick) in AR form.
     let k16: Vec<f64> = (0..16).map(|i| 0.5 * 0.8f64.powi(i)).collect();
     let model16 = LinearModel::from_poles(-0.2, 16, 0.0, 0, k16).unwrap();
     let y16: Vec<f64> = (0..N)

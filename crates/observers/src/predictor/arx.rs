@@ -52,11 +52,13 @@ fn cascade_bank(z: f64, g: f64, drive: f64, e: f64, s: f64, x: &mut [f64], kp: &
     }
 }
 
-/// wᵀx over the fixed-size arrays with four partial sums (the padding is zero).
+/// wᵀx over the first `chunks` groups of four of the fixed-size arrays, with four partial sums
+/// (the padding past the model's states is zero, so the sum is the same for any `chunks` that
+/// covers them).
 #[inline(always)]
-fn dot_fixed(w: &Fixed, x: &Fixed) -> f64 {
+fn dot_fixed(w: &Fixed, x: &Fixed, chunks: usize) -> f64 {
     let mut acc = [0.0; 4];
-    for (wc, xc) in w.chunks_exact(4).zip(x.chunks_exact(4)) {
+    for (wc, xc) in w.chunks_exact(4).zip(x.chunks_exact(4)).take(chunks) {
         for i in 0..4 {
             acc[i] += wc[i] * xc[i];
         }
@@ -70,7 +72,9 @@ impl CascadeKernel {
     #[inline(always)]
     fn advance(&mut self, y_hat: f64, u: f64, e: f64, s: f64) -> f64 {
         let [kby, kbu, kkp, kf] = self.kb;
-        let y_next = dot_fixed(&self.w, &self.x) + (kby * y_hat + kbu * u) + (kkp * e + kf * s);
+        let chunks = (self.s.n_a + self.s.n_b).div_ceil(4);
+        let y_next =
+            dot_fixed(&self.w, &self.x, chunks) + (kby * y_hat + kbu * u) + (kkp * e + kf * s);
         let na = self.s.n_a;
         let n = na + self.s.n_b;
         let (xa, xb) = self.x[..n].split_at_mut(na);
