@@ -59,9 +59,10 @@ fn traces(title: &str, rows: &[(String, Vec<f64>)], fs: f64) -> anyhow::Result<V
             mesh.disable_mesh();
             if text {
                 mesh.x_desc("time (s)")
+                    .y_desc("residual (g)")
                     .label_style((FONT, 11))
                     .x_labels(6)
-                    .y_labels(4);
+                    .y_labels(7);
             } else {
                 mesh.x_labels(0).y_labels(0);
             }
@@ -110,7 +111,7 @@ fn energies(title: &str, series: &[(String, Vec<f64>)]) -> anyhow::Result<Vec<u8
         let mut mesh = chart.configure_mesh();
         if text {
             mesh.x_desc("window")
-                .y_desc("energy Σr²")
+                .y_desc("energy Σr² (g²)")
                 .label_style((FONT, 12));
         } else {
             mesh.x_labels(0).y_labels(0);

@@ -57,7 +57,7 @@ pub fn base_notes(cfg: &Config, ch: u8, clf: ClassifierKind, cwru_sim: bool) -> 
         ));
     }
     n.push(format!(
-        "Feature: the energy Σr² of non-overlapping windows of {} samples (eqs 2.46 / 3.26 / 4.31 / 5.33), the same length for every class; at most {} windows per recording (the dissertation's 400 per class), taken from the start of the scored segment.",
+        "Feature: the energy Σr² of non-overlapping windows of {} samples (eqs 2.46 / 3.26 / 4.31 / 5.33), in g² (the CWRU values read as g, and the simulated substitute in the same units: results/calibration/README.md, \"Units\"), the same length for every class; at most {} windows per recording (the dissertation's 400 per class), taken from the start of the scored segment.",
         cfg.window_len, cfg.windows_per_rec
     ));
     n.push(match clf {
