@@ -1,9 +1,10 @@
 //! Throughput of each observer in samples per second on one core (criterion): the ten kinds on
-//! the physics mode (12 kHz), on the 8-state reference ARX-Laguerre model, on a 16-state
-//! identified-size ARX-Laguerre model, and on a calibrated-path (shift-form AR) model of 64, 128
-//! and 156 states — the size of the structural path the loop calibrates on CWRU 97, and of the
-//! whole machine model's predictor the chapters' physics observers run on (the path plus two
-//! states per line, `close_loop::machine::MachineModel::predictor_model`).
+//! the physics mode (12 kHz), on the 8-state reference ARX-Laguerre model, on the chapters'
+//! 13-state one (N_a = 12, N_b = 1), on a 16-state AR-form ARX-Laguerre model, and on a
+//! calibrated-path (shift-form AR) model of 64, 128 and 156 states — the size of the structural
+//! path the loop calibrates on CWRU 97, and of the whole machine model's predictor the chapters'
+//! physics observers run on (the path plus two states per line,
+//! `close_loop::machine::MachineModel::predictor_model`).
 #![allow(missing_docs)]
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -39,58 +40,39 @@ fn bench(c: &mut Criterion) {
     }
     g.finish();
 
-    let model = reference_arx_model();
-    let f = FaultDirection::Input.vector(&model);
-    let mut plant = ArxPlant::new(&model, &f).unwrap();
-    let (y, u) = plant.simulate(N, |k| ((k as f64) * 0.05).sin(), |_| 0.0);
-    let mut g = c.benchmark_group("arx_laguerre_8_states");
-    g.throughput(Throughput::Elements(N as u64));
-    g.sample_size(20);
-    for kind in ObserverKind::ALL {
-        let mut o = arx_observer(
-            kind,
-            &model,
-            &FaultDirection::Input,
-            &ObserverSettings::new(1e-3),
-        )
-        .unwrap();
-        g.bench_with_input(BenchmarkId::from_parameter(kind), &y, |b, y| {
-            b.iter(|| {
-                o.reset();
-                o.run_into(black_box(y), Some(&u), &mut out).unwrap();
-            })
-        });
-    }
-    g.finish();
-
-    // ARX-Laguerre with N_a = 12, N_b = 1 (13 states, the chapters' held-out order and pole
-    // choice on 97: 0.8941 for the output bank, -0.0391 for the input bank), input fault.
+    // The 8-state reference model, and N_a = 12, N_b = 1 (13 states, the chapters' held-out
+    // order and pole choice on 97: 0.8941 for the output bank, -0.0391 for the input bank).
     let k13: Vec<f64> = (0..13)
         .map(|j| if j % 2 == 0 { 0.05 } else { -0.03 })
         .collect();
     let model13 = LinearModel::from_poles(0.8941, 12, -0.0391, 1, k13).unwrap();
-    let f13 = FaultDirection::Input.vector(&model13);
-    let mut plant13 = ArxPlant::new(&model13, &f13).unwrap();
-    let (y13, u13) = plant13.simulate(N, |k| ((k as f64) * 0.05).sin(), |_| 0.0);
-    let mut g = c.benchmark_group("arx_laguerre_13_states");
-    g.throughput(Throughput::Elements(N as u64));
-    g.sample_size(20);
-    for kind in ObserverKind::ALL {
-        let mut o = arx_observer(
-            kind,
-            &model13,
-            &FaultDirection::Input,
-            &ObserverSettings::new(1e-3),
-        )
-        .unwrap();
-        g.bench_with_input(BenchmarkId::from_parameter(kind), &y13, |b, y| {
-            b.iter(|| {
-                o.reset();
-                o.run_into(black_box(y), Some(&u13), &mut out).unwrap();
-            })
-        });
+    for (name, model) in [
+        ("arx_laguerre_8_states", reference_arx_model()),
+        ("arx_laguerre_13_states", model13),
+    ] {
+        let f = FaultDirection::Input.vector(&model);
+        let mut plant = ArxPlant::new(&model, &f).unwrap();
+        let (y, u) = plant.simulate(N, |k| ((k as f64) * 0.05).sin(), |_| 0.0);
+        let mut g = c.benchmark_group(name);
+        g.throughput(Throughput::Elements(N as u64));
+        g.sample_size(20);
+        for kind in ObserverKind::ALL {
+            let mut o = arx_observer(
+                kind,
+                &model,
+                &FaultDirection::Input,
+                &ObserverSettings::new(1e-3),
+            )
+            .unwrap();
+            g.bench_with_input(BenchmarkId::from_parameter(kind), &y, |b, y| {
+                b.iter(|| {
+                    o.reset();
+                    o.run_into(black_box(y), Some(&u), &mut out).unwrap();
+                })
+            });
+        }
+        g.finish();
     }
-    g.finish();
 
     // ARX-Laguerre with N_a = 16 (the largest output bank the order search may pick) in AR form.
     let k16: Vec<f64> = (0..16).map(|i| 0.5 * 0.8f64.powi(i)).collect();
