@@ -209,7 +209,9 @@ pub fn run_chapter(
                     " (the machine model's prediction alone {a:.3})"
                 ))
             ),
-            Err(_) => String::new(),
+            Err(e) => {
+                format!(" Its one-step NRMSE on the rest of {id} could not be computed: {e}.")
+            }
         };
         if methods.iter().any(|m| {
             !matches!(
