@@ -9,7 +9,9 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use observers::named::{arx_observer, path_observer, physics_observer};
-use observers::scenarios::{ArxPlant, OscillatorPlant, reference_arx_model};
+use observers::scenarios::{
+    ArxPlant, OscillatorPlant, chapters_shaped_arx_model, reference_arx_model,
+};
 use observers::*;
 use std::hint::black_box;
 
@@ -42,10 +44,7 @@ fn bench(c: &mut Criterion) {
 
     // The 8-state reference model, and N_a = 12, N_b = 1 (13 states, the chapters' held-out
     // order and pole choice on 97: 0.8941 for the output bank, -0.0391 for the input bank).
-    let k13: Vec<f64> = (0..13)
-        .map(|j| if j % 2 == 0 { 0.05 } else { -0.03 })
-        .collect();
-    let model13 = LinearModel::from_poles(0.8941, 12, -0.0391, 1, k13).unwrap();
+    let model13 = chapters_shaped_arx_model(12, 1).unwrap();
     for (name, model) in [
         ("arx_laguerre_8_states", reference_arx_model()),
         ("arx_laguerre_13_states", model13),

@@ -4,11 +4,10 @@
 //! single-core figure: `cargo run --release -p observers --example arx_throughput`.
 //! With `-- --dense` the predictor is forced onto the dense O(n²) update (the pre-cascade path).
 //! With `-- --orders NA,NB` the model has N_a output and N_b input Laguerre functions instead
-//! (poles 0.8941 and −0.0391, the chapters' choice on CWRU 97 with N_a = 12, N_b = 1; small
-//! alternating coefficients, so the simulated plant stays bounded).
+//! (`observers::scenarios::chapters_shaped_arx_model`: the chapters' poles on CWRU 97).
 
 use observers::named::arx_observer;
-use observers::scenarios::{ArxPlant, reference_arx_model};
+use observers::scenarios::{ArxPlant, chapters_shaped_arx_model, reference_arx_model};
 use observers::*;
 use std::hint::black_box;
 use std::time::Instant;
@@ -35,10 +34,7 @@ fn main() -> Result<(), ObserverError> {
                     value: f64::NAN,
                     reason: "expected two counts NA,NB, e.g. --orders 12,1",
                 })?;
-            let k: Vec<f64> = (0..na + nb)
-                .map(|j| if j % 2 == 0 { 0.05 } else { -0.03 })
-                .collect();
-            LinearModel::from_poles(0.8941, na, -0.0391, nb, k)?
+            chapters_shaped_arx_model(na, nb)?
         }
         None => reference_arx_model(),
     };

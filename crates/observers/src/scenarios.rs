@@ -134,6 +134,20 @@ pub fn reference_arx_model() -> LinearModel {
     LinearModel::from_poles(0.6, 4, 0.5, 4, k).expect("constant, valid reference model")
 }
 
+/// An ARX-Laguerre model of the chapters' shape on CWRU 97: `n_a` output and `n_b` input
+/// Laguerre functions with the poles the chapters identify there (0.8941 and −0.0391, at
+/// N_a = 12, N_b = 1), and small alternating coefficients (0.05, −0.03, …) so that a simulated
+/// plant stays bounded. For throughput measurements at a realistic state count.
+///
+/// # Errors
+/// [`ObserverError`] when the orders are outside what [`LinearModel::from_poles`] accepts.
+pub fn chapters_shaped_arx_model(n_a: usize, n_b: usize) -> Result<LinearModel, ObserverError> {
+    let k = (0..n_a + n_b)
+        .map(|j| if j % 2 == 0 { 0.05 } else { -0.03 })
+        .collect();
+    LinearModel::from_poles(0.8941, n_a, -0.0391, n_b, k)
+}
+
 /// Total variation per sample of a series (the chattering measure): mean |x(k+1) − x(k)|.
 pub fn total_variation_per_sample(x: &[f64]) -> f64 {
     if x.len() < 2 {

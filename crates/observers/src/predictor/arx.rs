@@ -72,11 +72,11 @@ impl CascadeKernel {
     #[inline(always)]
     fn advance(&mut self, y_hat: f64, u: f64, e: f64, s: f64) -> f64 {
         let [kby, kbu, kkp, kf] = self.kb;
-        let chunks = (self.s.n_a + self.s.n_b).div_ceil(4);
-        let y_next =
-            dot_fixed(&self.w, &self.x, chunks) + (kby * y_hat + kbu * u) + (kkp * e + kf * s);
         let na = self.s.n_a;
         let n = na + self.s.n_b;
+        let y_next = dot_fixed(&self.w, &self.x, n.div_ceil(4))
+            + (kby * y_hat + kbu * u)
+            + (kkp * e + kf * s);
         let (xa, xb) = self.x[..n].split_at_mut(na);
         let (kpa, kpb) = self.kp[..n].split_at(na);
         let (fa, fb) = self.f[..n].split_at(na);
