@@ -119,11 +119,21 @@ pub enum ModelError {
     /// A parameter-set name could not be parsed.
     #[error("unknown parameter set `{0}` (table2.1|cwru)")]
     UnknownParamSet(String),
-    /// A bearing name could not be parsed.
-    #[error(
-        "unknown bearing `{0}` (expected 6205, 6203, a geometry like `n=9,d=0.3126in,D=1.537in,angle=0deg` or multiples like `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`)"
-    )]
+    /// A designation the bearing catalogue ([`crate::catalog`]) does not hold; the message
+    /// lists the nearest catalogue rows ([`crate::catalog::nearest`]).
+    #[error("unknown bearing \"{0}\": {hint}", hint = crate::catalog::unknown_hint(.0))]
     UnknownBearing(String),
+    /// A catalogue bearing asked for as one of the model's built-in bearings
+    /// ([`crate::Bearing`]: the 6205 and 6203), which it is not.
+    #[error(
+        "bearing `{given}` is the catalogue's {name}, not a built-in model bearing (6205, 6203): give it as a bearing spec, which carries its geometry"
+    )]
+    NotBuiltIn {
+        /// The text as given.
+        given: String,
+        /// The catalogue row's name.
+        name: &'static str,
+    },
     /// Multiples whose `bsf` is the textbook ball-spin frequency, not CWRU's ball-defect rate.
     #[error(
         "invalid bearing spec `{spec}`: bsf={bsf} looks like the textbook ball-spin frequency (ftf implies a spin of {spin:.4} and a ball-defect rate of {ball_defect:.4}); bsf here is CWRU's ball-defect rate, twice the spin: give bsf={doubled}"

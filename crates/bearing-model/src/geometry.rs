@@ -55,14 +55,20 @@ impl Bearing {
     }
 }
 
+/// A built-in bearing by any name the catalogue finds it by ([`crate::catalog::lookup`]: `6205`,
+/// `SKF 6205-2RS`, `de`, `drive-end`; `6203`, `fe`, `fan-end`).
+///
+/// # Errors
+/// [`ModelError::UnknownBearing`] for a name the catalogue does not hold,
+/// [`ModelError::NotBuiltIn`] for a catalogue bearing that is not built in (`UC204`).
 impl std::str::FromStr for Bearing {
     type Err = ModelError;
     fn from_str(s: &str) -> Result<Self> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "6205" | "skf6205" | "de" | "drive-end" => Ok(Bearing::Skf6205),
-            "6203" | "skf6203" | "fe" | "fan-end" => Ok(Bearing::Skf6203),
-            _ => Err(ModelError::UnknownBearing(s.trim().to_string())),
-        }
+        let e = crate::catalog::lookup(s)?;
+        e.builtin.ok_or_else(|| ModelError::NotBuiltIn {
+            given: s.trim().to_string(),
+            name: e.name,
+        })
     }
 }
 

@@ -3,6 +3,8 @@
 //!
 //! * [`geometry`]: bearing geometry and kinematics (BPFO, BPFI, FTF, ball spin and
 //!   ball-defect rate, eq. 2.8), SKF 6205 and 6203 built in.
+//! * [`catalog`]: common rolling bearings by designation (60xx/62xx/63xx, UC2xx inserts, the
+//!   bearings of public data sets), each with the source of its geometry.
 //! * [`params`]: the two parameter sets (Table 2.1 as printed, a consistent CWRU set) and the
 //!   optional effects (radial load, shaft harmonics, speed offset, ΔM/ΔC/ΔK, slip).
 //! * [`fault`]: spalls on the inner race, outer race and a ball, in any combination.
@@ -32,6 +34,7 @@
 //! # Ok::<(), bearing_model::ModelError>(())
 //! ```
 
+pub mod catalog;
 pub mod error;
 pub mod fault;
 pub mod geometry;
@@ -41,6 +44,7 @@ pub mod simulate;
 pub mod spec;
 pub mod state_space;
 
+pub use catalog::{BearingKind, CatalogEntry, Length};
 pub use error::{ModelError, Result};
 pub use fault::{FaultClass, FaultLocation, FaultSet, Spall};
 pub use geometry::{Bearing, BearingGeometry, FaultOrders};

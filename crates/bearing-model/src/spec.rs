@@ -1,4 +1,5 @@
-//! Bearing specifications: a designation (`6205`, `6203`), a geometry
+//! Bearing specifications: a designation from the catalogue (`6205`, `UC204`, `ZA-2115`;
+//! [`crate::catalog`]), a geometry
 //! (`n=8,d=0.235in,D=1.245in,angle=0deg`, lengths in mm, in or m) or the four fault multiples
 //! directly (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, BSF in CWRU's convention: the
 //! ball-defect rate, twice the ball spin).
@@ -128,7 +129,20 @@ impl BearingSpec {
         w
     }
 
-    /// Parse a spec (see the module documentation).
+    /// A bearing from the catalogue by its designation ([`crate::catalog::lookup`]: case,
+    /// spaces, a maker's name and seal or clearance suffixes ignored), named by the catalogue's
+    /// name, with its geometry, echoing `text` (trimmed). The CWRU 6205 and 6203 are
+    /// [`BearingSpec::builtin`]'s.
+    ///
+    /// # Errors
+    /// [`ModelError::UnknownBearing`] when the catalogue holds no such bearing (its message
+    /// lists the nearest designations).
+    pub fn designation(text: &str) -> Result<Self> {
+        crate::catalog::lookup(text).map(|e| e.spec(text))
+    }
+
+    /// Parse a spec (see the module documentation): anything without `=` is a designation
+    /// ([`BearingSpec::designation`]).
     ///
     /// # Errors
     /// [`ModelError::UnknownBearing`] for an unknown designation,
@@ -136,13 +150,7 @@ impl BearingSpec {
     pub fn parse(spec: &str) -> Result<Self> {
         let s = spec.trim();
         if !s.contains('=') {
-            return s
-                .parse::<Bearing>()
-                .map(|b| Self {
-                    given: s.to_string(),
-                    ..Self::builtin(b)
-                })
-                .map_err(|_| ModelError::UnknownBearing(s.to_string()));
+            return Self::designation(s);
         }
         let bad = |reason: String| ModelError::InvalidBearingSpec {
             spec: s.to_string(),
