@@ -66,7 +66,8 @@ pub use location::{DATA_DIR_ENV, DataLocation, ci_from_env};
 pub use mat::{VariableSet, read_variable_sets, select_set, validate_structure};
 pub use mat_tree::{
     MAX_DEPTH, MAX_INFLATED_BYTES, MIN_SIGNAL_SAMPLES, MatArray, MatLeaf, MatSignal, MatValue,
-    StoredSpeed, read_mat_tree, sampling_rate_near, select_signal, shaft_speed_near, write_mat,
+    SAMPLING_RATE_NAMES, StoredSpeed, is_sampling_rate_name, read_mat_tree, sampling_rate_near,
+    select_signal, shaft_speed_near, write_mat,
 };
 pub use recording::{
     Labels, LoadOptions, Recording, Rpm, RpmSource, cwru_dir, load_record, parse_record,

@@ -160,3 +160,47 @@ fn the_shaft_speed_is_read_beside_the_signal_in_its_stated_unit() {
     let l = tree(&[("x", signal), ("shaft_hz", scalar(7000.0))]);
     assert_eq!(shaft_speed_near(&l, "s.x", 12000.0), None);
 }
+
+#[test]
+fn a_stored_rate_is_found_under_its_common_names_with_case_and_underscores_ignored() {
+    use bearing_data::{MatArray, is_sampling_rate_name, write_mat};
+    for name in [
+        "fs",
+        "Fs",
+        "FS",
+        "sr",
+        "sample_rate",
+        "sampling_rate",
+        "SampleRate",
+        "SamplingRate",
+        "SampleFrequency",
+        "SamplingFrequency",
+        "sampling_frequency",
+        "freq_sampling",
+        "samplerate",
+        "fs_hz",
+    ] {
+        assert!(is_sampling_rate_name(name), "{name}");
+    }
+    for name in ["rate", "rpm", "Datacount", "frequency", "f", "fr", "sample"] {
+        assert!(!is_sampling_rate_name(name), "{name}");
+    }
+    // UESTC's layout: `Data`, a scalar `Datacount` and `SampleFrequency`, all at the top level
+    let signal = expected_signal()[..2048].to_vec();
+    let bytes = write_mat(
+        &[
+            ("Data", MatArray::Double(vec![2048, 1], signal.clone())),
+            ("Datacount", MatArray::Double(vec![1, 1], vec![2048.0])),
+            (
+                "SampleFrequency",
+                MatArray::Double(vec![1, 1], vec![20000.0]),
+            ),
+        ],
+        false,
+    );
+    let leaves = read_mat_tree(&bytes).unwrap();
+    let s = select_signal(&leaves, None).unwrap();
+    assert_eq!(s.path, "Data");
+    assert_eq!(s.samples, signal);
+    assert_eq!(sampling_rate_near(&leaves, &s.path), Some(20000.0));
+}

@@ -1,8 +1,9 @@
 //! Recordings from other rigs as their rigs store them: MAT-files with the signal inside a
 //! struct (MFPT's `bearing.gs` beside its rate `bearing.sr` and shaft rate `bearing.rate`,
 //! compressed as MATLAB saves),
-//! inside a struct array with `Name`/`Data` (Paderborn's `X.Y(k)`), and text files named by
-//! date with no extension (IMS). Each is diagnosed as it is.
+//! inside a struct array with `Name`/`Data` (Paderborn's `X.Y(k)`), at the top level beside a
+//! scalar `SampleFrequency` and a scalar `Datacount` (UESTC's), and text files named by date
+//! with no extension (IMS). Each is diagnosed as it is.
 
 mod common;
 
@@ -217,4 +218,96 @@ fn a_directory_of_date_named_records_is_a_batch() {
         "normal"
     );
     assert_eq!(json(&out.join("2004.02.12.10.42.json"))["verdict"], "outer");
+}
+
+/// UESTC's layout: `Data` (the signal), `Datacount` (a scalar) and the rate as
+/// `SampleFrequency`, all at the top level; other spellings of a stored rate too.
+#[test]
+fn a_rate_stored_as_sample_frequency_is_read_whatever_its_case_and_underscores() {
+    let d = dir("other-mat-sample-frequency");
+    let x = machine(Fault::Outer, 20_000.0, 1500.0, 2.0, 5);
+    let write = |name: &str, rate: Option<&str>| {
+        let f = d.join(name);
+        let mut vars = vec![
+            ("Data", MatArray::Double(vec![x.len(), 1], x.clone())),
+            (
+                "Datacount",
+                MatArray::Double(vec![1, 1], vec![x.len() as f64]),
+            ),
+        ];
+        if let Some(r) = rate {
+            vars.push((r, MatArray::Double(vec![1, 1], vec![20_000.0])));
+        }
+        std::fs::write(&f, write_mat(&vars, false)).unwrap();
+        f
+    };
+    for rate in [
+        "SampleFrequency",
+        "SamplingFrequency",
+        "SampleRate",
+        "Sampling_Rate",
+        "Fs",
+        "freq_sampling",
+    ] {
+        let f = write(&format!("{rate}.mat"), Some(rate));
+        let l = hybrid_fdd_cli::diagnose::load(&f, "DE", None).expect(rate);
+        assert_eq!(l.fs_hz, 20_000.0, "{rate}");
+        // `Data` is the signal, not the scalar `Datacount`
+        assert_eq!(l.samples, x, "{rate}");
+    }
+    // diagnosed end to end without --fs, the bearing given by its catalogue designation
+    let f = write("N_1500_1.mat", Some("SampleFrequency"));
+    let report = d.join("n.json");
+    let args = [
+        "diagnose",
+        "--input",
+        s(&f),
+        "--rpm",
+        "1500",
+        "--bearing",
+        "uc204",
+        "--report",
+        s(&report),
+    ];
+    hybrid_fdd_cli::diagnose::run(&Diagnose::try_parse_from(args).unwrap().a).expect("diagnosed");
+    let r = json(&report);
+    assert_eq!(r["operating_point"]["fs_hz"], 20_000.0, "{r}");
+    assert_eq!(r["operating_point"]["bearing"], "UC204", "{r}");
+    assert_eq!(r["operating_point"]["bearing_spec"], "uc204 (UC204)", "{r}");
+    // no rate stored: the error names the accepted spellings and --fs
+    let f = write("no-rate.mat", None);
+    let e = format!(
+        "{:#}",
+        hybrid_fdd_cli::diagnose::load(&f, "DE", None).unwrap_err()
+    );
+    assert!(
+        e.contains("stores no sampling rate")
+            && e.contains("SampleFrequency")
+            && e.contains("--fs"),
+        "{e}"
+    );
+    assert!(!e.contains('\n'), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The UESTC recording the project keeps for development (data/uestc, not committed): its
+/// `SampleFrequency` is the rate and `Data` the signal. Skipped where the data is absent.
+#[test]
+fn the_uestc_recording_gives_its_stored_rate_and_its_data() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let data = bearing_data::DataLocation::from_env(&root).ok();
+    let Some(f) = data
+        .as_ref()
+        .and_then(|l| l.path())
+        .map(|p| p.join("uestc/Data/N_1000/N_1000_1.mat"))
+        .filter(|f| f.is_file())
+    else {
+        eprintln!("skipped: no data/uestc/Data/N_1000/N_1000_1.mat");
+        return;
+    };
+    let l = hybrid_fdd_cli::diagnose::load(&f, "DE", None).expect("UESTC file");
+    assert_eq!(l.fs_hz, 20_000.0);
+    // README: `Data` holds 262,144 samples
+    assert_eq!(l.samples.len(), 262_144);
+    assert_eq!(l.rpm, None);
 }

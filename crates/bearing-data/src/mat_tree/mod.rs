@@ -17,8 +17,8 @@
 //! `Name` (Paderborn's `vibration_1`, [`MatLeaf::alias`]) or a last path component (`gs`);
 //! without one, the only real vector of at least [`MIN_SIGNAL_SAMPLES`] samples. The sampling
 //! rate ([`sampling_rate_near`]): a positive scalar named `fs`, `sr`, `sample_rate`,
-//! `sampling_rate`, `samplerate` or `samplingrate` (any case) beside the signal, else the only
-//! one in the file. The shaft speed ([`shaft_speed_near`]): an `rpm` scalar beside the signal, or
+//! `sampling_rate`, `SampleFrequency`, `SamplingFrequency`, `freq_sampling`, … (case and `_`
+//! ignored, [`is_sampling_rate_name`]) beside the signal, else the only one in the file. The shaft speed ([`shaft_speed_near`]): an `rpm` scalar beside the signal, or
 //! a rotation frequency in Hz (`shaft_hz`, `fr`, or MFPT's `rate` where a sampling rate is stated
 //! beside it).
 
@@ -28,7 +28,10 @@ use crate::error::{DataError, Result};
 
 mod select;
 mod write;
-pub use select::{MatSignal, StoredSpeed, sampling_rate_near, select_signal, shaft_speed_near};
+pub use select::{
+    MatSignal, SAMPLING_RATE_NAMES, StoredSpeed, is_sampling_rate_name, sampling_rate_near,
+    select_signal, shaft_speed_near,
+};
 pub use write::{MatArray, write_mat};
 
 /// Largest decompressed size of one compressed element (bytes): 1 GiB, far above any

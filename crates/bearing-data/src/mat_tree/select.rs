@@ -94,28 +94,43 @@ pub fn select_signal(leaves: &[MatLeaf], channel: Option<&str>) -> Result<MatSig
     }
 }
 
-/// Names read as a sampling rate in Hz.
-const RATE_NAMES: [&str; 6] = [
+/// Names read as a sampling rate in Hz, as [`is_sampling_rate_name`] compares them: lower case,
+/// without `_`.
+pub const SAMPLING_RATE_NAMES: [&str; 11] = [
     "fs",
     "sr",
-    "sample_rate",
-    "sampling_rate",
     "samplerate",
     "samplingrate",
+    "samplefrequency",
+    "samplingfrequency",
+    "samplefreq",
+    "samplingfreq",
+    "freqsampling",
+    "fsample",
+    "fshz",
 ];
 
+/// Whether a variable named `name` (its last path component) states a sampling rate: one of
+/// [`SAMPLING_RATE_NAMES`] with case and `_` ignored, so `fs`, `Fs`, `sr`, `sample_rate`,
+/// `sampling_rate`, `SampleRate`, `SamplingRate`, `SampleFrequency` (UESTC's),
+/// `SamplingFrequency`, `freq_sampling` and `fs_hz` all do.
+pub fn is_sampling_rate_name(name: &str) -> bool {
+    let folded: String = name
+        .chars()
+        .filter(|&c| c != '_')
+        .map(|c| c.to_ascii_lowercase())
+        .collect();
+    SAMPLING_RATE_NAMES.contains(&folded.as_str())
+}
+
 /// The sampling rate the file states for the signal at `signal_path`: a finite positive scalar
-/// named `fs`, `sr`, `sample_rate`, `sampling_rate`, `samplerate` or `samplingrate` (any case) in
-/// the same struct, else the only such scalar in the
-/// file; `None` when there is none or several disagree.
+/// whose name states a rate ([`is_sampling_rate_name`]: `fs`, `sr`, `sample_rate`,
+/// `SampleFrequency`, …, case and `_` ignored) in the same struct, else the only such scalar in
+/// the file; `None` when there is none or several disagree.
 pub fn sampling_rate_near(leaves: &[MatLeaf], signal_path: &str) -> Option<f64> {
     let rates: Vec<(&MatLeaf, f64)> = leaves
         .iter()
-        .filter(|l| {
-            RATE_NAMES
-                .iter()
-                .any(|n| n.eq_ignore_ascii_case(l.last_name()))
-        })
+        .filter(|l| is_sampling_rate_name(l.last_name()))
         .filter_map(|l| {
             l.scalar()
                 .filter(|v| v.is_finite() && *v > 0.0)
@@ -161,7 +176,7 @@ pub struct StoredSpeed {
 /// `rotational_speed_rpm`), in rev/min; or `shaft_hz` (`shaft_rate`, `shaft_frequency`,
 /// `shaft_freq`, `fr`), in Hz; or `rate`, in Hz — the MFPT Society's files store their shaft rate
 /// so (`bearing.rate = 25` beside `bearing.sr = 48828`) — but only where the same struct also
-/// states a sampling rate ([`sampling_rate_near`]'s names) that `rate` is not, and the value lies
+/// states a sampling rate ([`is_sampling_rate_name`]) that `rate` is not, and the value lies
 /// below a twentieth of that sampling rate, so that a `rate` meaning the sampling rate is never
 /// read as a speed. A rotation frequency at or above half of `fs_hz` (the sampling rate in use)
 /// is not a speed. `None` when no scalar fits, or when several fit and disagree (by more than
@@ -173,7 +188,7 @@ pub fn shaft_speed_near(leaves: &[MatLeaf], signal_path: &str, fs_hz: f64) -> Op
     let siblings = || leaves.iter().filter(|l| l.parent() == parent);
     let value = |l: &MatLeaf| l.scalar().filter(|v| v.is_finite() && *v > 0.0);
     let stated_rate: Vec<f64> = siblings()
-        .filter(|l| named(l, &RATE_NAMES))
+        .filter(|l| is_sampling_rate_name(l.last_name()))
         .filter_map(value)
         .collect();
     let found: Vec<StoredSpeed> = siblings()

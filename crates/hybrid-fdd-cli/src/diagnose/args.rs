@@ -44,7 +44,9 @@ pub struct RecordingFlags {
     #[arg(long, default_value = "DE")]
     pub channel: String,
     /// Sampling rate, Hz, of recordings that store none (a text file without a time column, a
-    /// MAT-file without a scalar `fs`, `sr`, `sample_rate` or `sampling_rate` beside its signal).
+    /// MAT-file without a scalar rate beside its signal: `fs`, `sr`, `sample_rate`,
+    /// `sampling_rate`, `SampleFrequency`, `SamplingFrequency`, `SampleRate`, `freq_sampling`, …,
+    /// case and `_` ignored).
     /// A CWRU `.mat` file's rate, a stored rate and a time column's always win: for a single file, a `--fs` more than 0.1 % (`.mat`) or 1 % (time column)
     /// away from it is an error; in a directory batch (and `train-classifier`'s labelled list)
     /// `--fs` applies only to the files that store no rate.

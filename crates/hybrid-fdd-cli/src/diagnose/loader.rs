@@ -205,7 +205,8 @@ pub(super) fn sniff(path: &Path) -> anyhow::Result<&'static str> {
 /// signal named by `channel` (a path such as `bearing.gs`, a struct element's `Name` such as
 /// `vibration_1`, or a last path component); with the default channel (`DE`, `FE`, `BA`, which
 /// only a CWRU file has), the only real vector of at least 1024 samples. The rate stored beside
-/// the signal (`fs`, `sr`, `sample_rate`, …) wins over `--fs` as a CWRU record's does; the shaft
+/// the signal (`fs`, `sr`, `sample_rate`, `SampleFrequency`, …: `bearing_data::is_sampling_rate_name`)
+/// wins over `--fs` as a CWRU record's does; the shaft
 /// speed stored beside it (`bearing_data::shaft_speed_near`: `rpm`, or a rotation frequency in Hz
 /// such as MFPT's `rate`) is the speed.
 ///
@@ -251,7 +252,7 @@ fn load_generic_mat(
     )?
     .with_context(|| {
         format!(
-            "{name}: the file stores no sampling rate (a scalar fs, sr, sample_rate or sampling_rate); give --fs"
+            "{name}: the file stores no sampling rate (a scalar such as fs, sr, sample_rate, SampleFrequency or SamplingRate; case and _ ignored); give --fs"
         )
     })?;
     let speed = bearing_data::shaft_speed_near(&leaves, &signal.path, fs_hz);
