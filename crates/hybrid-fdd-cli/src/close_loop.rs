@@ -39,11 +39,13 @@ pub struct Args {
     /// `simulate` CSV's JSON sidecar, said on stderr).
     #[arg(long)]
     pub rpm: Option<f64>,
-    /// Bearing: `6205`, `6203`, a geometry (`n=8,d=0.235in,D=1.245in,angle=0deg`) or the four
-    /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
-    /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
-    /// doubled (the 6205's textbook BSF is 2.3567). The physics model simulates 6205, 6203 or a
-    /// geometry, not the multiples alone (`--model arx-laguerre` or `phenomenological` then). When omitted: a
+    /// Bearing: a designation from the built-in catalogue (`hybrid-fdd bearings` lists them;
+    /// case-insensitive, a maker's name and seal or clearance suffixes ignored: `6205`, `uc204`,
+    /// `ZA-2115`), a geometry (`n=8,d=0.235in,D=1.245in,angle=0deg`) or the four shaft-rate
+    /// multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where `bsf` is
+    /// CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be doubled (the
+    /// 6205's textbook BSF is 2.3567). The physics model simulates 6205, 6203 or a geometry (a
+    /// catalogue bearing's included), not the multiples alone (`--model arx-laguerre` or `phenomenological` then). When omitted: a
     /// `simulate` CSV's sidecar's bearing (said on stderr), else 6205.
     #[arg(long)]
     pub bearing: Option<String>,
@@ -103,8 +105,9 @@ pub struct CalibrateArgs {
     /// omitted).
     #[arg(long)]
     pub rpm: Option<f64>,
-    /// Bearing: `6205`, `6203`, a geometry (`n=12,d=7.94mm,D=38.5mm,angle=0deg`) or the four
-    /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
+    /// Bearing: a designation from the built-in catalogue (`hybrid-fdd bearings` lists them;
+    /// case-insensitive: `6205`, `UC204`, `6206-2RS`), a geometry
+    /// (`n=12,d=7.94mm,D=38.5mm,angle=0deg`) or the four shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
     /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
     /// doubled (the 6205's textbook BSF is 2.3567). A bearing given by its four multiples only
     /// needs `--model arx-laguerre` or `phenomenological`. When omitted: a `simulate` CSV's sidecar's

@@ -4,7 +4,8 @@
 //! preparation (decimated with `bearing-data`'s anti-aliasing decimator when its rate is an
 //! integer multiple of the recording's), the call into the `diagnosis` crate, and the reports
 //! (JSON, Markdown, PNG figure); the closed loop and calibration on one recording
-//! ([`close_loop`]), the 5-DOF simulation to CSV ([`simulate`]). No signal processing lives here.
+//! ([`close_loop`]), the 5-DOF simulation to CSV ([`simulate`]), the bearing catalogue as a
+//! table ([`bearings`]). No signal processing lives here.
 
 /// `println!` that ignores a closed standard output (`hybrid-fdd simulate … | head`): the
 /// files are written either way, and a reader that went away is not an error of the command.
@@ -16,6 +17,7 @@ macro_rules! say {
     }};
 }
 
+pub mod bearings;
 pub mod close_loop;
 pub mod diagnose;
 pub mod figure;

@@ -8,6 +8,7 @@
 //! hybrid-fdd simulate --fault outer --rpm 1797 --fs 12000 --duration 2 --seed 1 --out sim.csv
 //! hybrid-fdd train-classifier --labels labelled.csv --bearing 6205 --out clf.json
 //! hybrid-fdd diagnose --input 130.mat --bearing 6205 --classifier clf.json --report out/130.json
+//! hybrid-fdd bearings            # the built-in bearing catalogue; `hybrid-fdd bearings uc204`
 //! ```
 
 use clap::{Parser, Subcommand};
@@ -38,6 +39,10 @@ enum Command {
     /// the diagnosis evidence of their segments, a Gini tree or linear SVM, grouped
     /// cross-validation printed; `diagnose --classifier` then adds its class to the report.
     TrainClassifier(hybrid_fdd_cli::train::Args),
+    /// List the built-in bearing catalogue that `--bearing` takes designations from: geometry,
+    /// fault orders (× shaft frequency) and the source of each row; or the one row a
+    /// designation names.
+    Bearings(hybrid_fdd_cli::bearings::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -47,6 +52,7 @@ fn main() -> std::process::ExitCode {
         Command::CloseLoop(a) => hybrid_fdd_cli::close_loop::run(a),
         Command::Simulate(a) => hybrid_fdd_cli::simulate::run(a),
         Command::TrainClassifier(a) => hybrid_fdd_cli::train::run(&a),
+        Command::Bearings(a) => hybrid_fdd_cli::bearings::run(&a),
     };
     match r {
         Ok(()) => std::process::ExitCode::SUCCESS,

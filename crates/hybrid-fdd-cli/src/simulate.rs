@@ -48,9 +48,11 @@ pub struct Args {
     /// 3, 6 and 12).
     #[arg(long, default_value_t = 6)]
     pub outer_clock: u8,
-    /// Bearing: 6205 (CWRU drive end) | 6203 (fan end) | a geometry
-    /// `n=8,d=0.235in,D=1.245in,angle=0deg` (mm, in or m; the bare 5-DOF sets only: the set's
-    /// shaft, pedestal, housing and contact stiffness with this geometry's balls and kinematics).
+    /// Bearing: 6205 (CWRU drive end) | 6203 (fan end) | another designation from the built-in
+    /// catalogue (`hybrid-fdd bearings` lists them; case-insensitive: `uc204`, `6308`) | a
+    /// geometry `n=8,d=0.235in,D=1.245in,angle=0deg` (mm, in or m). The calibrated rig is
+    /// `--bearing 6205`'s; any other runs on the bare 5-DOF sets only: the set's shaft, pedestal,
+    /// housing and contact stiffness with this bearing's balls and kinematics.
     #[arg(long, default_value = "6205")]
     pub bearing: String,
     /// Spall width (circumferential), mm. CWRU: 0.178 / 0.356 / 0.533 (0.007/0.014/0.021 in).

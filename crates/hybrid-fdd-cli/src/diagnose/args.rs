@@ -56,8 +56,11 @@ pub struct RecordingFlags {
     /// `rpm` of a `simulate` CSV's JSON sidecar, said on stderr).
     #[arg(long)]
     pub rpm: Option<f64>,
-    /// Bearing: `6205`, `6203`, a geometry `n=9,d=0.3126in,D=1.537in,angle=0deg` or the four
-    /// shaft-rate multiples `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135` (the 6205's). There
+    /// Bearing: a designation from the built-in catalogue (`hybrid-fdd bearings` lists them;
+    /// case-insensitive, a maker's name and seal or clearance suffixes ignored: `6205`, `SKF
+    /// 6205-2RS`, `uc204`, `ZA-2115`, `ER-16K`), a geometry `n=9,d=0.3126in,D=1.537in,angle=0deg`
+    /// or the four shaft-rate multiples `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135` (the
+    /// 6205's). There
     /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
     /// doubled (the 6205's textbook BSF is 2.3567; CWRU's `bsf` is 4.7135).
     #[arg(long)]
@@ -83,7 +86,9 @@ impl RecordingFlags {
         let spec = self
             .bearing
             .as_deref()
-            .context("--bearing is required (6205, 6203, a geometry or the four multiples)")?;
+            .context(
+                "--bearing is required (a designation such as 6205 or UC204, listed by `hybrid-fdd bearings`; a geometry n=…,d=…,D=…[,angle=…]; or the four multiples)",
+            )?;
         Ok(Plan {
             channel: self.channel.clone(),
             fs: self.fs,
