@@ -1,7 +1,8 @@
 //! `cargo xtask diagnose`: the `hybrid-fdd diagnose` command (same flags, same code, from the
 //! `hybrid-fdd-cli` library), plus `--all-real`: every recording of the shared CWRU data
 //! diagnosed against the healthy baseline 97.mat and self-referenced, beside its label and
-//! Smith & Randall's grade → `results/diagnosis/`.
+//! Smith & Randall's grade → `results/diagnosis/`; `--false-alarm`: the false-alarm corpus of
+//! [`crate::false_alarm`].
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -22,8 +23,14 @@ pub struct Args {
     cmd: hybrid_fdd_cli::diagnose::Args,
     /// Diagnose every recording of the shared CWRU data (97, the 60 12 kHz and 13 48 kHz
     /// drive-end records) into `results/diagnosis/`.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "false_alarm")]
     all_real: bool,
+    /// Diagnose a deterministic corpus of simulated healthy machines (and the same machines with
+    /// a fault) and every real healthy recording of the shared data, self-referenced: the
+    /// false-alarm rate per factor level and the detection rate per fault and severity, into
+    /// `results/diagnosis/false_alarm.{md,csv,json}`.
+    #[arg(long)]
+    false_alarm: bool,
 }
 
 /// Hand-written reading of the wrong verdicts and the design history (kept honest: the rules
@@ -109,6 +116,9 @@ const FIGURES: [u32; 5] = [97, 105, 130, 222, 3005];
 
 /// Run the task.
 pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
+    if args.false_alarm {
+        return crate::false_alarm::run(ctx);
+    }
     if !args.all_real {
         return hybrid_fdd_cli::diagnose::run(&args.cmd);
     }

@@ -9,6 +9,7 @@ mod close_loop;
 mod common;
 mod data;
 mod diagnose;
+mod false_alarm;
 mod identify;
 
 use clap::{Parser, Subcommand};
@@ -48,8 +49,9 @@ enum Task {
     Calibrate(hybrid_fdd_cli::close_loop::CalibrateArgs),
     /// Calibrate the simulator to the measured CWRU rig; compare simulated and measured records.
     CalibrateRig(calibration::Args),
-    /// Diagnose a recording (or a directory, or with --all-real every CWRU recording):
-    /// normal, inner, outer, ball or a combination, training-free.
+    /// Diagnose a recording (or a directory, or with --all-real every CWRU recording, or with
+    /// --false-alarm a corpus of simulated and real healthy machines): normal, inner, outer, ball
+    /// or a combination, training-free.
     Diagnose(diagnose::Args),
 }
 

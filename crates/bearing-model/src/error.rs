@@ -150,6 +150,9 @@ pub enum ModelError {
         /// `2 × bsf`: the value to give.
         doubled: f64,
     },
+    /// A machine recipe or its drawn parameters are inconsistent ([`crate::machine`]).
+    #[error("invalid machine recipe: {0}")]
+    InvalidRecipe(String),
     /// A geometry or multiples spec that does not parse or is not physical.
     #[error("invalid bearing spec `{spec}`: {reason}")]
     InvalidBearingSpec {

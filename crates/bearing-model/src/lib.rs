@@ -13,6 +13,9 @@
 //! * [`simulate()`]: recordings at any sampling rate (housing acceleration in m/s², all states
 //!   on request).
 //! * [`scenario`]: one-liners for CWRU-like and SHSE-like recordings.
+//! * [`machine`]: phenomenological recordings of whole machines (m/s²; structure, shaft comb,
+//!   once-per-rev impacts, gear mesh, electrical lines, sensor noise, ADC, a localized fault),
+//!   fast enough for detector corpora of hundreds of recordings — no ODE.
 //!
 //! # Dependencies and why
 //!
@@ -38,6 +41,7 @@ pub mod catalog;
 pub mod error;
 pub mod fault;
 pub mod geometry;
+pub mod machine;
 pub mod params;
 pub mod scenario;
 pub mod simulate;

@@ -1,0 +1,363 @@
+//! The corpus design of `cargo xtask diagnose --false-alarm`: which machines, at which speeds,
+//! rates, SNRs and nuisance mixes, with which declared speed — fixed here, before any result was
+//! seen, and drawn from one seed. The signals themselves are `bearing_model::machine`'s.
+
+use bearing_model::machine::{Adc, LocalizedFault, MachineRecipe, Nuisances};
+use bearing_model::{BearingGeometry, BearingSpec, FaultLocation};
+use rand::seq::SliceRandom;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Seed of the whole design (which recording gets which factor levels, and each one's seed).
+pub const CORPUS_SEED: u64 = 20_261_206;
+/// Duration of every synthetic recording, s (60–300 shaft turns; 6 s rather than 10 s keeps the
+/// task near 3 minutes on 2 cores: the diagnosis's cost grows with the samples, and 10 s
+/// took 476 CPU-s; chosen on that timing alone, before any result was read).
+pub const DURATION_S: f64 = 6.0;
+/// Healthy running machines.
+pub const N_HEALTHY: usize = 600;
+/// Noise-only low-level recordings.
+pub const N_NOISE_ONLY: usize = 48;
+/// Faulty recordings per (fault location, severity) cell.
+pub const FAULTY_PER_CELL: usize = 30;
+/// Shaft speeds, rpm.
+pub const SPEEDS_RPM: [f64; 5] = [600.0, 1000.0, 1500.0, 1800.0, 3000.0];
+/// Sampling rates, Hz.
+pub const RATES_HZ: [f64; 5] = [12_000.0, 20_000.0, 25_600.0, 48_000.0, 51_200.0];
+/// Sensor-noise SNRs, dB.
+pub const SNRS_DB: [f64; 3] = [0.0, 10.0, 20.0];
+/// Nuisance mixes.
+pub const MIXES: [Nuisances; 6] = [
+    Nuisances::NONE,
+    Nuisances::SHAFT_COMB,
+    Nuisances::ONCE_PER_REV,
+    Nuisances::GEAR_MESH,
+    Nuisances::ELECTRICAL,
+    Nuisances::ALL,
+];
+/// Declared-speed errors (fraction of the true mean speed) and how many healthy recordings get
+/// each: 70 % are declared exactly, 30 % off by ±0.5, ±2 or ±5 %.
+pub const SPEED_ERRORS: [(f64, usize); 7] = [
+    (0.0, 420),
+    (-0.05, 30),
+    (-0.02, 30),
+    (-0.005, 30),
+    (0.005, 30),
+    (0.02, 30),
+    (0.05, 30),
+];
+/// Fault severities: 20·log₁₀(impacts' RMS / healthy RMS), dB.
+pub const SEVERITIES_DB: [f64; 3] = [-20.0, -10.0, 0.0];
+/// Overall RMS of the healthy running machines, m/s² (log-uniform).
+pub const RMS_RANGE_MS2: (f64, f64) = (0.5, 20.0);
+/// ADC full scale of the noise-only recordings, ± m/s² (about ± 51 g).
+pub const ADC_FULL_SCALE_MS2: f64 = 500.0;
+/// ADC resolutions of the noise-only recordings.
+pub const ADC_BITS: [u32; 2] = [16, 24];
+/// RMS of a noise-only recording, LSB (uniform).
+pub const NOISE_ONLY_LSB: (f64, f64) = (1.0, 4.0);
+
+const INCH: f64 = 0.0254;
+
+/// The corpus's bearings: (label, geometry).
+pub fn geometries() -> anyhow::Result<Vec<(&'static str, BearingGeometry)>> {
+    let g = |name: &'static str, n: usize, d: f64, big_d: f64, deg: f64| {
+        BearingGeometry::from_dimensions(n, d, big_d, deg.to_radians()).map(|mut g| {
+            g.name = name;
+            (name, g)
+        })
+    };
+    Ok(vec![
+        g("SKF 6205", 9, 0.3126 * INCH, 1.537 * INCH, 0.0)?,
+        g("SKF 6203", 8, 0.2656 * INCH, 1.122 * INCH, 0.0)?,
+        g("UC204 insert", 8, 7.938e-3, 33.5e-3, 0.0)?,
+        g("MFPT NICE", 8, 0.235 * INCH, 1.245 * INCH, 0.0)?,
+        g("Rexnord ZA-2115", 16, 0.331 * INCH, 2.815 * INCH, 15.17)?,
+        g("6308 class", 8, 15.08e-3, 65e-3, 0.0)?,
+    ])
+}
+
+/// A bearing spec under the corpus's label.
+pub fn spec(name: &str, g: BearingGeometry) -> BearingSpec {
+    BearingSpec {
+        name: name.to_string(),
+        given: name.to_string(),
+        geometry: Some(g),
+        orders: g.orders(),
+    }
+}
+
+/// What kind of recording a corpus entry is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Kind {
+    /// A healthy simulated machine.
+    Healthy,
+    /// A simulated low-level noise-only recording (quantised).
+    NoiseOnly,
+    /// A simulated machine with a localized fault.
+    Faulty,
+    /// A real healthy recording from the shared data.
+    Real,
+}
+
+impl Kind {
+    /// `healthy`, `noise-only`, `faulty`, `real`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Healthy => "healthy",
+            Kind::NoiseOnly => "noise-only",
+            Kind::Faulty => "faulty",
+            Kind::Real => "real",
+        }
+    }
+}
+
+/// Where a real recording comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RealSource {
+    /// CWRU 97.mat drive end, decimated by this factor (1 = as stored, 48 kHz).
+    Cwru97 {
+        /// Integer decimation factor.
+        decimate: usize,
+    },
+    /// A UESTC `.mat` file's `Data` at 20 kHz.
+    Uestc {
+        /// Path relative to the data directory.
+        rel_path: String,
+    },
+}
+
+/// One recording of the corpus.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Entry {
+    /// `H001`, `N01`, `F001`, `R-…`.
+    pub id: String,
+    /// Kind.
+    pub kind: Kind,
+    /// Bearing label.
+    pub geometry: &'static str,
+    /// The bearing as declared to the diagnosis.
+    pub spec: BearingSpec,
+    /// True mean speed, rpm (a real recording's stored or set speed).
+    pub rpm_true: f64,
+    /// Speed declared to the diagnosis, rpm.
+    pub rpm_declared: f64,
+    /// Declared-speed error, fraction (0 for exact).
+    pub speed_error: f64,
+    /// Sampling rate, Hz (a real recording's after decimation).
+    pub fs_hz: f64,
+    /// Nuisance mix label (`none`, …, `all`; `hum` for noise-only; `real` for real data).
+    pub nuisances: String,
+    /// The synthetic recipe (None for real recordings).
+    pub recipe: Option<MachineRecipe>,
+    /// The healthy machine a faulty recording is made from.
+    pub machine_of: Option<String>,
+    /// Real recording's source.
+    pub real: Option<RealSource>,
+}
+
+impl Entry {
+    /// The fault of a faulty entry.
+    pub fn fault(&self) -> Option<LocalizedFault> {
+        self.recipe.and_then(|r| r.fault)
+    }
+}
+
+/// `n` level indices out of `levels`, as balanced as `n` allows (level `i` gets ⌈n/levels⌉ or
+/// ⌊n/levels⌋ entries), in a seeded random order.
+fn balanced(rng: &mut ChaCha8Rng, n: usize, levels: usize) -> Vec<usize> {
+    let mut v: Vec<usize> = (0..n).map(|i| i % levels).collect();
+    v.shuffle(rng);
+    v
+}
+
+/// The synthetic corpus: `n_healthy` healthy machines, `n_noise` noise-only recordings and
+/// `per_cell` faulty recordings per fault location × severity (each one of the healthy machines
+/// with a fault added), `duration_s` each. Every factor's levels are balanced over the
+/// healthy machines and shuffled independently (a seeded Latin-hypercube-like design, not the
+/// full factorial).
+pub fn design(
+    n_healthy: usize,
+    n_noise: usize,
+    per_cell: usize,
+    duration_s: f64,
+) -> anyhow::Result<Vec<Entry>> {
+    let geoms = geometries()?;
+    let mut rng = ChaCha8Rng::seed_from_u64(CORPUS_SEED);
+    let g_idx = balanced(&mut rng, n_healthy, geoms.len());
+    let s_idx = balanced(&mut rng, n_healthy, SPEEDS_RPM.len());
+    let f_idx = balanced(&mut rng, n_healthy, RATES_HZ.len());
+    let n_idx = balanced(&mut rng, n_healthy, SNRS_DB.len());
+    let m_idx = balanced(&mut rng, n_healthy, MIXES.len());
+    // declared-speed errors in the stated proportions (scaled to n_healthy)
+    let total: usize = SPEED_ERRORS.iter().map(|e| e.1).sum();
+    let mut errors: Vec<f64> = SPEED_ERRORS
+        .iter()
+        .flat_map(|&(e, k)| std::iter::repeat_n(e, k * n_healthy / total))
+        .collect();
+    errors.resize(n_healthy, 0.0);
+    errors.shuffle(&mut rng);
+    let mut out = Vec::new();
+    for i in 0..n_healthy {
+        let (gname, g) = geoms[g_idx[i]];
+        let rpm = SPEEDS_RPM[s_idx[i]];
+        let fs = RATES_HZ[f_idx[i]];
+        let mix = MIXES[m_idx[i]];
+        let rms = (RMS_RANGE_MS2.0.ln()
+            + (RMS_RANGE_MS2.1.ln() - RMS_RANGE_MS2.0.ln()) * rng.random::<f64>())
+        .exp();
+        let recipe = MachineRecipe::healthy(g, rpm, fs, duration_s, 1_000_000 + i as u64)?
+            .with_nuisances(mix)
+            .with_snr_db(SNRS_DB[n_idx[i]])
+            .with_rms_ms2(rms);
+        out.push(Entry {
+            id: format!("H{:03}", i + 1),
+            kind: Kind::Healthy,
+            geometry: gname,
+            spec: spec(gname, g),
+            rpm_true: rpm,
+            rpm_declared: rpm * (1.0 + errors[i]),
+            speed_error: errors[i],
+            fs_hz: fs,
+            nuisances: mix.label(),
+            recipe: Some(recipe),
+            machine_of: None,
+            real: None,
+        });
+    }
+    // noise-only
+    let g_idx = balanced(&mut rng, n_noise, geoms.len());
+    let s_idx = balanced(&mut rng, n_noise, SPEEDS_RPM.len());
+    let f_idx = balanced(&mut rng, n_noise, RATES_HZ.len());
+    let b_idx = balanced(&mut rng, n_noise, ADC_BITS.len());
+    for i in 0..n_noise {
+        let (gname, g) = geoms[g_idx[i]];
+        let rpm = SPEEDS_RPM[s_idx[i]];
+        let fs = RATES_HZ[f_idx[i]];
+        let lsb = NOISE_ONLY_LSB.0 + (NOISE_ONLY_LSB.1 - NOISE_ONLY_LSB.0) * rng.random::<f64>();
+        let adc = Adc {
+            bits: ADC_BITS[b_idx[i]],
+            full_scale_ms2: ADC_FULL_SCALE_MS2,
+        };
+        let recipe =
+            MachineRecipe::noise_only(g, rpm, fs, duration_s, adc, lsb, 2_000_000 + i as u64)?;
+        out.push(Entry {
+            id: format!("N{:02}", i + 1),
+            kind: Kind::NoiseOnly,
+            geometry: gname,
+            spec: spec(gname, g),
+            rpm_true: rpm,
+            rpm_declared: rpm,
+            speed_error: 0.0,
+            fs_hz: fs,
+            nuisances: "hum".into(),
+            recipe: Some(recipe),
+            machine_of: None,
+            real: None,
+        });
+    }
+    // faulty: distinct healthy machines, each with one (location, severity)
+    let cells = FaultLocation::ALL.len() * SEVERITIES_DB.len();
+    let n_faulty = (cells * per_cell).min(n_healthy);
+    let mut machines: Vec<usize> = (0..n_healthy).collect();
+    machines.shuffle(&mut rng);
+    let c_idx = balanced(&mut rng, n_faulty, cells);
+    for (j, &m) in machines.iter().take(n_faulty).enumerate() {
+        let h = out[m].clone();
+        let location = FaultLocation::ALL[c_idx[j] / SEVERITIES_DB.len()];
+        let severity_db = SEVERITIES_DB[c_idx[j] % SEVERITIES_DB.len()];
+        let recipe = h.recipe.map(|r| {
+            r.with_fault(LocalizedFault {
+                location,
+                severity_db,
+            })
+        });
+        out.push(Entry {
+            id: format!("F{:03}", j + 1),
+            kind: Kind::Faulty,
+            recipe,
+            machine_of: Some(h.id.clone()),
+            ..h
+        });
+    }
+    Ok(out)
+}
+
+/// The real healthy recordings: CWRU 97.mat at 48 kHz and decimated by 4 to 12 kHz (SKF 6205,
+/// the file's speed), and the 8 UESTC normal recordings (UC204-class insert, 20 kHz, the set
+/// speed in the name). `rpm_97` is 97.mat's stored speed.
+pub fn real_entries(rpm_97: f64) -> anyhow::Result<Vec<Entry>> {
+    let geoms = geometries()?;
+    let find = |name: &str| {
+        geoms
+            .iter()
+            .find(|g| g.0 == name)
+            .copied()
+            .ok_or_else(|| anyhow::anyhow!("no geometry {name}"))
+    };
+    let (n6205, g6205) = find("SKF 6205")?;
+    let (nuc, guc) = find("UC204 insert")?;
+    let mut out = Vec::new();
+    for (decimate, fs) in [(1usize, 48_000.0), (4, 12_000.0)] {
+        out.push(Entry {
+            id: format!("R-cwru97-{}k", fs / 1000.0),
+            kind: Kind::Real,
+            geometry: n6205,
+            spec: spec(n6205, g6205),
+            rpm_true: rpm_97,
+            rpm_declared: rpm_97,
+            speed_error: 0.0,
+            fs_hz: fs,
+            nuisances: "real".into(),
+            recipe: None,
+            machine_of: None,
+            real: Some(RealSource::Cwru97 { decimate }),
+        });
+    }
+    for rpm in [800u32, 1000, 1200, 1400] {
+        for seg in [1, 2] {
+            out.push(Entry {
+                id: format!("R-uestc-N_{rpm}_{seg}"),
+                kind: Kind::Real,
+                geometry: nuc,
+                spec: spec(nuc, guc),
+                rpm_true: f64::from(rpm),
+                rpm_declared: f64::from(rpm),
+                speed_error: 0.0,
+                fs_hz: UESTC_FS_HZ,
+                nuisances: "real".into(),
+                recipe: None,
+                machine_of: None,
+                real: Some(RealSource::Uestc {
+                    rel_path: format!("uestc/Data/N_{rpm}/N_{rpm}_{seg}.mat"),
+                }),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// UESTC's sampling rate (the files' `SampleFrequency`), Hz.
+pub const UESTC_FS_HZ: f64 = 20_000.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_design_is_balanced_and_the_same_every_time() {
+        let a = design(N_HEALTHY, N_NOISE_ONLY, FAULTY_PER_CELL, DURATION_S).unwrap();
+        let b = design(N_HEALTHY, N_NOISE_ONLY, FAULTY_PER_CELL, DURATION_S).unwrap();
+        assert_eq!(a, b);
+        let healthy: Vec<&Entry> = a.iter().filter(|e| e.kind == Kind::Healthy).collect();
+        assert_eq!(healthy.len(), N_HEALTHY);
+        for rpm in SPEEDS_RPM {
+            let k = healthy.iter().filter(|e| e.rpm_true == rpm).count();
+            assert_eq!(k, N_HEALTHY / SPEEDS_RPM.len());
+        }
+        let off = healthy.iter().filter(|e| e.speed_error != 0.0).count();
+        assert_eq!(off, 180);
+        let faulty = a.iter().filter(|e| e.kind == Kind::Faulty).count();
+        assert_eq!(faulty, 9 * FAULTY_PER_CELL);
+    }
+}
