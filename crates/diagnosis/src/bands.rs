@@ -1,12 +1,11 @@
 //! The filter bank of the fast kurtogram's shape and the squared envelope spectra of its bands
-//! (the recording's, with their spectral kurtosis and rank-CFAR threshold, and the healthy
-//! baseline's in the same bands): step 2 of [`diagnose`](crate::diagnose).
+//! (the recording's, with their spectral kurtosis, and the healthy baseline's in the same bands): step 2 of [`diagnose`](crate::diagnose).
 
 use residual_features::{Band, BandEnvelope, SpectralEngine, WelchConfig};
 
 use crate::{
-    BAND_DIVISORS, Baseline, EnvelopeSpectrum, HARMONICS, Hypothesis, LINE_THRESHOLD_DB, Result,
-    SEGMENT_TURNS_MAX, SEGMENT_TURNS_MIN, analysis_top_hz, evidence,
+    BAND_DIVISORS, Baseline, EnvelopeSpectrum, HARMONICS, LINE_THRESHOLD_DB, Result,
+    SEGMENT_TURNS_MAX, SEGMENT_TURNS_MIN,
 };
 use bearing_model::FaultOrders;
 
@@ -37,24 +36,29 @@ pub fn candidate_bands(fs_hz: f64, min_width_hz: f64) -> Vec<Band> {
     out
 }
 
-/// Narrowest band that holds three harmonics of the highest fault line plus a shaft-order
-/// sideband, with 20 % margin: `1.2 (3 max(BPFO, BPFI, BSF) + 1) fr`.
+/// Narrowest band that holds three harmonics of [`NULL_REACH`] × the highest fault line plus a
+/// shaft-order sideband, with 20 % margin: `1.2 (3 · 1.5 · max(BPFO, BPFI, BSF) + 1) fr`. The
+/// detector's null reads the fault templates at fundamentals up to where their top harmonic
+/// leaves the band: a band that held only the hypotheses' own harmonics would leave the null a
+/// few dozen fundamentals, too few to state a probability of 0.3 %.
 pub fn min_band_width_hz(orders: &FaultOrders, fr: f64) -> f64 {
     let top = orders.bpfo.max(orders.bpfi).max(orders.ball_defect);
-    1.2 * (HARMONICS as f64 * top + 1.0) * fr
+    1.2 * (HARMONICS as f64 * NULL_REACH * top + 1.0) * fr
 }
 
+/// How far beyond the highest fault rate the null's fundamentals reach (see
+/// [`min_band_width_hz`]).
+pub const NULL_REACH: f64 = 1.5;
+
 /// The squared envelope spectra of a residual of `duration_s` seconds from its band squared
-/// envelopes `envs` (`SpectralEngine::band_squared_envelopes`; shaft at `fr` Hz, fault orders
-/// `o`), each with its spectral kurtosis and rank-CFAR line threshold.
+/// envelopes `envs` (`SpectralEngine::band_squared_envelopes`; shaft at `fr` Hz), each with its
+/// spectral kurtosis.
 pub(crate) fn envelope_spectra(
     engine: &mut SpectralEngine,
     envs: &[BandEnvelope],
     duration_s: f64,
     fr: f64,
-    o: &FaultOrders,
 ) -> Result<Vec<EnvelopeSpectrum>> {
-    let o = *o;
     let duration_turns = duration_s * fr;
     let seg_turns = (duration_turns / 4.0)
         .clamp(SEGMENT_TURNS_MIN, SEGMENT_TURNS_MAX)
@@ -74,27 +78,19 @@ pub(crate) fn envelope_spectra(
         } else {
             0
         };
-        let mut sp = EnvelopeSpectrum {
+        spectra.push(EnvelopeSpectrum {
             band_hz: [be.band.low_hz(), be.band.high_hz()],
             resolution_hz: psd.resolution_hz,
             power: psd.values,
             spectral_kurtosis: if sk.is_finite() { sk } else { 0.0 },
             segments,
             line_threshold_db: LINE_THRESHOLD_DB,
-        };
-        // clutter for the rank CFAR: local maxima no kinematic family explains
-        let top_hz = analysis_top_hz(&o, fr);
-        let mut kinematic: Vec<f64> = Hypothesis::ALL
-            .iter()
-            .flat_map(|&h| evidence::evaluate(h, &sp, None, &o, fr).family(fr, o.ftf * fr))
-            .collect();
-        let mut j = 1.0;
-        while j * fr <= top_hz {
-            kinematic.push(j * fr);
-            j += 1.0;
-        }
-        sp.set_threshold(fr, top_hz, &kinematic);
-        spectra.push(sp);
+            mean_square: if s.is_empty() {
+                0.0
+            } else {
+                s.iter().sum::<f64>() / s.len() as f64
+            },
+        });
     }
     Ok(spectra)
 }

@@ -1,19 +1,23 @@
 //! [`diagnose`]: the steps of the method (crate docs, "Method") on one recording.
 
-use residual_features::SpectralEngine;
+use residual_features::{Band, SpectralEngine};
 
 use crate::bands::{envelope_spectra, healthy_spectra};
+use crate::detect::{self, Detection};
+use crate::options::{DiagnoseOptions, SpeedSource};
 use crate::report::band_choice;
 use crate::{
-    ArWhitener, Baseline, BearingSpec, Diagnosis, DiagnosisError, HARMONICS, Hypothesis,
-    HypothesisEvidence, MAX_RPM, MIN_LINES, MIN_RPM, MIN_TURNS, OperatingPoint, PERIODIC_LINE_DB,
-    Reference, Result, SECOND_BAND_LINE_DB, SPEED_TOL, Scores, SecondaryRead, Statistics,
-    Thresholds, candidate_bands, check_fs, error, evidence, min_band_width_hz, moments,
-    sk_threshold, speed, whiten,
+    ArWhitener, Baseline, BearingSpec, Diagnosis, DiagnosisError, EnvelopeSpectrum, HARMONICS,
+    Hypothesis, HypothesisEvidence, Line, MIN_TURNS, OperatingPoint, Reference, Result, Scores,
+    SecondaryRead, Statistics, Thresholds, candidate_bands, check_fs, error, min_band_width_hz,
+    moments, speed, whiten,
 };
+use bearing_model::FaultOrders;
 
-/// Diagnose one recording `x` sampled at `fs_hz`, shaft at `rpm`, on `bearing`, against an
-/// optional prepared healthy `baseline` (self-referenced otherwise).
+/// Diagnose one recording `x` sampled at `fs_hz`, shaft declared at `rpm`, on `bearing`, against
+/// an optional prepared healthy `baseline` (self-referenced otherwise): the speed is searched
+/// within ± [`crate::options::DEFAULT_SPEED_SEARCH`] of `rpm` and the false-alarm probability is
+/// [`detect::DEFAULT_FALSE_ALARM`] ([`diagnose_with_options`] sets both).
 ///
 /// # Errors
 /// Typed, one-line [`DiagnosisError`]s for a bad sampling rate or speed, a recording shorter than
@@ -26,6 +30,23 @@ pub fn diagnose(
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
 ) -> Result<Diagnosis> {
+    diagnose_with_options(x, fs_hz, bearing, baseline, &DiagnoseOptions::declared(rpm))
+}
+
+/// [`diagnose`] with the speed given as a declared value and/or a range to search, and the
+/// false-alarm probability chosen ([`DiagnoseOptions`]).
+///
+/// # Errors
+/// As [`diagnose`], plus [`DiagnosisError::InvalidOptions`] for options that do not check and
+/// [`DiagnosisError::SpeedNotFound`] when no speed is declared and the recording shows no shaft
+/// comb in a range too wide to search the fault lines over.
+pub fn diagnose_with_options(
+    x: &[f64],
+    fs_hz: f64,
+    bearing: &BearingSpec,
+    baseline: Option<&Baseline>,
+    options: &DiagnoseOptions,
+) -> Result<Diagnosis> {
     thread_local! {
         // FFT plans and Hann windows kept between recordings of one thread, each plan built
         // on its own so that a recording's result does not depend on which recordings the
@@ -33,61 +54,47 @@ pub fn diagnose(
         static ENGINE: std::cell::RefCell<SpectralEngine> =
             std::cell::RefCell::new(SpectralEngine::order_independent());
     }
-    ENGINE.with_borrow_mut(|engine| diagnose_with(engine, x, fs_hz, rpm, bearing, baseline))
+    ENGINE.with_borrow_mut(|engine| diagnose_in(engine, x, fs_hz, bearing, baseline, options))
 }
 
-fn diagnose_with(
+/// The analysis plan at a speed: shaft rate, narrowest band, candidate bands.
+struct Plan {
+    fr: f64,
+    min_width: f64,
+    bands: Vec<Band>,
+}
+
+fn plan(fs_hz: f64, o: &FaultOrders, rpm: f64, widest_rpm: f64) -> Result<Plan> {
+    let fr = rpm / 60.0;
+    // bands wide enough for the template at the fastest speed it may read
+    let min_width = min_band_width_hz(o, widest_rpm.max(rpm) / 60.0);
+    if 2.0 * min_width > 0.5 * fs_hz {
+        return Err(DiagnosisError::SampleRateTooLow {
+            fs_hz,
+            rpm: widest_rpm.max(rpm),
+            needed_hz: min_width,
+        });
+    }
+    Ok(Plan {
+        fr,
+        min_width,
+        bands: candidate_bands(fs_hz, min_width),
+    })
+}
+
+fn diagnose_in(
     engine: &mut SpectralEngine,
     x: &[f64],
     fs_hz: f64,
-    rpm: f64,
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
+    options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
     check_fs(fs_hz)?;
-    if !(rpm.is_finite() && (MIN_RPM..=MAX_RPM).contains(&rpm)) {
-        return Err(DiagnosisError::RpmOutOfRange {
-            rpm,
-            min: MIN_RPM,
-            max: MAX_RPM,
-        });
-    }
+    let options = options.check()?;
     error::check_finite("recording", x)?;
-    // 0. the speed the recording shows (its shaft-harmonic comb, resolved to better than half
-    //    the lines' speed tolerance) replaces the declared one when the comb stands out and the
-    //    two differ by more than half that tolerance: a larger error would eat the windows' margin
-    let measured_speed = speed::estimate_speed(engine, x, fs_hz, rpm)?;
-    let replaces = |m: &speed::SpeedEstimate| (m.rpm / rpm - 1.0).abs() > 0.5 * SPEED_TOL;
-    let rpm_used = match measured_speed {
-        Some(m) if m.accepted && replaces(&m) => m.rpm,
-        _ => rpm,
-    };
-    let o = bearing.orders;
-    // the shaft rate and the narrowest band at a speed, if the sampling rate holds such a band
-    let plan = |rpm_used: f64| {
-        let fr = rpm_used / 60.0;
-        let min_width = min_band_width_hz(&o, fr);
-        if 2.0 * min_width > 0.5 * fs_hz {
-            return Err(DiagnosisError::SampleRateTooLow {
-                fs_hz,
-                rpm,
-                needed_hz: min_width,
-            });
-        }
-        Ok((fr, min_width))
-    };
-    let (fr, min_width) = plan(rpm_used)?;
-    let turns = x.len() as f64 / fs_hz * fr;
-    let needed =
-        (MIN_TURNS / fr * fs_hz).ceil() as usize + whiten::ORDERS[whiten::ORDERS.len() - 1];
-    if x.len() < needed {
-        return Err(DiagnosisError::TooShort {
-            samples: x.len(),
-            needed,
-            turns,
-            min_turns: MIN_TURNS,
-        });
-    }
+    let [rpm_low, rpm_high] = options.search_rpm();
+    check_length(x, fs_hz, rpm_low)?;
     if let Some(b) = baseline
         && (b.whitener.fs_hz - fs_hz).abs() > 1e-9 * fs_hz
     {
@@ -96,6 +103,10 @@ fn diagnose_with(
             baseline_hz: b.whitener.fs_hz,
         });
     }
+    let o = bearing.orders;
+
+    // 0. the speed the recording's own spectrum shows (its shaft comb over the search range)
+    let spectrum_comb = speed::estimate_speed_in(engine, x, fs_hz, rpm_low, rpm_high)?;
 
     // 1. residual
     let self_fit;
@@ -107,37 +118,132 @@ fn diagnose_with(
         }
     };
     let e = whitener.residual(x);
-    // 0b. no comb in the recording's own spectrum: the shaft comb of the residual's squared
-    //     envelopes (a defect or a load that turns with the shaft modulates the impacts at fr);
-    //     the envelopes are kept for step 2 unless the speed found changes the band plan
-    let mut bands = candidate_bands(fs_hz, min_width);
+
+    // 0b. without a comb in the spectrum: the shaft comb of the residual's squared envelopes
+    //     (a defect or a load that turns with the shaft modulates the impacts at fr), read in
+    //     bands planned for the fastest speed searched
+    let mut envelope_comb = None;
     let mut envs = None;
-    let mut envelope_speed = None;
-    if !measured_speed.is_some_and(|m| m.accepted) {
-        let all = engine.band_squared_envelopes(&e, fs_hz, &bands)?;
-        envelope_speed = speed::estimate_envelope_speed(engine, &all, rpm)?;
+    let mut provisional = None;
+    if !spectrum_comb.is_some_and(|m| m.accepted || m.refined_rpm.is_some()) {
+        let p = plan(fs_hz, &o, options.centre_rpm(), rpm_high)?;
+        let all = engine.band_squared_envelopes(&e, fs_hz, &p.bands)?;
+        envelope_comb = speed::estimate_envelope_speed_in(engine, &all, rpm_low, rpm_high)?;
         envs = Some(all);
+        provisional = Some(p);
     }
-    let (rpm_used, fr, min_width) = match envelope_speed {
-        Some(m) if replaces(&m) => {
-            let (fr, min_width) = plan(m.rpm)?;
-            let moved = candidate_bands(fs_hz, min_width);
-            if moved != bands {
-                bands = moved;
-                envs = None;
-            }
-            (m.rpm, fr, min_width)
-        }
-        _ => (rpm_used, fr, min_width),
+    let finding = options.find_speed(spectrum_comb, envelope_comb)?;
+    let rpm_used = finding.rpm_used;
+    let uncertain_fastest = rpm_used * (1.0 + finding.relative_uncertainty);
+    let p = plan(fs_hz, &o, rpm_used, uncertain_fastest)?;
+    let envs = match (envs, provisional) {
+        (Some(v), Some(q)) if q.bands == p.bands => v,
+        _ => engine.band_squared_envelopes(&e, fs_hz, &p.bands)?,
     };
-    let (rms, kurt) = moments(&e, "recording")?;
+    let fr = p.fr;
+    let statistics = residual_statistics(engine, x, &e, fs_hz, baseline)?;
+
+    // 2. bands: squared envelope spectra of the residual and of the healthy baseline
+    let spectra = envelope_spectra(engine, &envs, e.len() as f64 / fs_hz, fr)?;
+    if spectra.is_empty() {
+        return Err(DiagnosisError::SampleRateTooLow {
+            fs_hz,
+            rpm: rpm_used,
+            needed_hz: p.min_width,
+        });
+    }
+    let resolutions: Vec<f64> = spectra.iter().map(|s| s.resolution_hz).collect();
+    let base_spectra = healthy_spectra(
+        engine,
+        baseline,
+        fs_hz,
+        &p.bands,
+        &resolutions,
+        spectra.len(),
+    )?;
+
+    // 3. the detector: each hypothesis's template against its null in every band
+    let unconfirmed = matches!(
+        finding.source,
+        SpeedSource::Declared | SpeedSource::RangeCentre
+    );
+    let rate_uncertainty = options.rate_uncertainty(bearing);
+    let detection = detect::detect(
+        &spectra,
+        &base_spectra,
+        &o,
+        fr,
+        detect::Slack {
+            speed: finding.relative_uncertainty,
+            rate: rate_uncertainty,
+        },
+        unconfirmed,
+        options.false_alarm,
+    );
+
+    // 4. verdict and report
+    let mut finding = finding;
+    finding.read_at = Some(detection.stage);
+    let operating_point = OperatingPoint {
+        fs_hz,
+        rpm: finding.declared_rpm.unwrap_or(rpm_used),
+        shaft_hz: fr,
+        rpm_used,
+        measured_speed: spectrum_comb,
+        envelope_speed: envelope_comb,
+        bearing: bearing.name.clone(),
+        bearing_spec: bearing.echo(),
+        orders: o,
+        frequencies_hz: o.at(fr),
+        speed: Some(finding),
+        rate_uncertainty,
+    };
+    Ok(report(
+        &detection,
+        &spectra,
+        &base_spectra,
+        whitener,
+        reference,
+        operating_point,
+        statistics,
+        options.false_alarm,
+    ))
+}
+
+/// A recording shorter than [`MIN_TURNS`] shaft turns at the slowest speed searched (plus the
+/// longest whitening filter's start-up) is refused.
+fn check_length(x: &[f64], fs_hz: f64, rpm_low: f64) -> Result<()> {
+    let fr = rpm_low / 60.0;
+    let turns = x.len() as f64 / fs_hz * fr;
+    let needed =
+        (MIN_TURNS / fr * fs_hz).ceil() as usize + whiten::ORDERS[whiten::ORDERS.len() - 1];
+    if x.len() < needed {
+        return Err(DiagnosisError::TooShort {
+            samples: x.len(),
+            needed,
+            turns,
+            min_turns: MIN_TURNS,
+        });
+    }
+    Ok(())
+}
+
+/// Energy and kurtosis of the residual `e` against the baseline's (below its band limit when it
+/// has one), or against a Gaussian when self-referenced.
+fn residual_statistics(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    e: &[f64],
+    fs_hz: f64,
+    baseline: Option<&Baseline>,
+) -> Result<Statistics> {
+    let (rms, kurt) = moments(e, "recording")?;
     let (_, signal_kurtosis) = moments(x, "recording")?;
-    let statistics = match baseline {
+    Ok(match baseline {
         Some(b) => {
-            // against a band-limited (decimated) baseline, both residuals below its limit
             let (cmp_rms, cmp_kurt) = match b.band_limit_hz {
                 Some(limit) => moments(
-                    &engine.bandpass_fft(&e, fs_hz, residual_features::Band::new(0.0, limit)?)?,
+                    &engine.bandpass_fft(e, fs_hz, Band::new(0.0, limit)?)?,
                     "recording below the baseline's band limit",
                 )?,
                 None => (rms, kurt),
@@ -166,19 +272,75 @@ fn diagnose_with(
             kurtosis_reference: "gaussian".into(),
             compared_below_hz: None,
         },
-    };
+    })
+}
 
-    // 2. bands: squared envelopes, spectral kurtosis, Welch squared envelope spectra
-    let envs = match envs {
-        Some(v) => v,
-        None => engine.band_squared_envelopes(&e, fs_hz, &bands)?,
+/// The report of a detection: verdict, per-hypothesis evidence in each one's own band, the
+/// primary band and the faults confirmed in other bands.
+#[allow(clippy::too_many_arguments)]
+fn report(
+    det: &Detection,
+    spectra: &[EnvelopeSpectrum],
+    base_spectra: &[Option<EnvelopeSpectrum>],
+    whitener: &ArWhitener,
+    reference: Reference,
+    operating_point: OperatingPoint,
+    statistics: Statistics,
+    alpha: f64,
+) -> Diagnosis {
+    let fr = operating_point.shaft_hz;
+    let evidence: Vec<HypothesisEvidence> = det
+        .templates
+        .iter()
+        .zip(&det.per_hypothesis)
+        .zip(&det.readings)
+        .map(|((t, sig), reading)| {
+            crate::evidence::from_detection(
+                t,
+                sig,
+                reading,
+                &det.views[sig.band_index],
+                &spectra[sig.band_index],
+                det.confirmed.contains(&t.hypothesis),
+            )
+        })
+        .collect();
+    let verdict = if !det.uncertain.is_empty() {
+        "uncertain".to_string()
+    } else if det.confirmed.is_empty() {
+        "normal".to_string()
+    } else {
+        det.confirmed
+            .iter()
+            .map(|h| h.name())
+            .collect::<Vec<_>>()
+            .join("+")
     };
-    let spectra = envelope_spectra(engine, &envs, e.len() as f64 / fs_hz, fr, &o)?;
-    // the healthy machine's squared envelope spectra in the same bands, at the same resolution
-    // (a baseline holding a residual only; one too short for a band's Welch segment gives none)
-    let resolutions: Vec<f64> = spectra.iter().map(|s| s.resolution_hz).collect();
-    let base_spectra =
-        healthy_spectra(engine, baseline, fs_hz, &bands, &resolutions, spectra.len())?;
+    // the primary hypothesis: the most significant confirmed (or candidate) one, else the one
+    // closest to significance
+    let idx = |h: Hypothesis| Hypothesis::ALL.iter().position(|x| *x == h).unwrap_or(0);
+    let primary = det
+        .uncertain
+        .first()
+        .copied()
+        .or_else(|| {
+            det.confirmed.iter().copied().min_by(|&a, &b| {
+                det.per_hypothesis[idx(a)]
+                    .p_healthy
+                    .total_cmp(&det.per_hypothesis[idx(b)].p_healthy)
+            })
+        })
+        .unwrap_or_else(|| {
+            (0..det.per_hypothesis.len())
+                .min_by(|&a, &b| {
+                    det.per_hypothesis[a]
+                        .p_healthy
+                        .total_cmp(&det.per_hypothesis[b].p_healthy)
+                        .then(a.cmp(&b))
+                })
+                .map_or(Hypothesis::Inner, |i| Hypothesis::ALL[i])
+        });
+    let bi = det.per_hypothesis[idx(primary)].band_index;
     let sk_best = (0..spectra.len())
         .max_by(|&a, &b| {
             spectra[a]
@@ -186,193 +348,29 @@ fn diagnose_with(
                 .total_cmp(&spectra[b].spectral_kurtosis)
                 .then(b.cmp(&a))
         })
-        .ok_or(DiagnosisError::SampleRateTooLow {
-            fs_hz,
-            rpm,
-            needed_hz: min_width,
-        })?;
-
-    // 3. evidence. Envelope analysis needs impulsive content: only bands whose spectral
-    //    kurtosis exceeds a Gaussian's by SK_SIGMAS standard deviations (σ = 2/√(B·T)) are
-    //    eligible; among them, the band where the best hypothesis scores highest is the one
-    //    band all hypotheses are read in.
-    let duration_s = e.len() as f64 / fs_hz;
-    let eligible: Vec<usize> = (0..spectra.len())
-        .filter(|&i| {
-            let w = spectra[i].band_hz[1] - spectra[i].band_hz[0];
-            spectra[i].spectral_kurtosis > sk_threshold(w, duration_s)
-        })
-        .collect();
-    let eval_all = |i: usize| -> Vec<HypothesisEvidence> {
-        Hypothesis::ALL
-            .iter()
-            .map(|&h| evidence::evaluate(h, &spectra[i], base_spectra[i].as_ref(), &o, fr))
-            .collect()
-    };
-    let best_score = |v: &[HypothesisEvidence]| v.iter().map(|e| e.score_db).fold(0.0, f64::max);
-    let mut chosen: Option<(usize, Vec<HypothesisEvidence>)> = None;
-    let eligible_evidence: Vec<Vec<HypothesisEvidence>> =
-        eligible.iter().map(|&i| eval_all(i)).collect();
-    for (&i, ev) in eligible.iter().zip(&eligible_evidence) {
-        let ev = ev.clone();
-        let better = match &chosen {
-            None => true,
-            Some((j, b)) => {
-                let (x, y) = (best_score(&ev), best_score(b));
-                x > y || (x == y && spectra[i].spectral_kurtosis > spectra[*j].spectral_kurtosis)
-            }
-        };
-        if better {
-            chosen = Some((i, ev));
-        }
-    }
-    // Dense impacts (a high fault rate against a long ring-down) overlap into a near-Gaussian
-    // band — low spectral kurtosis — while their envelope is strongly periodic. When no band is
-    // impulsive, a band still qualifies on periodicity alone if one hypothesis shows MIN_LINES
-    // of its harmonics present at ≥ PERIODIC_LINE_DB (the detection rule's 6 dB raised to make
-    // up for the missing impulsiveness): a pattern at the kinematic rate that a stationary band
-    // does not produce.
-    if chosen.is_none() {
-        for i in 0..spectra.len() {
-            let ev = eval_all(i);
-            let periodic = ev.iter().any(|h| {
-                h.harmonics
-                    .iter()
-                    .filter(|l| l.present && l.evidence_db >= PERIODIC_LINE_DB)
-                    .count()
-                    >= MIN_LINES
-            });
-            let better = chosen
-                .as_ref()
-                .is_none_or(|(_, b)| best_score(&ev) > best_score(b));
-            if periodic && better {
-                chosen = Some((i, ev));
-            }
-        }
-    }
-    let impulsive = chosen.is_some();
-    let (bi, mut evidence) = chosen.unwrap_or_else(|| (sk_best, eval_all(sk_best)));
-    evidence::cross_explain(
-        &mut evidence,
-        &spectra[bi],
-        base_spectra[bi].as_ref(),
-        fr,
-        o.ftf * fr,
-    );
-    if !impulsive {
-        for ev in &mut evidence {
-            ev.detected = false;
-        }
-    }
-
-    // 3b. a fault in a band of its own. The common band is the best one for the strongest
-    //     signature; a second fault whose impacts ring a different resonance, or are masked
-    //     there by the first, shows in another band. Each hypothesis not detected in the common
-    //     band is read in every other eligible band; it is added when, in one of them, it is
-    //     detected, scores highest of the three, has MIN_LINES harmonics at ≥ SECOND_BAND_LINE_DB
-    //     (this second search over bands is a second multiple comparison), and none of its
-    //     counting lines belongs to the family of a fault detected in the common band whose own
-    //     lines show in this band.
-    let mut secondary: Vec<SecondaryRead> = Vec::new();
-    if impulsive && !eligible.is_empty() {
-        let primary: Vec<(Hypothesis, Vec<(f64, f64)>)> = evidence
-            .iter()
-            .filter(|e| e.detected)
-            .map(|e| (e.hypothesis, e.family_spans(fr, o.ftf * fr)))
-            .collect();
-        for (hi, &h) in Hypothesis::ALL.iter().enumerate() {
-            if evidence[hi].detected {
-                continue;
-            }
-            let mut best: Option<(usize, HypothesisEvidence)> = None;
-            for (&i, ev) in eligible.iter().zip(&eligible_evidence) {
-                if i == bi {
-                    continue;
-                }
-                // the common band's faults whose own lines show in this band (detected here on
-                // their own): only their families can explain lines here
-                let here: Vec<(Hypothesis, Vec<(f64, f64)>)> = primary
-                    .iter()
-                    .filter(|(p, _)| ev.iter().any(|e| e.hypothesis == *p && e.detected))
-                    .cloned()
-                    .collect();
-                let mut ev = ev.clone();
-                evidence::cross_explain(
-                    &mut ev,
-                    &spectra[i],
-                    base_spectra[i].as_ref(),
-                    fr,
-                    o.ftf * fr,
-                );
-                if ev.iter().any(|e| e.score_db > ev[hi].score_db) {
-                    continue;
-                }
-                let mut e = ev.swap_remove(hi);
-                evidence::explain_by(&mut e, &here, &spectra[i], base_spectra[i].as_ref(), fr);
-                let strong = e
-                    .harmonics
-                    .iter()
-                    .filter(|l| l.counts() && l.evidence_db >= SECOND_BAND_LINE_DB)
-                    .count();
-                if e.detected
-                    && strong >= MIN_LINES
-                    && best.as_ref().is_none_or(|(_, b)| e.score_db > b.score_db)
-                {
-                    best = Some((i, e));
-                }
-            }
-            if let Some((i, e)) = best {
-                secondary.push(SecondaryRead {
-                    hypothesis: h,
-                    band: band_choice(
-                        &spectra[i],
-                        format!(
-                            "{} is the strongest signature in this band and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB no common-band fault present in this band explains",
-                            h.name()
-                        ),
-                    ),
-                    evidence: e,
-                    envelope: spectra[i].clone(),
-                });
-            }
-        }
-    }
-
-    // 4. verdict
-    let detected: Vec<Hypothesis> = Hypothesis::ALL
+        .unwrap_or(0);
+    let secondary: Vec<SecondaryRead> = det
+        .confirmed
         .iter()
-        .copied()
-        .filter(|&h| {
-            evidence.iter().any(|e| e.hypothesis == h && e.detected)
-                || secondary.iter().any(|r| r.hypothesis == h)
+        .filter(|&&h| det.per_hypothesis[idx(h)].band_index != bi)
+        .map(|&h| {
+            let s = &det.per_hypothesis[idx(h)];
+            SecondaryRead {
+                hypothesis: h,
+                band: band_choice(
+                    &spectra[s.band_index],
+                    format!(
+                        "{} reads strongest in this band (p under healthy {:.2e} after the band search)",
+                        h.name(),
+                        s.p_healthy
+                    ),
+                ),
+                evidence: evidence[idx(h)].clone(),
+                envelope: spectra[s.band_index].clone(),
+            }
         })
         .collect();
-    let verdict = if detected.is_empty() {
-        "normal".to_string()
-    } else {
-        detected
-            .iter()
-            .map(|h| h.name())
-            .collect::<Vec<_>>()
-            .join("+")
-    };
-    let chosen_by = if impulsive && eligible.is_empty() {
-        format!(
-            "no band has significant spectral kurtosis; read on periodicity: the band of {} \
-             where a hypothesis has {MIN_LINES} harmonics at >= {PERIODIC_LINE_DB} dB and scores highest",
-            spectra.len()
-        )
-    } else if impulsive {
-        format!(
-            "largest hypothesis score among the {} of {} bands with significant spectral kurtosis",
-            eligible.len(),
-            spectra.len()
-        )
-    } else {
-        "no band has significant spectral kurtosis (no impulsive content): evidence shown in the maximum-SK band, not used".to_string()
-    };
     let sp = &spectra[bi];
-    let choice = |i: usize, by: String| band_choice(&spectra[i], by);
     let shaft_harmonics = (1..=HARMONICS)
         .map(|k| {
             let f = k as f64 * fr;
@@ -387,42 +385,45 @@ fn diagnose_with(
                 base_spectra[bi].as_ref(),
             )
         })
-        .collect();
-    let score = |h: Hypothesis| {
-        evidence
-            .iter()
-            .find(|e| e.hypothesis == h)
-            .map_or(0.0, |e| e.score_db)
+        .collect::<Vec<Line>>();
+    let score = |h: Hypothesis| det.per_hypothesis[idx(h)].statistic_db;
+    let p_min = det
+        .per_hypothesis
+        .iter()
+        .map(|s| s.p_healthy)
+        .fold(1.0, f64::min);
+    let chosen_by = format!(
+        "the band where {} reads strongest against its null (p under healthy {:.2e} after the search over {} bands)",
+        primary.name(),
+        det.per_hypothesis[idx(primary)].p_healthy,
+        spectra.len()
+    );
+    let detected: Vec<Hypothesis> = if det.uncertain.is_empty() {
+        det.confirmed.clone()
+    } else {
+        Vec::new()
     };
-    Ok(Diagnosis {
+    Diagnosis {
         verdict,
+        detected,
         scores: Scores {
             inner: score(Hypothesis::Inner),
             outer: score(Hypothesis::Outer),
             ball: score(Hypothesis::Ball),
         },
-        detected,
         reference,
-        operating_point: OperatingPoint {
-            fs_hz,
-            rpm,
-            shaft_hz: fr,
-            rpm_used,
-            measured_speed,
-            envelope_speed,
-            bearing: bearing.name.clone(),
-            bearing_spec: bearing.echo(),
-            orders: o,
-            frequencies_hz: o.at(fr),
-        },
+        operating_point,
         whitening: whitener.clone(),
-        band: choice(bi, chosen_by),
-        kurtogram_band: choice(sk_best, "maximum spectral kurtosis".into()),
+        band: band_choice(sp, chosen_by),
+        kurtogram_band: band_choice(&spectra[sk_best], "maximum spectral kurtosis".into()),
         evidence,
         shaft_harmonics,
         statistics,
-        thresholds: Thresholds::default(),
+        thresholds: Thresholds::with_false_alarm(alpha),
         envelope: sp.clone(),
         secondary,
-    })
+        candidates: det.uncertain.clone(),
+        p_healthy: (Hypothesis::ALL.len() as f64 * p_min).min(1.0),
+        false_alarm: alpha,
+    }
 }

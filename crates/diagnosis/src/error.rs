@@ -89,6 +89,26 @@ pub enum DiagnosisError {
         /// Why.
         reason: String,
     },
+    /// Options that do not check (a speed range empty, inverted or out of range, a false-alarm
+    /// probability out of range, no speed at all).
+    #[error("invalid options: {reason}")]
+    InvalidOptions {
+        /// What is wrong.
+        reason: String,
+    },
+    /// No speed declared, no shaft comb found, and a range too wide to search the fault lines
+    /// over.
+    #[error(
+        "no shaft comb found between {low_rpm} and {high_rpm} rpm and no speed declared: give --rpm, or a range no wider than {max_ratio}:1"
+    )]
+    SpeedNotFound {
+        /// Lower end of the range searched, rpm.
+        low_rpm: f64,
+        /// Upper end, rpm.
+        high_rpm: f64,
+        /// Widest range (high/low) searched without a comb.
+        max_ratio: f64,
+    },
     /// A spectral computation failed (should not happen after validation; reported, not panicked).
     #[error("spectral computation failed: {0}")]
     Spectral(#[from] residual_features::FeatureError),

@@ -1,22 +1,23 @@
 //! Training-free, model-based diagnosis of one bearing recording.
 //!
-//! Given a vibration signal, its sampling rate, the shaft speed, the bearing (its fault orders
-//! from `bearing-model`) and optionally a healthy baseline of the same machine, [`diagnose`]
-//! returns a [`Diagnosis`]: `normal`, `inner`, `outer`, `ball` or a `+`-joined combination, with
-//! every number that led to it. No training and no labels: the decision rests on fixed thresholds
-//! with a stated physical meaning.
+//! Given a vibration signal, its sampling rate, the shaft speed (declared, a range to search, or
+//! both), the bearing (its fault orders from `bearing-model`) and optionally a healthy baseline of
+//! the same machine, [`diagnose`] returns a [`Diagnosis`]: `normal`, `inner`, `outer`, `ball`, a
+//! `+`-joined combination, or `uncertain` (two faults that explain the same lines, both named in
+//! [`Diagnosis::candidates`]), with every number that led to it. No training and no labels: a
+//! fault is reported only when its evidence would be this strong on a healthy machine with a
+//! probability at most `α/3` ([`detect`]; `α` = [`DEFAULT_FALSE_ALARM`] = 1 % per recording by
+//! default, [`DiagnoseOptions::with_false_alarm`]).
 //!
 //! # Method
 //!
-//! 0. **Speed** ([`speed`]): the recording's shaft-harmonic comb (orders 1–10 within ± 5 % of the
-//!    declared speed) measures the speed; a clear, complete comb (first order and ≥ 80 % of the
-//!    orders present, mains multiples not scored) replaces a declared speed more than ½
-//!    [`SPEED_TOL`] off (`OperatingPoint::rpm_used`). When the recording's spectrum shows no
-//!    such comb, the shaft comb of the residual's squared envelopes is searched the same way
-//!    (`speed::estimate_envelope_speed`: a defect turning with the shaft is struck only in the
-//!    load zone, so its impacts carry fr and its harmonics; the comb's orders must tell one
-//!    speed, which keeps a fault's own near-comb out) and used by the same rule
-//!    (`OperatingPoint::envelope_speed`).
+//! 0. **Speed** ([`options`], [`speed`]): the recording's shaft-harmonic comb is searched over the
+//!    range given (by default ± 10 % of a declared speed: a set point or nameplate is often
+//!    several per cent off), in its spectrum and, when that shows none, in the residual's squared
+//!    envelopes (a defect or load that turns with the shaft modulates the impacts at fr). A comb
+//!    found gives the speed (refined from its lines); without one, the declared speed is used and
+//!    the fault templates' windows are widened by the range, their null read with the same
+//!    windows ([`SpeedFinding`] says which).
 //! 1. **Residual** ([`whiten`]): an AR linear predictor fitted by least squares on the baseline
 //!    (order by held-out prediction error) is applied as a prediction-error filter to the
 //!    recording: the residual of the healthy model, which pre-whitens the structural path and
@@ -25,39 +26,30 @@
 //!    says `"reference": "self"`.
 //! 2. **Bands**: a filter bank of the fast kurtogram's shape (widths `fs/2 / d`,
 //!    `d ∈ {2, 3, 4, 6, 8, 12, 16, 24, 32}`, half-overlapping; only bands wide enough to hold
-//!    three harmonics of the highest fault line and starting above them) gives each band's complex envelope `z` from one
-//!    FFT (`residual_features::SpectralEngine::band_squared_envelopes`), its spectral kurtosis
-//!    `⟨|z|⁴⟩/⟨|z|²⟩² − 2` (Antoni, MSSP 20, 2006; Antoni & Randall 2006) and its squared
-//!    envelope spectrum (Welch average of `|z|²`; Randall & Antoni, MSSP 25, 2011).
-//! 3. **Evidence** ([`evidence`]): for each hypothesis (BPFO, BPFI, ball-defect rate = CWRU's
-//!    BSF, twice the ball spin) the largest line in a slip-tolerant window around harmonics 1..3,
-//!    its prominence over the local median (dB), and the sidebands that tell faults apart (BPFI ±
-//!    fr, BSF ± FTF). Only impulsive bands are eligible (spectral kurtosis above a Gaussian's by
-//!    [`SK_SIGMAS`] standard deviations; with none, a band whose envelope holds [`MIN_LINES`]
-//!    fault harmonics ≥ [`PERIODIC_LINE_DB`]); all hypotheses are read in the one such band where
-//!    the best of them scores highest (an envelope-based band choice, as in the IESFOgram of
-//!    Mauricio et al., MSSP 2020 — the same search for every hypothesis, so no label enters).
-//!    A harmonic counts only at h × the fundamental its strongest harmonic implies (one impact
-//!    train, one fault frequency), and lines of a weaker hypothesis that a stronger detected
-//!    one's family explains (e.g. BPFO + fr near BSF) do not count for it — its window is then
-//!    read again past them ([`Line::passed_over`]) — nor do harmonics found
-//!    on an integer shaft order their kinematic rate is not on ([`Line::shaft_order`]).
-//!    A fault not detected in that common band is read in each other impulsive band: where it
-//!    is the strongest signature and has [`MIN_LINES`] harmonics at ≥ [`SECOND_BAND_LINE_DB`]
-//!    that no common-band fault present in that band explains, it is added
-//!    ([`Diagnosis::secondary`]) — a second fault ringing another resonance, or masked in the
-//!    first's band.
-//! 4. **Verdict**: a hypothesis is detected when at least [`MIN_LINES`] harmonics stand
-//!    [`LINE_THRESHOLD_DB`] above the local median, or harmonic 1 does together with one of its
-//!    sidebands. See `docs/equations/diagnosis.md` for the formulas and the reasoning behind the
-//!    constants (chosen on simulated recordings and noise statistics, never on CWRU labels).
-//!    Against a baseline recording, a line the healthy machine already holds counts only by what
-//!    it has grown ([`Line::evidence_db`]).
+//!    three harmonics of the highest fault line and starting above them) gives each band's
+//!    complex envelope from one FFT (`residual_features::SpectralEngine::band_squared_envelopes`),
+//!    its spectral kurtosis (Antoni, MSSP 20, 2006) and its squared envelope spectrum (Welch
+//!    average of `|z|²`; Randall & Antoni, MSSP 25, 2011).
+//! 3. **Detector** ([`detect`]): each band's spectrum as the prominence of its local maxima over
+//!    the local median (dB), less what the healthy baseline holds there, with shaft orders, half
+//!    orders and mains multiples masked where the band shows their comb. For each hypothesis
+//!    (BPFO, BPFI, the ball-defect rate = CWRU's BSF) a template — harmonics 1..3 of one
+//!    fundamental searched in the slip window, plus half its distinguishing sidebands (BPFI ± fr,
+//!    BSF ± FTF) — is read at the kinematic rate and, as the null, at every bin-spaced
+//!    fundamental where no kinematics puts a line; the hypothesis's rank among its nulls (with a
+//!    generalised Pareto tail) is its probability per band, and the same rank over the band
+//!    search gives `p_healthy`.
+//! 4. **Verdict**: the hypotheses with `p_healthy ≤ α/3`, each re-tested with the line families
+//!    of the stronger ones masked (a second fault stays significant; a fault's lines that another
+//!    fault's family explains do not); `uncertain` when two explain each other's lines equally
+//!    well. Against a baseline recording, a line the healthy machine already holds counts only
+//!    by what it has grown ([`Line::evidence_db`]). See `docs/equations/diagnosis.md`.
 //! 5. **Optional, with labels** ([`trained`]): a classifier trained on the evidence of labelled
 //!    recordings' segments, beside the training-free verdict.
 //!
 //! # Dependencies and why
-//! - `bearing-model`: the bearing's kinematics (`BearingSpec`, `FaultOrders`), one type for it.
+//! - `bearing-model`: the bearing's kinematics (`BearingSpec`, `FaultOrders`, its catalogue of
+//!   designations), one type for it.
 //! - `laguerre-id`: the AR least squares of the whitening filter.
 //! - `residual-features`: the FFT, band envelopes and Welch spectra.
 //! - `classify`: the optional trained classifier (its Gini tree and linear SVM, and `Dataset`).
@@ -79,9 +71,11 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod detect;
 pub mod error;
 pub mod evidence;
 mod lines;
+pub mod options;
 pub use residual_features::speed;
 pub mod trained;
 pub mod whiten;
@@ -94,16 +88,16 @@ use serde::{Deserialize, Serialize};
 
 pub use bands::{candidate_bands, min_band_width_hz};
 pub use bearing_model::BearingSpec;
-pub use driver::diagnose;
+pub use detect::{DEFAULT_FALSE_ALARM, Masks, Significance};
+pub use driver::{diagnose, diagnose_with_options};
 pub use error::{DiagnosisError, Result};
 pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line, PassedOver};
+pub use options::{DiagnoseOptions, SpeedFinding, SpeedSource};
 pub use report::{
     BandChoice, Diagnosis, OperatingPoint, Scores, SecondaryRead, Statistics, Thresholds,
 };
 pub use trained::{EVIDENCE_FEATURES, Labelled, TrainedDiagnoser};
 pub use whiten::{ArWhitener, OrderScore};
-
-use bearing_model::FaultOrders;
 
 /// Slowest accepted shaft speed, rpm.
 pub const MIN_RPM: f64 = 30.0;
@@ -113,25 +107,15 @@ pub const MAX_RPM: f64 = 30_000.0;
 pub const MIN_FS_HZ: f64 = 1_000.0;
 /// Highest accepted sampling rate, Hz.
 pub const MAX_FS_HZ: f64 = 1.0e6;
-/// Shortest accepted recording, in shaft turns: the envelope spectrum needs at least this many
-/// turns to resolve the ± FTF sidebands of a ball fault (FTF ≈ 0.4 fr) in a few bins.
-pub const MIN_TURNS: f64 = 10.0;
-/// A line is present when its power in the squared envelope spectrum is at least this many dB
-/// over the local median (6 dB = 4× the median power). In a Welch average of `K` segments a noise
-/// bin exceeds 4× its median with probability below 1e-3 for K ≥ 8 (chi-square with ~2K degrees
-/// of freedom), so requiring two such lines at harmonic positions makes a false detection in noise
-/// rare even after the search over bands.
+/// Shortest accepted recording, in shaft turns at the slowest speed searched: the envelope
+/// spectrum needs at least this many turns to resolve the ± FTF sidebands of a ball fault
+/// (FTF ≈ 0.4 fr) in a few bins and to hold a few Welch segments.
+pub const MIN_TURNS: f64 = 20.0;
+/// A line is *present* (reports mark it, and a band's comb of shaft orders or mains multiples
+/// is recognised by such lines) when its power in the squared envelope spectrum is at least this
+/// many dB over the local median (6 dB = 4× the median power). The verdict does not rest on it:
+/// it rests on the detector's probability under "healthy" ([`detect`]).
 pub const LINE_THRESHOLD_DB: f64 = 6.0;
-/// Harmonics (of 1..=[`HARMONICS`]) that must be present for a detection.
-pub const MIN_LINES: usize = 2;
-/// Without an impulsive band, a band is still read when one hypothesis has [`MIN_LINES`] of its
-/// harmonics present at ≥ this evidence, dB (see `diagnose_with`, step 3).
-pub const PERIODIC_LINE_DB: f64 = 10.0;
-/// A fault not detected in the common band is added from a band of its own only when
-/// [`MIN_LINES`] of its harmonics stand at ≥ this evidence, dB, there (10 dB = 10× the local
-/// median): the search over the other bands is a second multiple comparison, so the single-band
-/// rule's 6 dB is raised to the level of [`PERIODIC_LINE_DB`].
-pub const SECOND_BAND_LINE_DB: f64 = 10.0;
 /// Harmonics of each fault frequency searched.
 pub const HARMONICS: usize = 3;
 /// Largest rolling-element slip allowed for (1–2 % is usual).
@@ -151,28 +135,6 @@ pub const BACKGROUND_HALF_WIDTH_ORDERS: f64 = 2.0;
 pub const SEGMENT_TURNS_MAX: f64 = 32.0;
 /// … and at least this many (resolution fr/8), or the whole record when shorter.
 pub const SEGMENT_TURNS_MIN: f64 = 8.0;
-/// A band is impulsive (eligible for envelope analysis) when its spectral kurtosis exceeds a
-/// Gaussian's (0) by this many standard deviations of the estimator, `σ = 2/√(B·T)` for a band of
-/// width `B` over `T` seconds (delta method on `⟨|z|⁴⟩/⟨|z|²⟩²` with `B·T` independent samples).
-pub const SK_SIGMAS: f64 = 5.0;
-
-/// The spectral-kurtosis threshold of a band `width_hz` wide over `duration_s` seconds.
-pub fn sk_threshold(width_hz: f64, duration_s: f64) -> f64 {
-    SK_SIGMAS * 2.0 / (width_hz * duration_s).max(1.0).sqrt()
-}
-
-/// Rank CFAR: a line's prominence must also reach this quantile of the prominences of the local
-/// maxima of the same envelope spectrum (up to [`analysis_top_hz`]) that no bearing kinematics
-/// explains: in a spectrum of noise the quantile sits below [`LINE_THRESHOLD_DB`] and changes
-/// nothing; in a spectrum crowded with unexplained lines (mains, interference, beats) a
-/// candidate must be stronger than nine in ten of them.
-pub const CFAR_QUANTILE: f64 = 0.9;
-
-/// Highest envelope frequency examined: 3.4 × the highest fault line + fr.
-pub fn analysis_top_hz(orders: &FaultOrders, fr: f64) -> f64 {
-    (3.4 * orders.bpfo.max(orders.bpfi).max(orders.ball_defect) + 1.0) * fr
-}
-
 /// Band widths `fs/2 / d` of the filter bank.
 pub const BAND_DIVISORS: [f64; 9] = [2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0];
 

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{BACKGROUND_HALF_WIDTH_ORDERS, CFAR_QUANTILE, Hypothesis, LINE_THRESHOLD_DB};
+use crate::{BACKGROUND_HALF_WIDTH_ORDERS, Hypothesis, LINE_THRESHOLD_DB};
 
 /// Largest relative difference between the recording's and the baseline's envelope resolution
 /// at which a baseline line is compared (the baseline's Welch segment is rounded to an even
@@ -86,8 +86,13 @@ pub struct EnvelopeSpectrum {
     pub spectral_kurtosis: f64,
     /// Welch segments averaged.
     pub segments: usize,
-    /// Prominence a line needs in this spectrum, dB (see `set_threshold`).
+    /// Prominence at which a line is marked present in this spectrum, dB
+    /// ([`LINE_THRESHOLD_DB`]).
     pub line_threshold_db: f64,
+    /// Mean of the squared envelope (the band's power), whose lines' powers the modulation depth
+    /// is taken against (units² of the input).
+    #[serde(default)]
+    pub mean_square: f64,
 }
 
 impl EnvelopeSpectrum {
@@ -239,35 +244,5 @@ impl EnvelopeSpectrum {
         };
         let r = self.power.get(k + 1).copied().unwrap_or(f64::NEG_INFINITY);
         p >= l && p >= r && (p > l || p > r)
-    }
-
-    /// Set the line threshold of this spectrum: [`LINE_THRESHOLD_DB`], raised to the
-    /// [`CFAR_QUANTILE`] of the prominences of the local maxima between fr/2 and `top_hz` that no
-    /// bearing kinematics explains (none of the `kinematic` frequencies — every hypothesis's line
-    /// family and the shaft harmonics — within a bin): a rank CFAR, so a fault line must stand
-    /// out among the spectrum's unexplained lines (mains, interference), not only over its noise.
-    pub(crate) fn set_threshold(&mut self, fr: f64, top_hz: f64, kinematic: &[f64]) {
-        let df = self.resolution_hz;
-        let k0 = ((0.5 * fr / df).ceil() as usize).max(1);
-        let k1 = ((top_hz / df).floor() as usize).min(self.power.len().saturating_sub(2));
-        let mut proms: Vec<f64> = (k0..=k1)
-            .filter(|&k| self.is_peak(k))
-            .filter(|&k| {
-                let f = self.freq(k);
-                !kinematic.iter().any(|g| (f - g).abs() <= df.max(0.001 * f))
-            })
-            .filter_map(|k| {
-                let bg = self.background(self.freq(k), BACKGROUND_HALF_WIDTH_ORDERS * fr);
-                let p = self.power[k];
-                (bg > 0.0 && p > 0.0).then(|| 10.0 * (p / bg).log10())
-            })
-            .filter(|v| v.is_finite())
-            .collect();
-        self.line_threshold_db = LINE_THRESHOLD_DB;
-        if proms.len() >= 10 {
-            proms.sort_by(f64::total_cmp);
-            let i = ((CFAR_QUANTILE * proms.len() as f64).ceil() as usize).min(proms.len()) - 1;
-            self.line_threshold_db = LINE_THRESHOLD_DB.max(proms[i]);
-        }
     }
 }

@@ -4,9 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    ArWhitener, CFAR_QUANTILE, EnvelopeSpectrum, HARMONICS, Hypothesis, HypothesisEvidence,
-    LINE_THRESHOLD_DB, Line, MIN_LINES, PERIODIC_LINE_DB, Reference, SECOND_BAND_LINE_DB,
-    SK_SIGMAS, SLIP_MAX, SPEED_OFFSET, SPEED_TOL, speed,
+    ArWhitener, EnvelopeSpectrum, HARMONICS, Hypothesis, HypothesisEvidence, LINE_THRESHOLD_DB,
+    Line, Reference, SLIP_MAX, SPEED_OFFSET, SPEED_TOL, SpeedFinding, detect, speed,
 };
 use bearing_model::FaultOrders;
 
@@ -66,6 +65,14 @@ pub struct OperatingPoint {
     pub orders: FaultOrders,
     /// Fault frequencies at fr, Hz.
     pub frequencies_hz: FaultOrders,
+    /// How the speed used was found: declared, range searched, source, uncertainty.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed: Option<SpeedFinding>,
+    /// Relative uncertainty of the bearing's fault rates every line window was widened by (a
+    /// catalogue's typical geometry, `options::TYPICAL_GEOMETRY_UNCERTAINTY`; 0 for a maker's
+    /// or a data set's own geometry).
+    #[serde(default)]
+    pub rate_uncertainty: f64,
 }
 
 /// A demodulation band.
@@ -109,14 +116,16 @@ pub struct Statistics {
     pub compared_below_hz: Option<f64>,
 }
 
-/// The fixed decision constants, written into every report.
+/// The fixed decision constants, written into every report. Keys of the line rule this
+/// detector replaced (2026-12) are kept for scripts that read them, `null` where they no longer
+/// apply.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Thresholds {
-    /// [`LINE_THRESHOLD_DB`].
+    /// A line is marked present at this prominence over the local median, dB ([`LINE_THRESHOLD_DB`]).
     pub line_db: f64,
-    /// [`MIN_LINES`].
-    pub min_harmonics: usize,
-    /// [`HARMONICS`].
+    /// No longer used (the former rule's harmonics needed); `null`.
+    pub min_harmonics: Option<usize>,
+    /// [`HARMONICS`]: harmonics of each fault frequency in the template.
     pub harmonics_searched: usize,
     /// [`SLIP_MAX`].
     pub slip_max: f64,
@@ -124,34 +133,49 @@ pub struct Thresholds {
     pub speed_offset: f64,
     /// [`SPEED_TOL`].
     pub speed_tolerance: f64,
-    /// [`SK_SIGMAS`].
-    pub sk_sigmas: f64,
-    /// [`CFAR_QUANTILE`].
-    pub cfar_quantile: f64,
-    /// [`SECOND_BAND_LINE_DB`].
+    /// No longer used (impulsive-band gate of the former rule); `null`.
+    pub sk_sigmas: Option<f64>,
+    /// No longer used (rank CFAR of the former rule); `null`.
+    pub cfar_quantile: Option<f64>,
+    /// No longer used (second-band rule of the former rule); `null`.
     #[serde(default)]
-    pub second_band_line_db: f64,
+    pub second_band_line_db: Option<f64>,
+    /// False-alarm probability per recording, α.
+    #[serde(default)]
+    pub false_alarm: f64,
+    /// Each hypothesis is significant at `α / 3`.
+    #[serde(default)]
+    pub per_hypothesis_level: f64,
     /// Plain-language rule.
     pub rule: String,
 }
 
-impl Default for Thresholds {
-    fn default() -> Self {
+impl Thresholds {
+    /// The constants at false-alarm probability `alpha`.
+    pub fn with_false_alarm(alpha: f64) -> Self {
+        let level = alpha / Hypothesis::ALL.len() as f64;
         Self {
             line_db: LINE_THRESHOLD_DB,
-            min_harmonics: MIN_LINES,
+            min_harmonics: None,
             harmonics_searched: HARMONICS,
             slip_max: SLIP_MAX,
             speed_offset: SPEED_OFFSET,
             speed_tolerance: SPEED_TOL,
-            sk_sigmas: SK_SIGMAS,
-            cfar_quantile: CFAR_QUANTILE,
-            second_band_line_db: SECOND_BAND_LINE_DB,
+            sk_sigmas: None,
+            cfar_quantile: None,
+            second_band_line_db: None,
+            false_alarm: alpha,
+            per_hypothesis_level: level,
             rule: format!(
-                "a fault is detected when >= {MIN_LINES} of its harmonics 1..{HARMONICS} (at one common fundamental), or harmonic 1 and one distinguishing sideband (BPFI±fr, BSF±FTF), stand >= {LINE_THRESHOLD_DB} dB over the local median (and among the top {:.0} % of the spectrum's local maxima) in the squared envelope spectrum of an impulsive band (SK > {SK_SIGMAS} sigma of a Gaussian's; when no band is impulsive, a band whose envelope holds {MIN_LINES} harmonics of one fault at >= {PERIODIC_LINE_DB} dB), not explained by a stronger detected fault; against a baseline recording, a line the healthy machine already holds (>= {LINE_THRESHOLD_DB} dB there) counts only by what it has grown; a fault not detected in that common band is added when, in another impulsive band, it scores highest and has {MIN_LINES} harmonics at >= {SECOND_BAND_LINE_DB} dB that no common-band fault present in that band explains",
-                100.0 * (1.0 - CFAR_QUANTILE)
+                "a fault is detected when its template (harmonics 1..{HARMONICS} of one fundamental in the slip window, plus half its distinguishing sidebands BPFI±fr / BSF±FTF, each line's prominence over the local median less the baseline's) reads so strong that a healthy machine would show it with probability <= {level:.2e} after the search over bands (alpha = {alpha} per recording over 3 hypotheses; the null is the same template read at fundamentals no bearing kinematics explains, shaft orders and mains multiples masked where the band shows their comb); a fault whose lines a stronger detected fault's family explains is dropped, and two that explain each other equally well give `uncertain`"
             ),
         }
+    }
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Self::with_false_alarm(detect::DEFAULT_FALSE_ALARM)
     }
 }
 
@@ -220,6 +244,22 @@ pub struct Diagnosis {
     /// Squared envelope spectrum of `band` (for figures; not serialised).
     #[serde(skip)]
     pub envelope: EnvelopeSpectrum,
+    /// With the verdict `uncertain`: the two faults that explain the same lines, strongest
+    /// first (empty otherwise).
+    #[serde(default)]
+    pub candidates: Vec<Hypothesis>,
+    /// The probability that a healthy machine gives evidence at least this strong for some
+    /// fault: `3 × min_h p_healthy` (capped at 1); the recording is called faulty when it is at
+    /// most `false_alarm`.
+    #[serde(default = "one")]
+    pub p_healthy: f64,
+    /// The false-alarm probability per recording the verdict was taken at (α).
+    #[serde(default)]
+    pub false_alarm: f64,
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 impl Diagnosis {

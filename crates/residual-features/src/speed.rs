@@ -50,6 +50,11 @@ pub const COMB_MIN_CONTRAST: f64 = 2.0;
 pub const COMB_MIN_FIRST_ORDER: f64 = 1.0;
 /// An order counts as present at this height over its background (0.5 = 5 dB).
 pub const COMB_MIN_ORDER_PRESENT: f64 = 0.5;
+/// A search whose relative half-width exceeds this (a range wider than about 1.9 : 1) looks for
+/// the comb's fundamental among several candidates ([`estimate_speed_in`]).
+pub const WIDE_SEARCH: f64 = 0.3;
+/// Candidate combs (the best-scoring local maxima) weighed in a wide search.
+pub const WIDE_CANDIDATES: usize = 8;
 /// Mains frequencies whose harmonics are not counted as shaft orders, Hz.
 pub const MAINS_HZ: [f64; 2] = [50.0, 60.0];
 /// Fraction of the scored (non-mains) orders that must be present.
@@ -94,6 +99,10 @@ pub struct SpeedEstimate {
     /// envelope ([`estimate_envelope_speed`]) rather than in the recording's own spectrum.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub envelope_band_hz: Option<[f64; 2]>,
+    /// Half a spectral bin at the comb's top order, relative to the speed: how finely the comb
+    /// search alone places the speed (a refined speed is finer).
+    #[serde(default)]
+    pub resolution: f64,
 }
 
 /// Orders a refined speed ([`SpeedEstimate::refined_rpm`]) must rest on.
@@ -206,7 +215,45 @@ pub fn estimate_speed(
     fs_hz: f64,
     rpm: f64,
 ) -> Result<Option<SpeedEstimate>> {
-    comb_speed(engine, x, fs_hz, rpm, REFINE_RESOLUTION)
+    comb_speed(
+        engine,
+        x,
+        fs_hz,
+        rpm,
+        SPEED_SEARCH,
+        REFINE_RESOLUTION,
+        false,
+    )
+}
+
+/// [`estimate_speed`] over the range `[rpm_low, rpm_high]` instead of ± [`SPEED_SEARCH`] of one
+/// declared speed, also on a record too short to resolve the speed to half of [`SPEED_TOL`] (a
+/// coarse speed, [`SpeedEstimate::resolution`] says how coarse, beats a set point several per
+/// cent off): a set point or nameplate speed off by up to ± 10 %, or no declared speed at
+/// all (a search from 300 to 3600 rpm). Over a range wider than an octave the comb at twice the
+/// shaft rate is as complete as the shaft's own (its orders are the shaft's even ones): of the
+/// accepted combs among the best-scoring candidates, the one at the lowest speed whose score is
+/// at least half the best is taken — a complete comb at half a speed holds that speed's odd
+/// orders too, so it is the fundamental.
+///
+/// # Errors
+/// The spectral engine's errors (non-finite input).
+pub fn estimate_speed_in(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    rpm_low: f64,
+    rpm_high: f64,
+) -> Result<Option<SpeedEstimate>> {
+    let (centre, search) = range_search(rpm_low, rpm_high);
+    comb_speed(engine, x, fs_hz, centre, search, REFINE_RESOLUTION, true)
+}
+
+/// The centre and relative half-width of a speed range.
+fn range_search(rpm_low: f64, rpm_high: f64) -> (f64, f64) {
+    let (lo, hi) = (rpm_low.min(rpm_high), rpm_low.max(rpm_high));
+    let centre = 0.5 * (lo + hi);
+    (centre, ((hi - lo) / (hi + lo)).max(1e-6))
 }
 
 /// Measure the shaft speed near `rpm` from the shaft comb of squared envelopes (of the bands a
@@ -237,6 +284,30 @@ pub fn estimate_envelope_speed(
     envelopes: &[crate::BandEnvelope],
     rpm: f64,
 ) -> Result<Option<SpeedEstimate>> {
+    envelope_speed(engine, envelopes, rpm, SPEED_SEARCH, false)
+}
+
+/// [`estimate_envelope_speed`] over the range `[rpm_low, rpm_high]` (see [`estimate_speed_in`]).
+///
+/// # Errors
+/// The spectral engine's errors (non-finite input).
+pub fn estimate_envelope_speed_in(
+    engine: &mut SpectralEngine,
+    envelopes: &[crate::BandEnvelope],
+    rpm_low: f64,
+    rpm_high: f64,
+) -> Result<Option<SpeedEstimate>> {
+    let (rpm, search) = range_search(rpm_low, rpm_high);
+    envelope_speed(engine, envelopes, rpm, search, true)
+}
+
+fn envelope_speed(
+    engine: &mut SpectralEngine,
+    envelopes: &[crate::BandEnvelope],
+    rpm: f64,
+    search: f64,
+    coarse: bool,
+) -> Result<Option<SpeedEstimate>> {
     // the most impulsive bands: where the impacts, and so their modulation, stand out
     let mut ranked: Vec<(f64, &crate::BandEnvelope)> = envelopes
         .iter()
@@ -246,13 +317,13 @@ pub fn estimate_envelope_speed(
     ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
     ranked.truncate(ENVELOPE_BANDS);
     // the comb and its background need no more than the orders searched and one shaft order
-    let max_hz = (COMB_ORDERS as f64 * (1.0 + SPEED_SEARCH) + 1.0) * rpm / 60.0;
+    let max_hz = (COMB_ORDERS as f64 * (1.0 + search) + 1.0) * rpm / 60.0;
     let mut accepted = Vec::new();
     for (_, be) in ranked {
         // mean removed, band-limited and resampled (a wide band's envelope holds 10⁵ samples)
         let (low, rate) = engine.low_pass_resample(&be.squared_envelope, be.rate_hz, max_hz)?;
         // the search alone first (no refinement: 0 admits no resolution)
-        if let Some(m) = comb_speed(engine, &low, rate, rpm, 0.0)?
+        if let Some(m) = comb_speed(engine, &low, rate, rpm, search, 0.0, coarse)?
             && m.accepted
         {
             accepted.push((m.comb_score, be.band, low, rate));
@@ -261,7 +332,7 @@ pub fn estimate_envelope_speed(
     // the best comb that refines: refinements (a zoom DFT per line) only as far as needed
     accepted.sort_by(|a, b| b.0.total_cmp(&a.0));
     for (_, band, low, rate) in accepted {
-        if let Some(m) = comb_speed(engine, &low, rate, rpm, f64::INFINITY)?
+        if let Some(m) = comb_speed(engine, &low, rate, rpm, search, f64::INFINITY, coarse)?
             && let Some(refined) = m.refined_rpm
         {
             return Ok(Some(SpeedEstimate {
@@ -286,7 +357,9 @@ fn comb_speed(
     x: &[f64],
     fs_hz: f64,
     rpm: f64,
+    search: f64,
     refine_resolution: f64,
+    coarse: bool,
 ) -> Result<Option<SpeedEstimate>> {
     let fr0 = rpm / 60.0;
     // a 7-smooth length (≤ 2 % shorter) keeps the real FFT fast
@@ -311,10 +384,10 @@ fn comb_speed(
     let half = ((0.3 * fr0 / df).round() as usize).max(3);
     let top = l.len().saturating_sub(half + 2);
     let orders = (1..=COMB_ORDERS)
-        .filter(|&k| (k as f64 * fr0 * (1.0 + SPEED_SEARCH) / df).round() as usize <= top)
+        .filter(|&k| (k as f64 * fr0 * (1.0 + search) / df).round() as usize <= top)
         .count();
     // the comb must resolve the speed to half the lines' own tolerance at its top order
-    if orders == 0 || df > 0.5 * SPEED_TOL * orders as f64 * fr0 {
+    if orders == 0 || (!coarse && df > 0.5 * SPEED_TOL * orders as f64 * fr0) {
         return Ok(None);
     }
     // an order within 1.5 bins of a multiple of a mains frequency (50 or 60 Hz) is no evidence
@@ -338,48 +411,83 @@ fn comb_speed(
     let score = |r: f64| -> f64 { (1..=orders).map(|k| order_score(k, r)).sum() };
     // steps of a quarter bin at the highest order scored
     let step = 0.25 * df / (orders as f64 * fr0);
-    let steps = (2.0 * SPEED_SEARCH / step).ceil() as usize;
+    let steps = (2.0 * search / step).ceil() as usize;
     let scores: Vec<(f64, f64)> = (0..=steps)
         .map(|j| {
-            let r = 1.0 - SPEED_SEARCH + 2.0 * SPEED_SEARCH * j as f64 / steps as f64;
+            let r = 1.0 - search + 2.0 * search * j as f64 / steps as f64;
             (r, score(r))
         })
         .collect();
-    let (r_best, s_best) =
+    // the comb's contrast is against its own neighbourhood (± CONTRAST_HALF_WIDTH of the best
+    // ratio), so it does not grow with the width of the search; a shaft comb is complete: its
+    // first order stands out and almost every order is there (mains harmonics fill only the
+    // even orders of a comb at half the line frequency; a fault line family k·f ± m·fr forms a
+    // near-comb without the first order)
+    let assess = |r_best: f64, s_best: f64| {
+        let mut sorted: Vec<f64> = scores
+            .iter()
+            .filter(|c| (c.0 - r_best).abs() <= CONTRAST_HALF_WIDTH)
+            .map(|c| c.1)
+            .collect();
+        sorted.sort_by(f64::total_cmp);
+        let median = sorted[sorted.len() / 2];
+        let contrast = s_best / median.max(1e-9);
+        let first_order = order_score(1, r_best);
+        let scored = (1..=orders)
+            .filter(|&k| !mains(k as f64 * fr0 * r_best))
+            .count();
+        let present = (1..=orders)
+            .filter(|&k| order_score(k, r_best) >= COMB_MIN_ORDER_PRESENT)
+            .count();
+        let complete = first_order >= COMB_MIN_FIRST_ORDER
+            && scored > 0
+            && present as f64 >= COMB_MIN_COMPLETE * scored as f64;
+        let accepted = complete
+            && s_best >= COMB_MIN_PER_ORDER * scored as f64
+            && contrast >= COMB_MIN_CONTRAST;
+        (contrast, first_order, present, complete, accepted)
+    };
+    let (mut r_best, mut s_best) =
         scores.iter().copied().fold(
             (1.0, f64::NEG_INFINITY),
             |b, c| if c.1 > b.1 { c } else { b },
         );
-    // the comb's contrast is against its own neighbourhood (± CONTRAST_HALF_WIDTH of the best
-    // ratio), so it does not grow with the width of the search
-    let mut sorted: Vec<f64> = scores
-        .iter()
-        .filter(|c| (c.0 - r_best).abs() <= CONTRAST_HALF_WIDTH)
-        .map(|c| c.1)
-        .collect();
-    sorted.sort_by(f64::total_cmp);
-    let median = sorted[sorted.len() / 2];
-    let contrast = s_best / median.max(1e-9);
-    // a shaft comb is complete: its first order stands out and almost every order is there
-    // (mains harmonics fill only the even orders of a comb at half the line frequency; a fault
-    // line family k·f ± m·fr forms a near-comb without the first order)
-    let first_order = order_score(1, r_best);
-    let scored = (1..=orders)
-        .filter(|&k| !mains(k as f64 * fr0 * r_best))
-        .count();
-    let present = (1..=orders)
-        .filter(|&k| order_score(k, r_best) >= COMB_MIN_ORDER_PRESENT)
-        .count();
-    let complete = first_order >= COMB_MIN_FIRST_ORDER
-        && scored > 0
-        && present as f64 >= COMB_MIN_COMPLETE * scored as f64;
+    if search > WIDE_SEARCH {
+        // over a range wider than an octave the comb at 2·fr is as complete as fr's: of the
+        // best-scoring accepted combs, the lowest whose score is at least half the best
+        let mut peaks: Vec<(f64, f64)> = scores
+            .windows(3)
+            .filter(|w| w[1].1 >= w[0].1 && w[1].1 > w[2].1)
+            .map(|w| w[1])
+            .collect();
+        peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
+        peaks.truncate(WIDE_CANDIDATES);
+        let accepted: Vec<(f64, f64)> =
+            peaks.into_iter().filter(|&(r, s)| assess(r, s).4).collect();
+        if let Some(top) = accepted.first().map(|c| c.1) {
+            let low = accepted
+                .iter()
+                .filter(|c| c.1 >= 0.5 * top)
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .copied()
+                .unwrap_or(accepted[0]);
+            (r_best, s_best) = low;
+        }
+    }
+    let (contrast, first_order, present, complete, accepted) = assess(r_best, s_best);
     // the refined speed: each present order's line placed by the zoom DFT of the Hann-windowed
     // record, the speed fitted over the largest set of orders that tell one speed
     // the strongest line within the search around the declared shaft rate: a refined speed
     // must put its first order on it (within a bin)
     let strongest_1x = {
-        let lo = ((fr0 * (1.0 - SPEED_SEARCH) / df).floor() as usize).max(1);
-        let hi = ((fr0 * (1.0 + SPEED_SEARCH) / df).ceil() as usize).min(l.len() - 1);
+        // around the declared rate, or around the comb found when the search reaches further
+        let c = if search > SPEED_SEARCH {
+            fr0 * r_best
+        } else {
+            fr0
+        };
+        let lo = ((c * (1.0 - SPEED_SEARCH) / df).floor() as usize).max(1);
+        let hi = ((c * (1.0 + SPEED_SEARCH) / df).ceil() as usize).min(l.len() - 1);
         (lo..=hi)
             .max_by(|&a, &b| l[a].total_cmp(&l[b]))
             .map(|j| j as f64 * df)
@@ -409,10 +517,9 @@ fn comb_speed(
         orders,
         first_order_score: first_order,
         orders_present: present,
-        accepted: complete
-            && s_best >= COMB_MIN_PER_ORDER * scored as f64
-            && contrast >= COMB_MIN_CONTRAST,
+        accepted,
         envelope_band_hz: None,
+        resolution: 0.5 * df / (orders as f64 * fr0),
     }))
 }
 

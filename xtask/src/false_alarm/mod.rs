@@ -67,10 +67,12 @@ impl Row {
     }
 }
 
-/// Whether a JSON key names a probability-like field.
+/// Whether a JSON key names a probability-like field (or the detector's other decision
+/// quantity, the modulation depth).
 fn p_like(key: &str) -> bool {
     let k = key.to_ascii_lowercase();
-    k == "p"
+    k == "modulation_depth"
+        || k == "p"
         || k.starts_with("p_")
         || k.ends_with("_p")
         || k.contains("p_value")
