@@ -82,16 +82,29 @@ fn plan(fs_hz: f64, o: &FaultOrders, rpm: f64, widest_rpm: f64) -> Result<Plan> 
     })
 }
 
-fn diagnose_in(
+/// Steps 0–2 of a diagnosis: the speed, the residual, its statistics and the bands' squared
+/// envelope spectra (the recording's and the healthy baseline's), planned for fault orders
+/// `o`.
+pub(crate) struct Analysis {
+    pub finding: crate::SpeedFinding,
+    pub spectrum_comb: Option<speed::SpeedEstimate>,
+    pub envelope_comb: Option<speed::SpeedEstimate>,
+    pub whitener: ArWhitener,
+    pub reference: Reference,
+    pub statistics: Statistics,
+    pub fr: f64,
+    pub spectra: Vec<EnvelopeSpectrum>,
+    pub base_spectra: std::sync::Arc<Vec<Option<EnvelopeSpectrum>>>,
+}
+
+pub(crate) fn analyse(
     engine: &mut SpectralEngine,
     x: &[f64],
     fs_hz: f64,
-    bearing: &BearingSpec,
+    o: &FaultOrders,
     baseline: Option<&Baseline>,
-    options: &DiagnoseOptions,
-) -> Result<Diagnosis> {
-    check_fs(fs_hz)?;
-    let options = options.check()?;
+    options: &crate::options::CheckedOptions,
+) -> Result<Analysis> {
     error::check_finite("recording", x)?;
     let [rpm_low, rpm_high] = options.search_rpm();
     check_length(x, fs_hz, rpm_low)?;
@@ -103,19 +116,17 @@ fn diagnose_in(
             baseline_hz: b.whitener.fs_hz,
         });
     }
-    let o = bearing.orders;
 
     // 0. the speed the recording's own spectrum shows (its shaft comb over the search range)
     let spectrum_comb = speed::estimate_speed_in(engine, x, fs_hz, rpm_low, rpm_high)?;
 
     // 1. residual
-    let self_fit;
     let (whitener, reference) = match baseline {
-        Some(b) => (&b.whitener, Reference::Baseline),
-        None => {
-            self_fit = ArWhitener::fit(x, fs_hz, "recording")?;
-            (&self_fit, Reference::SelfReference)
-        }
+        Some(b) => (b.whitener.clone(), Reference::Baseline),
+        None => (
+            ArWhitener::fit(x, fs_hz, "recording")?,
+            Reference::SelfReference,
+        ),
     };
     let e = whitener.residual(x);
 
@@ -126,7 +137,7 @@ fn diagnose_in(
     let mut envs = None;
     let mut provisional = None;
     if !spectrum_comb.is_some_and(|m| m.accepted || m.refined_rpm.is_some()) {
-        let p = plan(fs_hz, &o, options.centre_rpm(), rpm_high)?;
+        let p = plan(fs_hz, o, options.centre_rpm(), rpm_high)?;
         let all = engine.band_squared_envelopes(&e, fs_hz, &p.bands)?;
         envelope_comb = speed::estimate_envelope_speed_in(engine, &all, rpm_low, rpm_high)?;
         envs = Some(all);
@@ -135,16 +146,15 @@ fn diagnose_in(
     let finding = options.find_speed(spectrum_comb, envelope_comb)?;
     let rpm_used = finding.rpm_used;
     let uncertain_fastest = rpm_used * (1.0 + finding.relative_uncertainty);
-    let p = plan(fs_hz, &o, rpm_used, uncertain_fastest)?;
+    let p = plan(fs_hz, o, rpm_used, uncertain_fastest)?;
     let envs = match (envs, provisional) {
         (Some(v), Some(q)) if q.bands == p.bands => v,
         _ => engine.band_squared_envelopes(&e, fs_hz, &p.bands)?,
     };
-    let fr = p.fr;
     let statistics = residual_statistics(engine, x, &e, fs_hz, baseline)?;
 
     // 2. bands: squared envelope spectra of the residual and of the healthy baseline
-    let spectra = envelope_spectra(engine, &envs, e.len() as f64 / fs_hz, fr)?;
+    let spectra = envelope_spectra(engine, &envs, e.len() as f64 / fs_hz, p.fr)?;
     if spectra.is_empty() {
         return Err(DiagnosisError::SampleRateTooLow {
             fs_hz,
@@ -161,20 +171,46 @@ fn diagnose_in(
         &resolutions,
         spectra.len(),
     )?;
+    Ok(Analysis {
+        finding,
+        spectrum_comb,
+        envelope_comb,
+        whitener,
+        reference,
+        statistics,
+        fr: p.fr,
+        spectra,
+        base_spectra,
+    })
+}
 
-    // 3. the detector: each hypothesis's template against its null in every band
+fn diagnose_in(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    bearing: &BearingSpec,
+    baseline: Option<&Baseline>,
+    options: &DiagnoseOptions,
+) -> Result<Diagnosis> {
+    check_fs(fs_hz)?;
+    let options = options.check()?;
+    let o = bearing.orders;
+    let a = analyse(engine, x, fs_hz, &o, baseline, &options)?;
+    let fr = a.fr;
+
+    // 3. the detector: each hypothesis's lines against the band's clear windows
     let unconfirmed = matches!(
-        finding.source,
+        a.finding.source,
         SpeedSource::Declared | SpeedSource::RangeCentre
     );
     let rate_uncertainty = options.rate_uncertainty(bearing);
     let detection = detect::detect(
-        &spectra,
-        &base_spectra,
+        &a.spectra,
+        &a.base_spectra,
         &o,
         fr,
         detect::Slack {
-            speed: finding.relative_uncertainty,
+            speed: a.finding.relative_uncertainty,
             rate: rate_uncertainty,
         },
         unconfirmed,
@@ -182,15 +218,16 @@ fn diagnose_in(
     );
 
     // 4. verdict and report
-    let mut finding = finding;
+    let mut finding = a.finding;
     finding.read_at = Some(detection.stage);
+    let rpm_used = finding.rpm_used;
     let operating_point = OperatingPoint {
         fs_hz,
         rpm: finding.declared_rpm.unwrap_or(rpm_used),
         shaft_hz: fr,
         rpm_used,
-        measured_speed: spectrum_comb,
-        envelope_speed: envelope_comb,
+        measured_speed: a.spectrum_comb,
+        envelope_speed: a.envelope_comb,
         bearing: bearing.name.clone(),
         bearing_spec: bearing.echo(),
         orders: o,
@@ -200,12 +237,12 @@ fn diagnose_in(
     };
     Ok(report(
         &detection,
-        &spectra,
-        &base_spectra,
-        whitener,
-        reference,
+        &a.spectra,
+        &a.base_spectra,
+        &a.whitener,
+        a.reference,
         operating_point,
-        statistics,
+        a.statistics,
         options.false_alarm,
     ))
 }
@@ -425,5 +462,6 @@ fn report(
         candidates: det.uncertain.clone(),
         p_healthy: (Hypothesis::ALL.len() as f64 * p_min).min(1.0),
         false_alarm: alpha,
+        bearing_guess: None,
     }
 }

@@ -78,6 +78,7 @@ mod lines;
 pub mod options;
 pub use residual_features::speed;
 pub mod trained;
+pub mod unknown;
 pub mod whiten;
 
 mod bands;
@@ -93,6 +94,7 @@ pub use driver::{diagnose, diagnose_with_options};
 pub use error::{DiagnosisError, Result};
 pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line, PassedOver};
 pub use options::{DiagnoseOptions, SpeedFinding, SpeedSource};
+pub use unknown::{BearingGuess, diagnose_unknown_bearing};
 pub use report::{
     BandChoice, Diagnosis, OperatingPoint, Scores, SecondaryRead, Statistics, Thresholds,
 };

@@ -256,6 +256,10 @@ pub struct Diagnosis {
     /// The false-alarm probability per recording the verdict was taken at (α).
     #[serde(default)]
     pub false_alarm: f64,
+    /// With an unknown bearing ([`crate::diagnose_unknown_bearing`]): the comb found, the fault
+    /// named from it and on what basis — a guess, and the report says so.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bearing_guess: Option<crate::BearingGuess>,
 }
 
 fn one() -> f64 {

@@ -207,10 +207,15 @@ impl<'a> LineTest<'a> {
 
     /// Read template `t`.
     pub(crate) fn read(&self, t: &Template) -> BandReading {
+        self.read_windows(&t.windows(0.5 * self.v.df))
+    }
+
+    /// Read the lines of `windows` (each against the clear windows of its own width).
+    pub(crate) fn read_windows(&self, windows: &[Window]) -> BandReading {
         let v = self.v;
         let top = self.top;
         let mut terms = Vec::new();
-        for w in t.windows(0.5 * v.df) {
+        for &w in windows {
             let ka = ((w.lo_hz / v.df).ceil().max(1.0) as usize).min(top);
             let kb = ((w.hi_hz / v.df).floor().max(0.0) as usize).min(top);
             let (ka, kb) = if ka <= kb {

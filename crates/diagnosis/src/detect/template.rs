@@ -8,7 +8,7 @@ use bearing_model::FaultOrders;
 
 /// Shaft-rate shifts `j·fr` (|j| up to this) of a fault's harmonics kept out of its lines'
 /// references ([`Template::lattice`]).
-pub const LATTICE_SHAFT_ORDERS: i32 = 8;
+pub const LATTICE_SHAFT_ORDERS: i32 = 3;
 /// Shaft-rate shifts `j·fr` (|j| up to this) of a confirmed fault's harmonics that explain other
 /// hypotheses' lines ([`Template::family`]).
 pub const FAMILY_SHAFT_ORDERS: i32 = 8;

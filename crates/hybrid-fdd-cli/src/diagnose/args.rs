@@ -52,11 +52,24 @@ pub struct RecordingFlags {
     /// `--fs` applies only to the files that store no rate.
     #[arg(long)]
     pub fs: Option<f64>,
-    /// Shaft speed, rpm (when omitted: a CWRU file's stored speed, else its nominal one; the
-    /// `rpm` of a `simulate` CSV's JSON sidecar, said on stderr).
+    /// Shaft speed, rpm, as declared (a set point, a nameplate): the running speed is searched
+    /// within ± 10 % of it in the recording's shaft comb (when omitted: a CWRU file's stored
+    /// speed, else its nominal one; the `rpm` of a `simulate` CSV's JSON sidecar, said on
+    /// stderr; or none, with `--rpm-range`).
     #[arg(long)]
     pub rpm: Option<f64>,
-    /// Bearing: a designation from the built-in catalogue (`hybrid-fdd bearings` lists them;
+    /// Range the running speed is searched in, rpm, `LOW-HIGH` (e.g. `300-3600`): instead of
+    /// ± 10 % of `--rpm`, or without any declared speed. A range wider than 1.25 : 1 needs the
+    /// recording's own shaft comb to be found.
+    #[arg(long, value_name = "LOW-HIGH")]
+    pub rpm_range: Option<String>,
+    /// False-alarm probability per recording (α): a healthy machine is called faulty at most
+    /// this often (each of the three faults is tested at a third of it).
+    #[arg(long, default_value_t = diagnosis::DEFAULT_FALSE_ALARM)]
+    pub alpha: f64,
+    /// Bearing: `unknown` (the fault's order is found from the envelope's non-integer combs and
+    /// its kind from their sidebands; the report says it guessed), a designation from the
+    /// built-in catalogue (`hybrid-fdd bearings` lists them;
     /// case-insensitive, a maker's name and seal or clearance suffixes ignored: `6205`, `SKF
     /// 6205-2RS`, `uc204`, `ZA-2115`, `ER-16K`), a geometry `n=9,d=0.3126in,D=1.537in,angle=0deg`
     /// or the four shaft-rate multiples `bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135` (the
@@ -89,11 +102,42 @@ impl RecordingFlags {
             .context(
                 "--bearing is required (a designation such as 6205 or UC204, listed by `hybrid-fdd bearings`; a geometry n=…,d=…,D=…[,angle=…]; or the four multiples)",
             )?;
+        let bearing = if spec.trim().eq_ignore_ascii_case(super::UNKNOWN_BEARING) {
+            super::unknown_bearing()
+        } else {
+            crate::parse_bearing(spec)?
+        };
         Ok(Plan {
             channel: self.channel.clone(),
             fs: self.fs,
             rpm: self.rpm,
-            bearing: crate::parse_bearing(spec)?,
+            bearing,
+        })
+    }
+
+    /// The speed range and false-alarm level these flags give.
+    ///
+    /// # Errors
+    /// A `--rpm-range` that is not `LOW-HIGH` with two numbers.
+    pub fn search(&self) -> anyhow::Result<super::Search> {
+        let rpm_range = self
+            .rpm_range
+            .as_deref()
+            .map(|r| {
+                let (lo, hi) = r
+                    .split_once('-')
+                    .context("--rpm-range must be LOW-HIGH in rpm, e.g. 300-3600")?;
+                let num = |v: &str| {
+                    v.trim()
+                        .parse::<f64>()
+                        .with_context(|| format!("--rpm-range {r}: {v:?} is not a number"))
+                };
+                Ok::<_, anyhow::Error>([num(lo)?, num(hi)?])
+            })
+            .transpose()?;
+        Ok(super::Search {
+            rpm_range,
+            false_alarm: self.alpha,
         })
     }
 

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use bearing_data::SampleUnit;
-use diagnosis::{BearingSpec, Diagnosis, diagnose};
+use diagnosis::{BearingSpec, DiagnoseOptions, Diagnosis};
 
 pub use args::{Args, RecordingFlags};
 pub use baseline::{
@@ -40,6 +40,44 @@ pub struct Plan {
     pub bearing: BearingSpec,
 }
 
+/// `--bearing unknown`.
+pub const UNKNOWN_BEARING: &str = "unknown";
+
+/// The stand-in bearing of `--bearing unknown` (no geometry, no orders: the diagnosis finds the
+/// fault's order itself, `diagnosis::diagnose_unknown_bearing`).
+pub fn unknown_bearing() -> BearingSpec {
+    BearingSpec {
+        name: UNKNOWN_BEARING.into(),
+        given: UNKNOWN_BEARING.into(),
+        geometry: None,
+        orders: bearing_model::FaultOrders {
+            ftf: 0.0,
+            bpfo: 0.0,
+            bpfi: 0.0,
+            ball_spin: 0.0,
+            ball_defect: 0.0,
+        },
+    }
+}
+
+/// The speed range searched and the false-alarm probability (`--rpm-range`, `--false-alarm`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Search {
+    /// Range the running speed is searched in, rpm.
+    pub rpm_range: Option<[f64; 2]>,
+    /// False-alarm probability per recording.
+    pub false_alarm: f64,
+}
+
+impl Default for Search {
+    fn default() -> Self {
+        Self {
+            rpm_range: None,
+            false_alarm: diagnosis::DEFAULT_FALSE_ALARM,
+        }
+    }
+}
+
 /// One recording diagnosed: the diagnosis, the baseline note, the unit statement.
 #[derive(Debug, Clone)]
 pub struct Outcome {
@@ -53,7 +91,8 @@ pub struct Outcome {
     pub trained: Option<TrainedClass>,
 }
 
-/// Diagnose samples already loaded.
+/// Diagnose samples already loaded (the speed searched within ± 10 % of the declared one, α at
+/// its default).
 ///
 /// # Errors
 /// Missing speed, or the library's typed errors.
@@ -62,10 +101,43 @@ pub fn diagnose_loaded(
     plan: &Plan,
     baseline: Option<&BaselineSource>,
 ) -> anyhow::Result<Outcome> {
-    let rpm = plan
-        .rpm
-        .or(l.rpm)
-        .context("--rpm is required (the file stores no speed)")?;
+    diagnose_loaded_with(l, plan, baseline, &Search::default())
+}
+
+/// [`diagnose_loaded`] with a speed range and a false-alarm probability.
+///
+/// # Errors
+/// Missing speed and range, a machine-model baseline without a speed, or the library's typed
+/// errors.
+pub fn diagnose_loaded_with(
+    l: &Loaded,
+    plan: &Plan,
+    baseline: Option<&BaselineSource>,
+    search: &Search,
+) -> anyhow::Result<Outcome> {
+    let declared = plan.rpm.or(l.rpm);
+    let options = match (declared, search.rpm_range) {
+        (Some(r), None) => DiagnoseOptions::declared(r),
+        (Some(r), Some([lo, hi])) => DiagnoseOptions::declared(r).with_rpm_range(lo, hi),
+        (None, Some([lo, hi])) => DiagnoseOptions::search(lo, hi),
+        (None, None) => {
+            anyhow::bail!("--rpm or --rpm-range is required (the file stores no speed)")
+        }
+    }
+    .with_false_alarm(search.false_alarm);
+    // a machine model is synthesised at a speed: the declared one, else the range's middle
+    let rpm = declared.unwrap_or_else(|| {
+        let [lo, hi] = search.rpm_range.unwrap_or([0.0, 0.0]);
+        0.5 * (lo + hi)
+    });
+    let unknown = plan.bearing.name == UNKNOWN_BEARING;
+    let run = |b: Option<&diagnosis::Baseline>| {
+        if unknown {
+            diagnosis::diagnose_unknown_bearing(&l.samples, l.fs_hz, b, &options)
+        } else {
+            diagnosis::diagnose_with_options(&l.samples, l.fs_hz, &plan.bearing, b, &options)
+        }
+    };
     let (d, note) = match baseline {
         Some(src) => {
             if let Some(u) = src.machine_units()
@@ -80,15 +152,9 @@ pub fn diagnose_loaded(
                 );
             }
             let b = src.at(l.fs_hz, rpm)?;
-            (
-                diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, Some(&b.0))?,
-                Some(b.1.clone()),
-            )
+            (run(Some(&b.0))?, Some(b.1.clone()))
         }
-        None => (
-            diagnose(&l.samples, l.fs_hz, rpm, &plan.bearing, None)?,
-            None,
-        ),
+        None => (run(None)?, None),
     };
     Ok(Outcome {
         diagnosis: d,
@@ -107,6 +173,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
     let plan = args.recording.plan()?;
+    let search = args.recording.search()?;
     let baseline = args.recording.baseline_source()?;
     let trained = args
         .classifier
@@ -142,7 +209,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             rpm,
             ..plan.clone()
         };
-        let mut o = diagnose_loaded(&l, &plan, baseline.as_ref())
+        let mut o = diagnose_loaded_with(&l, &plan, baseline.as_ref(), &search)
             .with_context(|| path.display().to_string())?;
         if let Some((t, p)) = &trained {
             apply_classifier(&mut o, t, p, &l, &plan, baseline.as_ref())

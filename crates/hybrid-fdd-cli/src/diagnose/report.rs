@@ -42,7 +42,21 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
     let d = &o.diagnosis;
     let op = &d.operating_point;
     let s = &d.statistics;
-    let mut m = format!("# Diagnosis of {title}\n\n**Verdict: {}**\n\n", d.verdict);
+    let mut m = format!("# Diagnosis of {title}\n\n**Verdict: {}**", d.verdict);
+    if !d.candidates.is_empty() {
+        m += &format!(
+            " (candidates: {}; their lines cannot be told apart)",
+            d.candidates
+                .iter()
+                .map(|h| h.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    m += &format!(
+        "\n\nA healthy machine shows evidence this strong for some fault with probability {:.1e} (the verdict names a fault at {} per recording or below, and only where its harmonics modulate the envelope like a defect's impacts).\n\n",
+        d.p_healthy, d.false_alarm
+    );
     if let Some(t) = &o.trained {
         m += &format!(
             "Trained classifier ({}, {} examples from {} labelled recordings, {}): **{}** (segments: {}) — learned from the user's labels, beside the training-free verdict above.\n\n",
@@ -54,37 +68,35 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             t.segments.join(", ")
         );
     }
-    let envelope = op.envelope_speed.map_or(String::new(), |es| {
-        let band = es
-            .envelope_band_hz
-            .map_or(String::new(), |[lo, hi]| format!(" in {lo:.0}–{hi:.0} Hz"));
-        format!(
-            "; the shaft comb of the residual's squared envelope{band} says {:.1} rpm (score {:.1}, contrast {:.1}, refined from its lines)",
-            es.rpm, es.comb_score, es.contrast
-        )
-    });
-    m += &match op.measured_speed {
-        Some(ms) => format!(
-            "- speed: declared {:.1} rpm; the recording's shaft-harmonic comb (orders 1–{}) says {:.1} rpm (score {:.1}, contrast {:.1}: {}){envelope}; analysed at {:.1} rpm\n",
-            op.rpm,
-            ms.orders,
-            ms.rpm,
-            ms.comb_score,
-            ms.contrast,
-            if ms.accepted {
-                "clear"
-            } else {
-                "not clear enough to use"
-            },
-            op.rpm_used
-        ),
-        None => format!(
-            "- speed: declared {:.1} rpm (the recording is too short to measure it from its shaft-harmonic comb)\n",
-            op.rpm
-        ),
-    };
+    if let Some(g) = &d.bearing_guess {
+        m += &format!(
+            "Bearing not given — **{}**. Comb found at {:.3} × fr ({:.2} Hz; p under healthy {:.1e} over {} independent orders {:.1}–{:.1} × fr, modulation depth {:.2}); {}. ± fr sidebands: p {:.1e}{}{}\n\n{}\n\n",
+            g.note,
+            g.fault_order,
+            g.fault_hz,
+            g.p_healthy,
+            g.independent_orders,
+            g.orders_searched[0],
+            g.orders_searched[1],
+            g.modulation_depth,
+            g.basis,
+            g.shaft_sidebands_p,
+            g.cage_sidebands.map_or(String::new(), |[nu, p]| format!(
+                "; best cage sidebands ± {nu:.3} × fr: p {p:.1e}"
+            )),
+            g.second_comb.map_or(String::new(), |[o, p]| format!(
+                "; second comb {o:.3} × fr (p {p:.1e})"
+            )),
+            g.interpretations
+                .iter()
+                .map(|i| format!("- {i}"))
+                .collect::<Vec<_>>()
+                .join("\n")
+        );
+    }
+    m += &speed_line(op);
     m += &format!(
-        "- reference: {} ({})\n- operating point: {:.1} rpm (fr = {:.3} Hz), fs = {} Hz, bearing {}\n\
+        "- reference: {} ({})\n- operating point: {:.1} rpm (fr = {:.3} Hz), fs = {} Hz, bearing {}{}\n\
          - fault frequencies (Hz): BPFO {:.2}, BPFI {:.2}, BSF (ball-defect rate, 2× spin) {:.2}, FTF {:.2}\n\
          - samples: {}; spectra are of the squared envelope, so line prominences are power ratios (dB) and do not depend on the unit\n\
          - residual: AR({}) prediction error; RMS {:.4e} {}; kurtosis {:.2} (signal {:.2})\n",
@@ -102,6 +114,14 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             &op.bearing
         } else {
             &op.bearing_spec
+        },
+        if op.rate_uncertainty > 0.0 {
+            format!(
+                " (a catalogue's typical geometry: fault-line windows widened by ± {:.0} %)",
+                100.0 * op.rate_uncertainty
+            )
+        } else {
+            String::new()
         },
         op.frequencies_hz.bpfo,
         op.frequencies_hz.bpfi,
@@ -122,60 +142,51 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         _ => format!("- kurtosis / 3 (Gaussian): ×{:.2}\n", s.kurtosis_ratio),
     };
     m += &format!(
-        "- band (Hz): {:.0}–{:.0}, {} (SK {:.2}, line threshold {:.1} dB); kurtogram band {:.0}–{:.0} (SK {:.2})\n\n",
+        "- band (Hz): {:.0}–{:.0}, {} (SK {:.2}); kurtogram band {:.0}–{:.0} (SK {:.2})\n\n",
         d.band.low_hz,
         d.band.high_hz,
         d.band.chosen_by,
         d.band.spectral_kurtosis,
-        d.band.line_threshold_db,
         d.kurtogram_band.low_hz,
         d.kurtogram_band.high_hz,
         d.kurtogram_band.spectral_kurtosis
     );
-    for r in &d.secondary {
-        m += &format!(
-            "- {} found in a band of its own (Hz): {:.0}–{:.0} (SK {:.2}, line threshold {:.1} dB, score {:.1} dB): {}\n",
-            r.hypothesis.name(),
-            r.band.low_hz,
-            r.band.high_hz,
-            r.band.spectral_kurtosis,
-            r.band.line_threshold_db,
-            r.evidence.score_db,
-            r.band.chosen_by
-        );
-    }
-    if !d.secondary.is_empty() {
-        m += "\n";
-    }
     m += &format!("Rule: {}.\n\n", d.thresholds.rule);
-    m += "| hypothesis | score (dB) | detected | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | in baseline (dB) | evidence (dB) | counts |\n|---|---:|---|---|---|---:|---:|---:|---:|---:|---|\n";
-    let own_band = d.secondary.iter().map(|r| (&r.evidence, " (own band)"));
-    for (e, tag) in d.evidence.iter().map(|e| (e, "")).chain(own_band) {
+    m += "| hypothesis | p under healthy | modulation depth | reported | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | in baseline (dB) | evidence (dB) |\n|---|---:|---:|---|---|---|---:|---:|---:|---:|---:|\n";
+    for e in &d.evidence {
+        let sig = e.significance.as_ref();
         for (i, l) in e.harmonics.iter().chain(&e.sidebands).enumerate() {
             let head = if i == 0 {
+                let why = match sig {
+                    Some(g) if g.explained_by.is_some() => format!(
+                        "no, its lines belong to {}",
+                        g.explained_by.map_or("", |h| h.name())
+                    ),
+                    _ if e.detected => "**yes**".to_string(),
+                    _ => "no".to_string(),
+                };
                 format!(
-                    "{}{tag} | {:.1} | {} | {:.0}–{:.0}",
+                    "{} | {} | {} | {why} | {:.0}–{:.0}",
                     e.hypothesis.name(),
-                    e.score_db,
-                    if e.detected { "**yes**" } else { "no" },
+                    sig.map_or("—".to_string(), |g| format!("{:.1e}", g.p_healthy)),
+                    sig.map_or("—".to_string(), |g| format!("{:.2}", g.modulation_depth)),
                     e.band_hz[0],
                     e.band_hz[1]
                 )
             } else {
-                " | | | ".to_string()
-            };
-            let counts = match (l.present, l.explained_by, l.consistent) {
-                (true, None, true) => "yes".to_string(),
-                (true, Some(h), _) => format!("no, explained by {}", h.name()),
-                (true, None, false) => "no, off the common fundamental".to_string(),
-                _ => "no".to_string(),
+                " | | | | ".to_string()
             };
             let base = l
                 .baseline_prominence_db
                 .map_or("—".to_string(), |b| format!("{b:.1}"));
+            let found = if l.shaft_order.is_some() {
+                "on a shaft order (masked)".to_string()
+            } else {
+                format!("{:.2}", l.found_hz)
+            };
             m += &format!(
-                "| {head} | {} | {:.2} | {:.2} | {:.1} | {base} | {:.1} | {counts} |\n",
-                l.label, l.expected_hz, l.found_hz, l.prominence_db, l.evidence_db
+                "| {head} | {} | {:.2} | {found} | {:.1} | {base} | {:.1} |\n",
+                l.label, l.expected_hz, l.prominence_db, l.evidence_db
             );
         }
     }
@@ -188,4 +199,31 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         .join(", ");
     m += "\n";
     m
+}
+
+/// The speed as the report states it: declared, searched, found, how.
+fn speed_line(op: &diagnosis::OperatingPoint) -> String {
+    let Some(f) = &op.speed else {
+        return format!("- speed: {:.1} rpm\n", op.rpm_used);
+    };
+    let declared = f
+        .declared_rpm
+        .map_or("none declared".to_string(), |d| format!("declared {d:.1} rpm"));
+    let offset = f
+        .offset_from_declared_percent
+        .map_or(String::new(), |o| format!(" ({o:+.1} % from the declared)"));
+    format!(
+        "- speed: {declared}; searched {:.0}–{:.0} rpm; used {:.1} rpm ± {:.1}{offset}, from {}: {}\n",
+        f.search_rpm[0],
+        f.search_rpm[1],
+        f.rpm_used,
+        f.uncertainty_rpm,
+        match f.source {
+            diagnosis::SpeedSource::SpectrumComb => "the recording's shaft comb",
+            diagnosis::SpeedSource::EnvelopeComb => "the shaft comb of the residual's envelope",
+            diagnosis::SpeedSource::Declared => "the declared speed (no comb found)",
+            diagnosis::SpeedSource::RangeCentre => "the middle of the range (no comb found)",
+        },
+        f.note
+    )
 }

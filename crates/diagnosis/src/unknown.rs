@@ -1,0 +1,525 @@
+//! Diagnosis of a bearing whose geometry nobody knows (`--bearing unknown`): the fault's order
+//! is found from the squared envelope spectrum's non-integer combs, its kind named from their
+//! relations, and the report says it guessed.
+//!
+//! 1. The speed, residual and bands are those of [`diagnose`](crate::diagnose), planned for fault
+//!    orders up to [`MAX_ORDER`].
+//! 2. **Combs**: for every fundamental order `o` from [`MIN_ORDER`] to [`MAX_ORDER`] on a grid of
+//!    half the slip window, except within [`view::COMB_TOLERANCE`]·2 of an integer (a comb at
+//!    integer orders is the shaft's), an outer-race-like template (harmonics 1..3 over
+//!    `o·fr·[`[`SLIP`]`]`) is read in every band by the line test of [`crate::detect`] (each line
+//!    against the band's clear windows off the template's lattice, Fisher's method). The search
+//!    over `B` bands and `N` independent orders is paid for by Bonferroni:
+//!    `p = min(1, B·N·min p_b)`. The comb found is the most significant one whose harmonics
+//!    modulate the envelope deeply enough ([`MIN_MODULATION_DEPTH`]), reported when
+//!    `p ≤ α`.
+//! 3. **Its kind**, from what else the spectrum holds around it (each a line test of two
+//!    sideband windows in the comb's band, significant at [`SIDEBAND_LEVEL`]):
+//!    - `± fr` sidebands: the defect turns with the shaft through the load zone — **inner race**;
+//!    - else `± ν·fr` sidebands for a cage order ν in `[0.30, 0.48]` (`FTF = ½(1 − r)` for
+//!      `r = d/D·cos α` up to 0.4): the defect turns with the cage — **ball** (ν searched,
+//!      Bonferroni over its independent steps);
+//!    - else a defect fixed in the load zone — **outer race**.
+//!
+//!    A second significant comb `o₂` with `o + o₂` within 2 % of an integer `n` (5–24) and
+//!    `max/min` in `[(1 + 0.1)/(1 − 0.1), (1 + 0.45)/(1 − 0.45)]` is the other race's
+//!    (`BPFO + BPFI = n`, `BPFI/BPFO = (1 + r)/(1 − r)`): both races are named, the higher order
+//!    inner. The report lists the geometries each reading of the order allows (`n` balls and
+//!    `r` for BPFO or BPFI; `r` for the ball-defect rate `(1 − r²)/r`).
+
+use serde::{Deserialize, Serialize};
+
+use residual_features::SpectralEngine;
+
+use crate::detect::linetest::{BandReading, LineTest};
+use crate::detect::template::{Sidebands, Template, Term, Window};
+use crate::detect::view::{self, BandView};
+use crate::detect::{MIN_MODULATION_DEPTH, Masks, Significance};
+use crate::driver::analyse;
+use crate::report::band_choice;
+use crate::{
+    Baseline, Diagnosis, DiagnoseOptions, HARMONICS, Hypothesis, HypothesisEvidence, Line,
+    OperatingPoint, Result, Scores, Thresholds, check_fs,
+};
+use bearing_model::FaultOrders;
+
+/// Lowest fault order searched (× fr).
+pub const MIN_ORDER: f64 = 1.5;
+/// Highest fault order searched (× fr): a bearing of up to about 20 rolling elements.
+pub const MAX_ORDER: f64 = 10.0;
+/// Slip window of a comb's fundamental, as ratios of the order searched.
+pub const SLIP: (f64, f64) = (0.977, 1.0063);
+/// A pair of sidebands names the fault's kind when its line test gives at most this.
+pub const SIDEBAND_LEVEL: f64 = 0.01;
+/// Cage orders searched for a ball fault's sidebands.
+pub const CAGE_ORDERS: (f64, f64) = (0.30, 0.48);
+
+/// What was guessed about a bearing nobody gave.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BearingGuess {
+    /// Order (× fr) of the comb found: its fundamental's line over the shaft rate.
+    pub fault_order: f64,
+    /// Its fundamental, Hz.
+    pub fault_hz: f64,
+    /// Probability under "healthy" of a comb this strong somewhere in the search (Bonferroni
+    /// over the bands and the independent orders).
+    pub p_healthy: f64,
+    /// Modulation depth of its harmonics.
+    pub modulation_depth: f64,
+    /// Orders searched (× fr).
+    pub orders_searched: [f64; 2],
+    /// Independent orders in the search.
+    pub independent_orders: usize,
+    /// The fault named (`None`: no comb significant).
+    pub named: Option<Hypothesis>,
+    /// Why that kind.
+    pub basis: String,
+    /// Line test of the `± fr` sidebands around the fundamental.
+    pub shaft_sidebands_p: f64,
+    /// The cage order whose `± ν·fr` sidebands read best, and their line test (Bonferroni over
+    /// the cage orders searched).
+    pub cage_sidebands: Option<[f64; 2]>,
+    /// A second comb with `o + o₂ ≈ n` (the other race), order and probability.
+    pub second_comb: Option<[f64; 2]>,
+    /// The geometries each reading of the order allows.
+    pub interpretations: Vec<String>,
+    /// "guessed": the report's plain statement.
+    pub note: String,
+}
+
+/// The comb search's reading of one order.
+struct CombReading {
+    order: f64,
+    band: usize,
+    reading: BandReading,
+    depth: f64,
+    p: f64,
+}
+
+/// Diagnose `x` (sampled at `fs_hz`) on a bearing whose geometry is unknown (see the module
+/// documentation).
+///
+/// # Errors
+/// As [`crate::diagnose_with_options`].
+pub fn diagnose_unknown_bearing(
+    x: &[f64],
+    fs_hz: f64,
+    baseline: Option<&Baseline>,
+    options: &DiagnoseOptions,
+) -> Result<Diagnosis> {
+    thread_local! {
+        static ENGINE: std::cell::RefCell<SpectralEngine> =
+            std::cell::RefCell::new(SpectralEngine::order_independent());
+    }
+    ENGINE.with_borrow_mut(|engine| unknown_in(engine, x, fs_hz, baseline, options))
+}
+
+fn unknown_in(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    baseline: Option<&Baseline>,
+    options: &DiagnoseOptions,
+) -> Result<Diagnosis> {
+    check_fs(fs_hz)?;
+    let options = options.check()?;
+    // bands wide enough for three harmonics of the highest order searched
+    let plan_orders = FaultOrders {
+        ftf: CAGE_ORDERS.1,
+        bpfo: MAX_ORDER,
+        bpfi: MAX_ORDER,
+        ball_spin: 0.5 * MAX_ORDER,
+        ball_defect: MAX_ORDER,
+    };
+    let a = analyse(engine, x, fs_hz, &plan_orders, baseline, &options)?;
+    let fr = a.fr;
+    let views: Vec<BandView> = a
+        .spectra
+        .iter()
+        .enumerate()
+        .map(|(i, sp)| {
+            let mut v = BandView::new(
+                sp,
+                a.base_spectra.get(i).and_then(Option::as_ref),
+                fr,
+                view::COMB_TOLERANCE.max(a.finding.relative_uncertainty),
+            );
+            v.mask_shaft_orders(fr);
+            v
+        })
+        .collect();
+    let step = 0.5 * (SLIP.1 - SLIP.0);
+    let mut orders = Vec::new();
+    let mut o = MIN_ORDER;
+    while o <= MAX_ORDER {
+        if (o - o.round()).abs() > 2.0 * view::COMB_TOLERANCE * o {
+            orders.push(o);
+        }
+        o *= 1.0 + step;
+    }
+    let independent = ((MAX_ORDER / MIN_ORDER).ln() / (1.0 + 2.0 * step).ln()).ceil() as usize;
+    let looks = (views.len() * independent) as f64;
+    let readings: Vec<CombReading> = orders
+        .iter()
+        .map(|&o| read_comb(&views, comb_template(o, fr), looks))
+        .collect();
+    let alpha = options.false_alarm;
+    let strong = |c: &CombReading| c.p <= alpha && c.depth >= MIN_MODULATION_DEPTH;
+    let best = readings
+        .iter()
+        .filter(|c| strong(c))
+        .min_by(|a, b| a.p.total_cmp(&b.p).then(b.depth.total_cmp(&a.depth)))
+        .or_else(|| readings.iter().min_by(|a, b| a.p.total_cmp(&b.p)));
+    let guess = best.map(|c| {
+        name_comb(
+            c,
+            &readings,
+            &views,
+            fr,
+            strong(c),
+            [MIN_ORDER, MAX_ORDER],
+            independent,
+        )
+    });
+    Ok(report(a, fs_hz, best, guess, &views, alpha))
+}
+
+/// An outer-race-like template of order `o` (no sidebands).
+fn comb_template(o: f64, fr: f64) -> Template {
+    Template {
+        hypothesis: Hypothesis::Outer,
+        fault_hz: o * fr,
+        ratio: SLIP,
+        harmonics: HARMONICS,
+        sidebands: Sidebands::None,
+        fr,
+        ftf_hz: 0.0,
+        speed_slack: 0.0,
+    }
+}
+
+/// The comb at `t` read in every band; the best band's reading, `p` after `looks` looks.
+fn read_comb(views: &[BandView], t: Template, looks: f64) -> CombReading {
+    let lattice = t.lattice();
+    let mut best: Option<CombReading> = None;
+    for (b, v) in views.iter().enumerate() {
+        let r = LineTest::new(v, &lattice, t.fr).read(&t);
+        let depth = depth_of(v, &r);
+        let better = best.as_ref().is_none_or(|c| {
+            (depth >= MIN_MODULATION_DEPTH, -r.p) > (c.depth >= MIN_MODULATION_DEPTH, -c.reading.p)
+        });
+        if better {
+            best = Some(CombReading {
+                order: t.fault_hz / t.fr,
+                band: b,
+                p: (r.p * looks).min(1.0),
+                depth,
+                reading: r,
+            });
+        }
+    }
+    best.unwrap_or(CombReading {
+        order: t.fault_hz / t.fr,
+        band: 0,
+        reading: BandReading {
+            terms: Vec::new(),
+            fisher: 0.0,
+            p: 1.0,
+            statistic_db: 0.0,
+        },
+        depth: 0.0,
+        p: 1.0,
+    })
+}
+
+fn depth_of(v: &BandView, r: &BandReading) -> f64 {
+    r.terms
+        .iter()
+        .filter(|t| matches!(t.window.term, Term::Harmonic(_)))
+        .map(|t| v.depth(t.bin as f64 * v.df).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Two sideband windows `f₁ ± s` (s in Hz, ± its slip) read in `v`.
+fn sideband_test(v: &BandView, f1: f64, s: f64, lattice: &[(f64, f64)], fr: f64) -> f64 {
+    let w = |sign: f64| {
+        let c = f1 + sign * s;
+        Window {
+            term: Term::Sideband(if sign < 0.0 { -1 } else { 1 }),
+            expected_hz: c,
+            lo_hz: c - 0.01 * s.abs() - 0.5 * v.df,
+            hi_hz: c + 0.01 * s.abs() + 0.5 * v.df,
+        }
+    };
+    LineTest::new(v, lattice, fr)
+        .read_windows(&[w(-1.0), w(1.0)])
+        .p
+}
+
+/// Name the comb `c` from its sidebands and a partner comb.
+fn name_comb(
+    c: &CombReading,
+    all: &[CombReading],
+    views: &[BandView],
+    fr: f64,
+    significant: bool,
+    searched: [f64; 2],
+    independent: usize,
+) -> BearingGuess {
+    let v = &views[c.band];
+    let f1 = c
+        .reading
+        .terms
+        .iter()
+        .find(|t| t.window.term == Term::Harmonic(1))
+        .map_or(c.order * fr, |t| t.bin as f64 * v.df);
+    let order = f1 / fr;
+    let lattice = comb_template(c.order, fr).lattice();
+    let shaft_p = sideband_test(v, f1, fr, &lattice, fr);
+    // cage sidebands: ν over its range in steps of 1 % of ν, Bonferroni over the independent ones
+    let mut cage: Option<[f64; 2]> = None;
+    let mut nu = CAGE_ORDERS.0;
+    let mut steps = 0usize;
+    while nu <= CAGE_ORDERS.1 {
+        let p = sideband_test(v, f1, nu * fr, &lattice, fr);
+        if cage.is_none_or(|[_, q]| p < q) {
+            cage = Some([nu, p]);
+        }
+        nu *= 1.01;
+        steps += 1;
+    }
+    let cage = cage.map(|[nu, p]| [nu, (p * (steps as f64 / 2.0).max(1.0)).min(1.0)]);
+    // a partner comb: the other race
+    let partner = all
+        .iter()
+        .filter(|d| d.p <= SIDEBAND_LEVEL && d.depth >= MIN_MODULATION_DEPTH)
+        .filter(|d| {
+            let n = (d.order + c.order).round();
+            let ratio = d.order.max(c.order) / d.order.min(c.order);
+            (5.0..=24.0).contains(&n)
+                && ((d.order + c.order) / n - 1.0).abs() <= 0.02
+                && (1.1 / 0.9..=1.45 / 0.55).contains(&ratio)
+        })
+        .min_by(|a, b| a.p.total_cmp(&b.p))
+        .map(|d| [d.order, d.p]);
+    let (named, basis) = if !significant {
+        (
+            None,
+            "no comb is significant at the stated level with a defect's modulation depth".into(),
+        )
+    } else if let Some([o2, _]) = partner {
+        let inner = if o2 > order { "the higher" } else { "this" };
+        (
+            Some(Hypothesis::Inner),
+            format!(
+                "a second comb at {o2:.3} × fr with {order:.3} + {o2:.3} ≈ {:.0} rolling elements: both races; {inner} one is the inner race's (named inner, the outer race's comb listed)",
+                (order + o2).round()
+            ),
+        )
+    } else if shaft_p <= SIDEBAND_LEVEL {
+        (
+            Some(Hypothesis::Inner),
+            format!("± fr sidebands around it (p {shaft_p:.1e}): the defect turns with the shaft"),
+        )
+    } else if let Some([nu, p]) = cage.filter(|[_, p]| *p <= SIDEBAND_LEVEL) {
+        (
+            Some(Hypothesis::Ball),
+            format!(
+                "± {nu:.3} × fr sidebands around it (p {p:.1e}), a cage rate: the defect turns with the cage"
+            ),
+        )
+    } else {
+        (
+            Some(Hypothesis::Outer),
+            "no shaft or cage sidebands around it: a defect fixed in the load zone".into(),
+        )
+    };
+    BearingGuess {
+        fault_order: order,
+        fault_hz: f1,
+        p_healthy: c.p,
+        modulation_depth: c.depth,
+        orders_searched: searched,
+        independent_orders: independent,
+        named,
+        basis,
+        shaft_sidebands_p: shaft_p,
+        cage_sidebands: cage,
+        second_comb: partner,
+        interpretations: interpretations(order),
+        note: "guessed: the bearing was not given; the fault's order was found from the envelope spectrum's non-integer combs and its kind from their sidebands and relations".into(),
+    }
+}
+
+/// The geometries an order allows: as BPFO or BPFI, each ball count `n` with `r = d/D·cos α` in
+/// `[0.1, 0.45]`; as the ball-defect rate `(1 − r²)/r`, its `r`.
+fn interpretations(o: f64) -> Vec<String> {
+    let mut out = Vec::new();
+    let fit = |r: f64| (0.1..=0.45).contains(&r);
+    let as_bpfo: Vec<String> = (5..=24)
+        .filter_map(|n| {
+            let r = 1.0 - 2.0 * o / f64::from(n);
+            fit(r).then(|| format!("n={n}, r={r:.3}"))
+        })
+        .collect();
+    if !as_bpfo.is_empty() {
+        out.push(format!("as BPFO: {}", as_bpfo.join("; ")));
+    }
+    let as_bpfi: Vec<String> = (5..=24)
+        .filter_map(|n| {
+            let r = 2.0 * o / f64::from(n) - 1.0;
+            fit(r).then(|| format!("n={n}, r={r:.3}"))
+        })
+        .collect();
+    if !as_bpfi.is_empty() {
+        out.push(format!("as BPFI: {}", as_bpfi.join("; ")));
+    }
+    // (1 − r²)/r = o → r² + o r − 1 = 0
+    let r = 0.5 * (-o + (o * o + 4.0).sqrt());
+    if fit(r) {
+        out.push(format!("as the ball-defect rate: r={r:.3}"));
+    }
+    out
+}
+
+/// The diagnosis of an unknown bearing: the guessed fault's lines as its evidence.
+fn report(
+    a: crate::driver::Analysis,
+    fs_hz: f64,
+    best: Option<&CombReading>,
+    guess: Option<BearingGuess>,
+    views: &[BandView],
+    alpha: f64,
+) -> Diagnosis {
+    let fr = a.fr;
+    let named = guess.as_ref().and_then(|g| g.named);
+    let bi = best.map_or(0, |c| c.band);
+    let sp = &a.spectra[bi];
+    let evidence: Vec<HypothesisEvidence> = Hypothesis::ALL
+        .iter()
+        .map(|&h| {
+            let own = (Some(h) == named).then_some(best).flatten();
+            let harmonics: Vec<Line> = own.map_or(Vec::new(), |c| {
+                c.reading
+                    .terms
+                    .iter()
+                    .map(|t| {
+                        let v = &views[c.band];
+                        let k = t.bin;
+                        Line {
+                            label: format!(
+                                "comb×{}",
+                                match t.window.term {
+                                    Term::Harmonic(k) => k,
+                                    Term::Sideband(_) => 0,
+                                }
+                            ),
+                            expected_hz: t.window.expected_hz,
+                            search_hz: [t.window.lo_hz, t.window.hi_hz],
+                            found_hz: k as f64 * v.df,
+                            prominence_db: v.raw.get(k).copied().unwrap_or(0.0),
+                            baseline_prominence_db: None,
+                            evidence_db: t.value,
+                            present: t.value >= crate::LINE_THRESHOLD_DB,
+                            explained_by: None,
+                            consistent: true,
+                            shaft_order: None,
+                            passed_over: None,
+                        }
+                    })
+                    .collect()
+            });
+            let sig = own.map(|c| Significance {
+                band_index: c.band,
+                band_hz: a.spectra[c.band].band_hz,
+                statistic_db: c.reading.statistic_db,
+                fisher: c.reading.fisher,
+                lines_read: c.reading.terms.len(),
+                fundamental_hz: guess.as_ref().map_or(0.0, |g| g.fault_hz),
+                speed_slack: 0.0,
+                speed_ratio: 1.0,
+                p_band: c.reading.p,
+                modulation_depth: c.depth,
+                p_healthy: c.p,
+                null_size: 0,
+                significant: true,
+                explained_by: None,
+                p_given_stronger: None,
+                masks: Masks::default(),
+            });
+            HypothesisEvidence {
+                hypothesis: h,
+                fault_hz: guess.as_ref().filter(|_| own.is_some()).map_or(0.0, |g| g.fault_hz),
+                band_hz: sp.band_hz,
+                band_spectral_kurtosis: sp.spectral_kurtosis,
+                harmonics_present: harmonics.iter().filter(|l| l.present).count(),
+                sidebands_present: 0,
+                harmonics,
+                sidebands: Vec::new(),
+                score_db: own.map_or(0.0, |c| c.reading.statistic_db),
+                detected: own.is_some(),
+                significance: sig,
+            }
+        })
+        .collect();
+    let order = guess.as_ref().filter(|g| g.named.is_some()).map_or(0.0, |g| g.fault_order);
+    let orders = FaultOrders {
+        ftf: guess
+            .as_ref()
+            .and_then(|g| g.cage_sidebands)
+            .filter(|_| named == Some(Hypothesis::Ball))
+            .map_or(0.0, |[nu, _]| nu),
+        bpfo: if named == Some(Hypothesis::Outer) { order } else { 0.0 },
+        bpfi: if named == Some(Hypothesis::Inner) { order } else { 0.0 },
+        ball_spin: if named == Some(Hypothesis::Ball) { 0.5 * order } else { 0.0 },
+        ball_defect: if named == Some(Hypothesis::Ball) { order } else { 0.0 },
+    };
+    let score = |h: Hypothesis| evidence.iter().find(|e| e.hypothesis == h).map_or(0.0, |e| e.score_db);
+    let mut finding = a.finding;
+    finding.read_at = Some(crate::detect::SpeedStage::Measured);
+    let rpm_used = finding.rpm_used;
+    let sk_best = (0..a.spectra.len())
+        .max_by(|&x, &y| a.spectra[x].spectral_kurtosis.total_cmp(&a.spectra[y].spectral_kurtosis))
+        .unwrap_or(0);
+    Diagnosis {
+        verdict: named.map_or("normal".to_string(), |h| h.name().to_string()),
+        detected: named.into_iter().collect(),
+        scores: Scores {
+            inner: score(Hypothesis::Inner),
+            outer: score(Hypothesis::Outer),
+            ball: score(Hypothesis::Ball),
+        },
+        reference: a.reference,
+        operating_point: OperatingPoint {
+            fs_hz,
+            rpm: finding.declared_rpm.unwrap_or(rpm_used),
+            shaft_hz: fr,
+            rpm_used,
+            measured_speed: a.spectrum_comb,
+            envelope_speed: a.envelope_comb,
+            bearing: "unknown".into(),
+            bearing_spec: "unknown".into(),
+            orders,
+            frequencies_hz: orders.at(fr),
+            speed: Some(finding),
+            rate_uncertainty: 0.0,
+        },
+        whitening: a.whitener,
+        band: band_choice(
+            sp,
+            "the band where the comb found reads strongest against the band's clear windows".into(),
+        ),
+        kurtogram_band: band_choice(&a.spectra[sk_best], "maximum spectral kurtosis".into()),
+        evidence,
+        shaft_harmonics: Vec::new(),
+        statistics: a.statistics,
+        thresholds: Thresholds::with_false_alarm(alpha),
+        envelope: sp.clone(),
+        secondary: Vec::new(),
+        candidates: Vec::new(),
+        p_healthy: guess.as_ref().map_or(1.0, |g| g.p_healthy),
+        false_alarm: alpha,
+        bearing_guess: guess,
+    }
+}
