@@ -94,11 +94,11 @@ pub use driver::{diagnose, diagnose_with_options};
 pub use error::{DiagnosisError, Result};
 pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line, PassedOver};
 pub use options::{DiagnoseOptions, SpeedFinding, SpeedSource};
-pub use unknown::{BearingGuess, diagnose_unknown_bearing};
 pub use report::{
     BandChoice, Diagnosis, OperatingPoint, Scores, SecondaryRead, Statistics, Thresholds,
 };
 pub use trained::{EVIDENCE_FEATURES, Labelled, TrainedDiagnoser};
+pub use unknown::{BearingGuess, diagnose_unknown_bearing};
 pub use whiten::{ArWhitener, OrderScore};
 
 /// Slowest accepted shaft speed, rpm.

@@ -70,10 +70,16 @@ impl Diagnosis {
 }
 
 /// Consecutive pieces of `seconds` each (the last partial one dropped), every piece at least
-/// [`MIN_TURNS`] shaft turns long; the whole recording when it holds less than two pieces.
+/// [`MIN_TURNS`] shaft turns long at the slowest speed a diagnosis searches around `rpm` (and
+/// the longest whitening filter's start-up); the whole recording when it holds less than two
+/// pieces.
 pub fn segments(x: &[f64], fs_hz: f64, rpm: f64, seconds: f64) -> Vec<&[f64]> {
-    let turns = seconds * rpm / 60.0;
+    let slowest = rpm * (1.0 - crate::options::DEFAULT_SPEED_SEARCH);
     let len = (seconds * fs_hz).round() as usize;
+    let turns = len.saturating_sub(crate::whiten::ORDERS[crate::whiten::ORDERS.len() - 1]) as f64
+        / fs_hz
+        * slowest
+        / 60.0;
     if !(turns >= MIN_TURNS && len > 0) || x.len() < 2 * len {
         return vec![x];
     }

@@ -38,7 +38,7 @@ use crate::detect::{MIN_MODULATION_DEPTH, Masks, Significance};
 use crate::driver::analyse;
 use crate::report::band_choice;
 use crate::{
-    Baseline, Diagnosis, DiagnoseOptions, HARMONICS, Hypothesis, HypothesisEvidence, Line,
+    Baseline, DiagnoseOptions, Diagnosis, HARMONICS, Hypothesis, HypothesisEvidence, Line,
     OperatingPoint, Result, Scores, Thresholds, check_fs,
 };
 use bearing_model::FaultOrders;
@@ -143,6 +143,7 @@ fn unknown_in(
                 a.base_spectra.get(i).and_then(Option::as_ref),
                 fr,
                 view::COMB_TOLERANCE.max(a.finding.relative_uncertainty),
+                &[],
             );
             v.mask_shaft_orders(fr);
             v
@@ -200,7 +201,7 @@ fn comb_template(o: f64, fr: f64) -> Template {
 
 /// The comb at `t` read in every band; the best band's reading, `p` after `looks` looks.
 fn read_comb(views: &[BandView], t: Template, looks: f64) -> CombReading {
-    let lattice = t.lattice();
+    let lattice = t.lattice(views.iter().map(|v| v.top_hz).fold(0.0, f64::max));
     let mut best: Option<CombReading> = None;
     for (b, v) in views.iter().enumerate() {
         let r = LineTest::new(v, &lattice, t.fr).read(&t);
@@ -275,7 +276,7 @@ fn name_comb(
         .find(|t| t.window.term == Term::Harmonic(1))
         .map_or(c.order * fr, |t| t.bin as f64 * v.df);
     let order = f1 / fr;
-    let lattice = comb_template(c.order, fr).lattice();
+    let lattice = comb_template(c.order, fr).lattice(v.top_hz);
     let shaft_p = sideband_test(v, f1, fr, &lattice, fr);
     // cage sidebands: ν over its range in steps of 1 % of ν, Bonferroni over the independent ones
     let mut cage: Option<[f64; 2]> = None;
@@ -450,7 +451,10 @@ fn report(
             });
             HypothesisEvidence {
                 hypothesis: h,
-                fault_hz: guess.as_ref().filter(|_| own.is_some()).map_or(0.0, |g| g.fault_hz),
+                fault_hz: guess
+                    .as_ref()
+                    .filter(|_| own.is_some())
+                    .map_or(0.0, |g| g.fault_hz),
                 band_hz: sp.band_hz,
                 band_spectral_kurtosis: sp.spectral_kurtosis,
                 harmonics_present: harmonics.iter().filter(|l| l.present).count(),
@@ -463,24 +467,52 @@ fn report(
             }
         })
         .collect();
-    let order = guess.as_ref().filter(|g| g.named.is_some()).map_or(0.0, |g| g.fault_order);
+    let order = guess
+        .as_ref()
+        .filter(|g| g.named.is_some())
+        .map_or(0.0, |g| g.fault_order);
     let orders = FaultOrders {
         ftf: guess
             .as_ref()
             .and_then(|g| g.cage_sidebands)
             .filter(|_| named == Some(Hypothesis::Ball))
             .map_or(0.0, |[nu, _]| nu),
-        bpfo: if named == Some(Hypothesis::Outer) { order } else { 0.0 },
-        bpfi: if named == Some(Hypothesis::Inner) { order } else { 0.0 },
-        ball_spin: if named == Some(Hypothesis::Ball) { 0.5 * order } else { 0.0 },
-        ball_defect: if named == Some(Hypothesis::Ball) { order } else { 0.0 },
+        bpfo: if named == Some(Hypothesis::Outer) {
+            order
+        } else {
+            0.0
+        },
+        bpfi: if named == Some(Hypothesis::Inner) {
+            order
+        } else {
+            0.0
+        },
+        ball_spin: if named == Some(Hypothesis::Ball) {
+            0.5 * order
+        } else {
+            0.0
+        },
+        ball_defect: if named == Some(Hypothesis::Ball) {
+            order
+        } else {
+            0.0
+        },
     };
-    let score = |h: Hypothesis| evidence.iter().find(|e| e.hypothesis == h).map_or(0.0, |e| e.score_db);
+    let score = |h: Hypothesis| {
+        evidence
+            .iter()
+            .find(|e| e.hypothesis == h)
+            .map_or(0.0, |e| e.score_db)
+    };
     let mut finding = a.finding;
     finding.read_at = Some(crate::detect::SpeedStage::Measured);
     let rpm_used = finding.rpm_used;
     let sk_best = (0..a.spectra.len())
-        .max_by(|&x, &y| a.spectra[x].spectral_kurtosis.total_cmp(&a.spectra[y].spectral_kurtosis))
+        .max_by(|&x, &y| {
+            a.spectra[x]
+                .spectral_kurtosis
+                .total_cmp(&a.spectra[y].spectral_kurtosis)
+        })
         .unwrap_or(0);
     Diagnosis {
         verdict: named.map_or("normal".to_string(), |h| h.name().to_string()),

@@ -263,7 +263,7 @@ impl<'a> LineTest<'a> {
 /// Read template `t` in `v` (its reference off `t`'s own lattice).
 #[cfg(test)]
 pub(crate) fn read_band(v: &BandView, t: &Template) -> BandReading {
-    LineTest::new(v, &t.lattice(), t.fr).read(t)
+    LineTest::new(v, &t.lattice(v.top_hz), t.fr).read(t)
 }
 
 /// The maxima of `d` over every window of `width` bins lying wholly in `clear` (sorted

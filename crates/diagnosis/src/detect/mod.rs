@@ -24,10 +24,12 @@
 //! with the line families of those already confirmed masked (a ball fault's cage harmonics hold
 //! BPFO; an outer-race fault's `k·BPFO ± j·fr` can fall on BSF), and kept when it stays
 //! significant (a second fault). A hypothesis dropped that way is tested the other way round:
-//! when the stronger one also loses its significance with the weaker one's family masked, and
-//! its lines' modulation depth is less than [`UNCERTAIN_DEPTH_RATIO`] times the weaker's, the
-//! two explain the same lines and the verdict is `uncertain`, naming both. "Stronger" is the
-//! deeper modulation: the probabilities of strong faults all reach their floors.
+//! when the stronger one also loses its significance with the weaker one's family masked, the
+//! two explain the same lines: they are told apart by their probabilities
+//! ([`UNCERTAIN_DECADES`]) and their harmonics' depths ([`UNCERTAIN_DEPTH_RATIO`]) when one of
+//! these decides and the other does not say the opposite; otherwise the verdict is
+//! `uncertain`, naming both. Hypotheses are taken in order of depth (the probabilities of
+//! strong faults all reach their floors).
 
 pub mod linetest;
 pub mod template;
@@ -58,9 +60,11 @@ pub const DEFAULT_FALSE_ALARM: f64 = 0.01;
 /// whose impacts carry roughly a sixth of the band's power or more. Chosen on the healthy
 /// recordings and this reasoning, before any faulty recording was read with it.
 pub const MIN_MODULATION_DEPTH: f64 = 0.5;
-/// Two hypotheses that explain each other's lines are told apart only when one's lines carry at
-/// least this many times the other's modulation depth; otherwise the verdict is `uncertain`.
+/// Two hypotheses that explain each other's lines are told apart by their harmonics' modulation
+/// depth when one's is at least this many times the other's.
 pub const UNCERTAIN_DEPTH_RATIO: f64 = 1.5;
+/// … or by their probabilities under healthy when these differ by at least this many decades.
+pub const UNCERTAIN_DECADES: f64 = 2.0;
 
 /// The detector's reading of one hypothesis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -146,6 +150,25 @@ pub(crate) struct Detection {
     pub stage: SpeedStage,
 }
 
+/// Two hypotheses that explain each other's lines: `Some(true)` when `a` is the fault,
+/// `Some(false)` when `b` is, `None` when they cannot be told apart. Each criterion — the
+/// probability under healthy (decisive at [`UNCERTAIN_DECADES`] decades) and the harmonics'
+/// modulation depth (decisive at [`UNCERTAIN_DEPTH_RATIO`]) — names a winner when decisive;
+/// one decisive criterion and the other not against it decide, anything else is `None`.
+fn tell_apart(a: &Significance, b: &Significance) -> Option<bool> {
+    let decades = b.p_healthy.max(1e-300).log10() - a.p_healthy.max(1e-300).log10();
+    let by_p = (decades.abs() >= UNCERTAIN_DECADES).then_some(decades > 0.0);
+    let ratio =
+        a.modulation_depth.max(f64::MIN_POSITIVE) / b.modulation_depth.max(f64::MIN_POSITIVE);
+    let by_depth = (ratio >= UNCERTAIN_DEPTH_RATIO || 1.0 / ratio >= UNCERTAIN_DEPTH_RATIO)
+        .then_some(ratio > 1.0);
+    match (by_p, by_depth) {
+        (Some(x), None) | (None, Some(x)) => Some(x),
+        (Some(x), Some(y)) if x == y => Some(x),
+        _ => None,
+    }
+}
+
 /// One hypothesis read in every band (at every speed ratio searched).
 #[derive(Debug, Clone)]
 struct Scan {
@@ -193,7 +216,11 @@ fn scan(
         let tr = t.at_speed(rho);
         // the references are read off every hypothesis's lattice: a fault's own lines, and
         // those of a fault of another kind, are not what a healthy band holds
-        let lattice: Vec<(f64, f64)> = all.iter().flat_map(|o| o.at_speed(rho).lattice()).collect();
+        let top = views.iter().map(|v| v.top_hz).fold(0.0, f64::max);
+        let lattice: Vec<(f64, f64)> = all
+            .iter()
+            .flat_map(|o| o.at_speed(rho).lattice(top))
+            .collect();
         for (b, v) in views.iter().enumerate() {
             let r = LineTest::new(v, &lattice, tr.fr).read(&tr);
             let cand = Scan {
@@ -299,6 +326,17 @@ pub(crate) fn detect(
     alpha: f64,
 ) -> Detection {
     let comb_tolerance = view::COMB_TOLERANCE.max(if unconfirmed { 0.0 } else { slack.speed });
+    // a comb of shaft orders or mains multiples is recognised by lines outside the faults'
+    // own windows: a 6203's ball-defect rate at 900 rpm (59.8 Hz) is not a mains comb
+    let kinematic: Vec<(f64, f64)> = Hypothesis::ALL
+        .iter()
+        .flat_map(|&h| {
+            Template::new(h, o, fr, HARMONICS)
+                .widened(slack.speed + slack.rate)
+                .harmonic_windows()
+                .collect::<Vec<_>>()
+        })
+        .collect();
     let mut views: Vec<BandView> = spectra
         .iter()
         .enumerate()
@@ -308,6 +346,7 @@ pub(crate) fn detect(
                 baseline.get(i).and_then(Option::as_ref),
                 fr,
                 comb_tolerance,
+                &kinematic,
             )
         })
         .collect();
@@ -436,16 +475,27 @@ fn detect_at(
         }
         let first = confirmed[0];
         per_hypothesis[i].explained_by = Some(templates[first].hypothesis);
-        // the other way round, for the strongest only
+        // the other way round, for the strongest only: when each explains the other's lines,
+        // the two are told apart by their lines' probability and by their harmonics' depth —
+        // one decisive and the other not against it names that one; otherwise `uncertain`
         if confirmed.len() == 1 && uncertain.is_empty() {
             let back = rescan(
                 &templates[first],
                 &masked_views(&views, &[(templates[i], per_hypothesis[i].fundamental_hz)]),
             );
-            let ratio = per_hypothesis[first].modulation_depth
-                / per_hypothesis[i].modulation_depth.max(f64::MIN_POSITIVE);
-            if back > level && ratio < UNCERTAIN_DEPTH_RATIO {
-                uncertain = vec![templates[first].hypothesis, templates[i].hypothesis];
+            if back > level {
+                match tell_apart(&per_hypothesis[first], &per_hypothesis[i]) {
+                    Some(true) => {}
+                    Some(false) => {
+                        per_hypothesis[i].explained_by = None;
+                        per_hypothesis[first].explained_by = Some(templates[i].hypothesis);
+                        per_hypothesis[first].p_given_stronger = Some(back);
+                        confirmed[0] = i;
+                    }
+                    None => {
+                        uncertain = vec![templates[first].hypothesis, templates[i].hypothesis];
+                    }
+                }
             }
         }
     }
@@ -514,7 +564,7 @@ mod calibration {
                 .collect();
             let views: Vec<BandView> = spectra
                 .iter()
-                .map(|s| BandView::new(s, None, fr, view::COMB_TOLERANCE))
+                .map(|s| BandView::new(s, None, fr, view::COMB_TOLERANCE, &[]))
                 .collect();
             for &h in &Hypothesis::ALL {
                 let t = Template::new(h, &o, fr, HARMONICS);

@@ -113,6 +113,15 @@ impl Template {
         }
     }
 
+    /// The harmonics' windows `k·F·[lo, hi]`, k = 1..=K + 1, Hz: where this fault's own lines
+    /// lie (a comb of shaft orders or mains multiples is recognised outside them).
+    pub(crate) fn harmonic_windows(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        (1..=self.harmonics + 1).map(|k| {
+            let e = k as f64 * self.fault_hz;
+            (e * self.ratio.0, e * self.ratio.1)
+        })
+    }
+
     /// The windows of the template's lines, each widened by `pad_hz` on both sides: harmonic k
     /// over `k·F·[lo, hi]`, the sidebands over `F·[lo, hi] ± spacing` (a cage sideband's
     /// spacing slipping with the ball line).
@@ -155,16 +164,21 @@ impl Template {
     }
 
     /// The lattice of lines this fault puts in the envelope spectrum, as windows `[low, high]`
-    /// Hz: harmonics `k·F` (k = 1..K + 1) over their slip windows, shifted by `j·fr`
+    /// Hz: harmonics `k·F` (k = 1..=K + 1, below `top_hz`) over their slip windows, shifted by `j·fr`
     /// (|j| ≤ [`LATTICE_SHAFT_ORDERS`]: the load zone modulates an inner-race or ball defect at
     /// the shaft or cage rate, and a shaft's unbalance or runout modulates any fault's impacts
     /// at fr) and for a ball by `j·FTF` (|j| ≤ 2). The reference of a line of this template is
     /// read away from all of them: with a fault present, its own lattice would fill it.
-    pub(crate) fn lattice(&self) -> Vec<(f64, f64)> {
+    pub(crate) fn lattice(&self, top_hz: f64) -> Vec<(f64, f64)> {
         let (lo, hi) = self.ratio;
         let shaft = LATTICE_SHAFT_ORDERS;
         let mut out = Vec::new();
-        for k in 1..=self.harmonics + 1 {
+        // harmonics 1..=K + 1 only: the higher ones, with their shifts, would cover a band's
+        // whole envelope spectrum and leave no reference (a fault's harmonics beyond them that
+        // stand in the reference make its lines read less extreme: conservative)
+        let top_k = (self.harmonics + 1)
+            .min(((top_hz / (self.fault_hz * lo).max(f64::MIN_POSITIVE)) as usize).max(1));
+        for k in 1..=top_k {
             let e = k as f64 * self.fault_hz;
             let (a, b) = (e * lo, e * hi);
             for j in -shaft..=shaft {

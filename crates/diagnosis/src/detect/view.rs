@@ -69,6 +69,7 @@ impl BandView {
         baseline: Option<&EnvelopeSpectrum>,
         fr: f64,
         comb_tolerance: f64,
+        kinematic: &[(f64, f64)],
     ) -> Self {
         let df = sp.resolution_hz;
         let width = sp.band_hz[1] - sp.band_hz[0];
@@ -117,7 +118,8 @@ impl BandView {
         };
         // the comb checks read the evidence before any mask
         let present = |f: f64, d: &[f64]| {
-            view_max(d, df, f, (comb_tolerance * f / df).max(1.0)) >= LINE_THRESHOLD_DB
+            !kinematic.iter().any(|&(a, b)| (a..=b).contains(&f))
+                && view_max(d, df, f, (comb_tolerance * f / df).max(1.0)) >= LINE_THRESHOLD_DB
         };
         let count = |f0: f64, offset: f64, limit: usize, d: &[f64]| {
             (0..limit)
@@ -352,7 +354,13 @@ mod tests {
             (100.0, 30.0),
             (200.0, 30.0),
         ];
-        let v = BandView::new(&spectrum(&lines, df, n, 1200.0), None, fr, COMB_TOLERANCE);
+        let v = BandView::new(
+            &spectrum(&lines, df, n, 1200.0),
+            None,
+            fr,
+            COMB_TOLERANCE,
+            &[],
+        );
         assert!(v.masks.shaft_orders);
         assert!(!v.masks.half_orders);
         assert_eq!(v.masks.mains_hz, Some(50.0));
@@ -364,7 +372,7 @@ mod tests {
         assert!(!v.is_masked(4.95 * fr));
         // the same spectrum as its own baseline leaves nothing
         let sp = spectrum(&lines, df, n, 1200.0);
-        let w = BandView::new(&sp, Some(&sp), fr, COMB_TOLERANCE);
+        let w = BandView::new(&sp, Some(&sp), fr, COMB_TOLERANCE, &[]);
         assert!(w.d[k] < 1e-9);
     }
 }

@@ -206,9 +206,9 @@ fn speed_line(op: &diagnosis::OperatingPoint) -> String {
     let Some(f) = &op.speed else {
         return format!("- speed: {:.1} rpm\n", op.rpm_used);
     };
-    let declared = f
-        .declared_rpm
-        .map_or("none declared".to_string(), |d| format!("declared {d:.1} rpm"));
+    let declared = f.declared_rpm.map_or("none declared".to_string(), |d| {
+        format!("declared {d:.1} rpm")
+    });
     let offset = f
         .offset_from_declared_percent
         .map_or(String::new(), |o| format!(" ({o:+.1} % from the declared)"));
