@@ -49,9 +49,9 @@ enum Task {
     Calibrate(hybrid_fdd_cli::close_loop::CalibrateArgs),
     /// Calibrate the simulator to the measured CWRU rig; compare simulated and measured records.
     CalibrateRig(calibration::Args),
-    /// Diagnose a recording (or a directory, or with --all-real every CWRU recording, or with
-    /// --false-alarm a corpus of simulated and real healthy machines): normal, inner, outer, ball
-    /// or a combination, training-free.
+    /// Diagnose a recording (or a directory, or with --all-real every CWRU, MFPT and UESTC
+    /// recording, or with --false-alarm a corpus of simulated and real healthy machines): normal,
+    /// inner, outer, ball, a combination or uncertain, training-free.
     Diagnose(diagnose::Args),
 }
 

@@ -1,5 +1,5 @@
 //! The `hybrid-fdd` command as a library, so `cargo xtask diagnose`, `calibrate`, `close-loop`
-//! and `simulate` run the very same code (xtask keeps only the CWRU batches, `--all-real`):
+//! and `simulate` run the very same code (xtask keeps only the shared-data batches, `--all-real`):
 //! argument types, recording loading (CWRU `.mat` via `bearing-data`, one-column CSV), baseline
 //! preparation (decimated with `bearing-data`'s anti-aliasing decimator when its rate is an
 //! integer multiple of the recording's), the call into the `diagnosis` crate, and the reports

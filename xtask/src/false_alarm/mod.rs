@@ -280,7 +280,7 @@ fn present_real(ctx: &Context) -> anyhow::Result<(Vec<Entry>, Option<&Path>)> {
 
 /// CPU time of this process so far (all threads, user + system), s: `/proc/self/stat`'s
 /// utime and stime at Linux's 100 ticks per second; `None` elsewhere.
-fn process_cpu_s() -> Option<f64> {
+pub(crate) fn process_cpu_s() -> Option<f64> {
     let s = std::fs::read_to_string("/proc/self/stat").ok()?;
     let after = s.rsplit_once(')')?.1;
     let f: Vec<&str> = after.split_whitespace().collect();
