@@ -268,67 +268,57 @@ fn one() -> f64 {
 
 impl Diagnosis {
     /// Why the verdict differs from a known `label` (`normal`, `inner`, `outer`, `ball`), from
-    /// the evidence: the labelled fault's lines when it was not detected (prominence in dB,
-    /// `ₓ` explained by a stronger fault, `≠` off the common fundamental) against the band's
-    /// line threshold, and the lines of every other fault detected. Empty when they agree.
+    /// the evidence: the labelled fault's probability under healthy against `α/3`, its
+    /// modulation depth against the depth a defect needs, and its lines (evidence in dB); and
+    /// every other fault reported or candidate. Empty when they agree.
     pub fn explain_against(&self, label: &str) -> String {
         use std::fmt::Write as _;
-        // a fault found in a band of its own is explained by its lines there
-        let lines = |h: &str| {
-            self.secondary
+        let level = self.false_alarm / 3.0;
+        let describe = |h: &str| {
+            self.evidence
                 .iter()
-                .map(|r| &r.evidence)
-                .chain(&self.evidence)
                 .find(|e| e.hypothesis.name() == h)
                 .map_or(String::new(), |e| {
-                    e.harmonics
+                    let lines = e
+                        .harmonics
                         .iter()
                         .chain(&e.sidebands)
-                        .map(|l| {
-                            format!(
-                                "{} {:.1}{}{}{}",
-                                l.label,
-                                l.prominence_db,
-                                if l.evidence_db == l.prominence_db {
-                                    String::new()
-                                } else {
-                                    format!(" (baseline {:.1})", l.prominence_db - l.evidence_db)
-                                },
-                                if l.explained_by.is_some() { "ₓ" } else { "" },
-                                if l.consistent { "" } else { "≠" }
-                            )
-                        })
+                        .map(|l| format!("{} {:.1}", l.label, l.evidence_db))
                         .collect::<Vec<_>>()
-                        .join(", ")
+                        .join(", ");
+                    match &e.significance {
+                        Some(s) => format!(
+                            "p {:.1e} (level {level:.1e}), depth {:.2} (needs {}){}; lines {lines}",
+                            s.p_healthy,
+                            s.modulation_depth,
+                            crate::detect::MIN_MODULATION_DEPTH,
+                            s.explained_by
+                                .map_or(String::new(), |b| format!(", explained by {}", b.name()))
+                        ),
+                        None => format!("lines {lines}"),
+                    }
                 })
         };
         let mut s = String::new();
         if label != "normal" && !self.detected.iter().any(|h| h.name() == label) {
-            let _ = write!(
-                s,
-                "{label} lines short of the rule (line threshold in band {:.0}–{:.0} Hz: {:.1} dB): {}",
-                self.band.low_hz,
-                self.band.high_hz,
-                self.band.line_threshold_db,
-                lines(label)
-            );
+            let _ = write!(s, "{label} not reported: {}", describe(label));
         }
-        for h in &self.detected {
+        for h in self.detected.iter().chain(&self.candidates) {
             if h.name() != label {
                 if !s.is_empty() {
                     s += "; ";
                 }
-                let own =
-                    self.secondary
-                        .iter()
-                        .find(|r| r.hypothesis == *h)
-                        .map_or(String::new(), |r| {
-                            format!(
-                                " in its own band {:.0}–{:.0} Hz",
-                                r.band.low_hz, r.band.high_hz
-                            )
-                        });
-                let _ = write!(s, "{} detected{own}: {}", h.name(), lines(h.name()));
+                let _ = write!(
+                    s,
+                    "{} {}: {}",
+                    h.name(),
+                    if self.detected.contains(h) {
+                        "reported"
+                    } else {
+                        "a candidate"
+                    },
+                    describe(h.name())
+                );
             }
         }
         s
