@@ -36,7 +36,7 @@ pub fn candidate_bands(fs_hz: f64, min_width_hz: f64) -> Vec<Band> {
     out
 }
 
-/// Narrowest band that holds three harmonics of [`NULL_REACH`] × the highest fault line plus a
+/// Narrowest band that holds three harmonics of `NULL_REACH` × the highest fault line plus a
 /// shaft-order sideband, with 20 % margin: `1.2 (3 · 1.5 · max(BPFO, BPFI, BSF) + 1) fr`. The
 /// detector's null reads the fault templates at fundamentals up to where their top harmonic
 /// leaves the band: a band that held only the hypotheses' own harmonics would leave the null a

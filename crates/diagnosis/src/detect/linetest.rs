@@ -4,7 +4,7 @@
 //!
 //! A line's probability under "healthy" is the share of the band's **clear windows** — windows
 //! of the line's width that meet no masked bin and no window of the hypothesis's own lattice
-//! ([`Template::lattice`]) — whose strongest line is at least as prominent: whatever the band
+//! (`Template::lattice`) — whose strongest line is at least as prominent: whatever the band
 //! holds besides this fault (noise, mains lines, beats, other machines' combs, other faults'
 //! lattices) is in that reference, never taken below `1/(n' + 1)` (`n'` non-overlapping clear
 //! windows: the dense windows overlap and read the same lines). Beyond every clear window, the

@@ -3,7 +3,7 @@
 //!
 //! Each band's squared envelope spectrum is read as the prominence of its local maxima over the
 //! local median, dB, less what a healthy baseline already holds there, with shaft orders, half
-//! orders and mains multiples masked where the band shows their comb ([`view::BandView`]).
+//! orders and mains multiples masked where the band shows their comb (`view::BandView`).
 //!
 //! For each hypothesis (BPFO, BPFI, the ball-defect rate) its **template** — harmonics `1..=K`
 //! over their slip windows and the distinguishing sidebands of harmonic 1 (inner `± fr`, ball

@@ -7,10 +7,10 @@ use crate::{Hypothesis, SLIP_MAX, SPEED_OFFSET, SPEED_TOL};
 use bearing_model::FaultOrders;
 
 /// Shaft-rate shifts `j·fr` (|j| up to this) of a fault's harmonics kept out of its lines'
-/// references ([`Template::lattice`]).
+/// references (`Template::lattice`).
 pub const LATTICE_SHAFT_ORDERS: i32 = 3;
 /// Shaft-rate shifts `j·fr` (|j| up to this) of a confirmed fault's harmonics that explain other
-/// hypotheses' lines ([`Template::family`]).
+/// hypotheses' lines (`Template::family`).
 pub const FAMILY_SHAFT_ORDERS: i32 = 8;
 
 /// Which sidebands a template reads around its fundamental.
