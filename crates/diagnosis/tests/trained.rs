@@ -132,7 +132,6 @@ fn segments_keep_twenty_turns_and_drop_the_tail() {
 /// turns at the slowest speed `diagnose` searches (0.9 × the declared one) and the whitener's
 /// start-up. A piece of 0.7 s holds 21 turns at 1797 rpm but 18.9 at 0.9 × 1797.
 #[test]
-#[ignore = "trained::segments checks MIN_TURNS at the declared speed, diagnose at 0.9 × it (plus 64 samples): 0.7 s pieces at 1797 rpm are cut and then refused as TooShort"]
 fn segments_are_long_enough_for_diagnose() {
     let spec = BearingSpec::parse("6205").unwrap();
     let x = sim(FaultClass::None, 3);

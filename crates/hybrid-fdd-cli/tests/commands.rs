@@ -238,7 +238,8 @@ fn train_a_classifier_on_labelled_recordings_then_use_it() {
         "--rpm",
         "1797",
         "--segment-seconds",
-        "0.5",
+        // 20 turns at the slowest speed searched (0.9 x 1797 rpm) need 0.74 s
+        "1.0",
         "--out",
         &clf,
     ])
@@ -246,7 +247,7 @@ fn train_a_classifier_on_labelled_recordings_then_use_it() {
     hybrid_fdd_cli::train::run(&t.a).unwrap();
     let saved =
         diagnosis::TrainedDiagnoser::from_json(&std::fs::read_to_string(&clf).unwrap()).unwrap();
-    assert_eq!((saved.examples, saved.recordings), (32, 8));
+    assert_eq!((saved.examples, saved.recordings), (16, 8));
     simulate_rig("outer", "3", &p("new.csv"));
     let report = p("new-report.json"); // new.json is the recording's sidecar
     let d = Diagnose::try_parse_from([

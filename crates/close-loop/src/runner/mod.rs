@@ -182,7 +182,20 @@ fn detected_faults(x: &[f64], fs: f64, op: &OperatingPoint) -> Vec<(FaultLocatio
     let Ok(d) = diagnosis::diagnose(x, fs, op.rpm, &op.bearing, None) else {
         return Vec::new();
     };
-    d.detected.iter().map(|&l| (l, d.scores.of(l))).collect()
+    // a location significant by itself is a candidate even when the diagnosis' verdict
+    // explains it by a stronger fault's family (an inner race beside a declared outer one
+    // puts BPFI near BPFO + 2 fr): the loop's spectral error judges it, not the verdict
+    d.evidence
+        .iter()
+        .filter(|e| {
+            d.detected.contains(&e.hypothesis)
+                || e.significance.as_ref().is_some_and(|s| {
+                    s.p_healthy <= d.false_alarm / 3.0
+                        && s.modulation_depth >= diagnosis::detect::MIN_MODULATION_DEPTH
+                })
+        })
+        .map(|e| (e.hypothesis, d.scores.of(e.hypothesis)))
+        .collect()
 }
 
 /// A candidate accepted in a round: the candidate, its held-out scores, why it was accepted and
