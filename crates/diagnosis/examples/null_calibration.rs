@@ -1,5 +1,6 @@
-//! Development check: white-noise recordings, the detector's p under healthy per hypothesis;
-//! their distribution should be uniform.
+//! The detector's null on white noise: `cargo run --release -p diagnosis --example
+//! null_calibration -- N SECONDS` diagnoses N white-noise recordings and prints each
+//! hypothesis's p under healthy; their distribution should be uniform or, conservative, above it.
 #![allow(missing_docs)]
 use diagnosis::{BearingSpec, DiagnoseOptions, diagnose_with_options};
 use rand::SeedableRng;
