@@ -47,14 +47,19 @@ pub fn diagnose_with_options(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
+    with_engine(|engine| diagnose_in(engine, x, fs_hz, bearing, baseline, options))
+}
+
+/// Run `f` with this thread's spectral engine: FFT plans and Hann windows kept between
+/// recordings of one thread, each plan built on its own so that a recording's result does not
+/// depend on which recordings the thread diagnosed before it (a batch runs them in parallel, in
+/// no fixed order).
+pub(crate) fn with_engine<R>(f: impl FnOnce(&mut SpectralEngine) -> R) -> R {
     thread_local! {
-        // FFT plans and Hann windows kept between recordings of one thread, each plan built
-        // on its own so that a recording's result does not depend on which recordings the
-        // thread diagnosed before it (a batch runs them in parallel, in no fixed order)
         static ENGINE: std::cell::RefCell<SpectralEngine> =
             std::cell::RefCell::new(SpectralEngine::order_independent());
     }
-    ENGINE.with_borrow_mut(|engine| diagnose_in(engine, x, fs_hz, bearing, baseline, options))
+    ENGINE.with_borrow_mut(f)
 }
 
 /// The analysis plan at a speed: shaft rate, narrowest band, candidate bands.

@@ -107,11 +107,7 @@ pub fn diagnose_unknown_bearing(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    thread_local! {
-        static ENGINE: std::cell::RefCell<SpectralEngine> =
-            std::cell::RefCell::new(SpectralEngine::order_independent());
-    }
-    ENGINE.with_borrow_mut(|engine| unknown_in(engine, x, fs_hz, baseline, options))
+    crate::driver::with_engine(|engine| unknown_in(engine, x, fs_hz, baseline, options))
 }
 
 fn unknown_in(
@@ -205,7 +201,7 @@ fn read_comb(views: &[BandView], t: Template, looks: f64) -> CombReading {
     let mut best: Option<CombReading> = None;
     for (b, v) in views.iter().enumerate() {
         let r = LineTest::new(v, &lattice, t.fr).read(&t);
-        let depth = depth_of(v, &r);
+        let depth = crate::detect::harmonics_depth(v, &r);
         let better = best.as_ref().is_none_or(|c| {
             (depth >= MIN_MODULATION_DEPTH, -r.p) > (c.depth >= MIN_MODULATION_DEPTH, -c.reading.p)
         });
@@ -231,15 +227,6 @@ fn read_comb(views: &[BandView], t: Template, looks: f64) -> CombReading {
         depth: 0.0,
         p: 1.0,
     })
-}
-
-fn depth_of(v: &BandView, r: &BandReading) -> f64 {
-    r.terms
-        .iter()
-        .filter(|t| matches!(t.window.term, Term::Harmonic(_)))
-        .map(|t| v.depth(t.bin as f64 * v.df).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// Two sideband windows `f₁ ± s` (s in Hz, ± its slip) read in `v`.

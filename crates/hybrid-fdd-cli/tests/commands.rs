@@ -268,7 +268,7 @@ fn train_a_classifier_on_labelled_recordings_then_use_it() {
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(v["classifier"]["class"], "outer", "{}", v["classifier"]);
-    assert_eq!(v["classifier"]["segments"].as_array().unwrap().len(), 4);
+    assert_eq!(v["classifier"]["segments"].as_array().unwrap().len(), 2);
     assert!(v["verdict"].is_string(), "the training-free verdict stays");
     // a labels file without a label column
     std::fs::write(p("bad.csv"), "file,class\nnone-1.csv,normal\n").unwrap();

@@ -83,9 +83,8 @@ struct Found {
     set: Option<(u32, u8)>,
 }
 
-/// MFPT's fault files (`*InnerRaceFault*` → inner, `*OuterRaceFault*` → outer), sorted by name;
-/// other `.mat` files (none in the shared copy) are left out with a message.
-fn mfpt_files(dir: &Path) -> anyhow::Result<Vec<Found>> {
+/// The `.mat` files of `dir` (extension in any case), each with its file stem.
+fn mat_files(dir: &Path) -> anyhow::Result<Vec<(std::path::PathBuf, String)>> {
     let mut out = Vec::new();
     for e in std::fs::read_dir(dir).with_context(|| format!("listing {}", dir.display()))? {
         let path = e?.path();
@@ -100,6 +99,16 @@ fn mfpt_files(dir: &Path) -> anyhow::Result<Vec<Found>> {
             .and_then(|s| s.to_str())
             .unwrap_or_default()
             .to_string();
+        out.push((path, stem));
+    }
+    Ok(out)
+}
+
+/// MFPT's fault files (`*InnerRaceFault*` → inner, `*OuterRaceFault*` → outer), sorted by name;
+/// other `.mat` files (none in the shared copy) are left out with a message.
+fn mfpt_files(dir: &Path) -> anyhow::Result<Vec<Found>> {
+    let mut out = Vec::new();
+    for (path, stem) in mat_files(dir)? {
         let label = if stem.contains("InnerRaceFault") {
             "inner"
         } else if stem.contains("OuterRaceFault") {
@@ -148,19 +157,7 @@ fn uestc_files(dir: &Path) -> anyhow::Result<Vec<Found>> {
         if !sub.is_dir() {
             continue;
         }
-        for e in std::fs::read_dir(&sub)? {
-            let path = e?.path();
-            if !path
-                .extension()
-                .is_some_and(|x| x.eq_ignore_ascii_case("mat"))
-            {
-                continue;
-            }
-            let stem = path
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .unwrap_or_default()
-                .to_string();
+        for (path, stem) in mat_files(&sub)? {
             let Some((label, rpm, seg)) = parse_uestc(&stem) else {
                 println!(
                     "diagnose --all-real: {} is not named X_rpm_segment; left out",

@@ -181,7 +181,7 @@ struct Scan {
 }
 
 /// The modulation depth of a reading's harmonics in `v`: `√(Σ_k m_k²)`.
-fn harmonics_depth(v: &BandView, r: &BandReading) -> f64 {
+pub(crate) fn harmonics_depth(v: &BandView, r: &BandReading) -> f64 {
     r.terms
         .iter()
         .filter(|t| matches!(t.window.term, Term::Harmonic(_)))
