@@ -119,6 +119,9 @@ pub const REFINE_WINDOW: f64 = 0.002;
 /// 1× line, read to a fraction of a 0.2 Hz bin, within 6e-4.
 pub const REFINE_CONSISTENCY: f64 = 2e-4;
 
+/// Fine grid steps (a twentieth of a bin) per coarse step of the refinement's search.
+const COARSE: i64 = 5;
+
 /// The speed ratio (to `fr0`) refined from the lines of orders `1..=orders` that `present`
 /// admits at the comb search's ratio `r0` and that `stands_out` confirms where they are placed
 /// (10 dB over their background, [`COMB_MIN_FIRST_ORDER`]): each line placed by the zoom DFT
@@ -156,9 +159,17 @@ fn refine(
         let h = 0.05 * bin;
         let steps = ((REFINE_WINDOW * fc / h).ceil() as i64).max(2);
         let p = |j: i64| zoom_power(&xw, fs, fc + j as f64 * h).max(1e-300).ln();
-        let (jb, _) = (-steps..=steps)
-            .map(|j| (j, p(j)))
-            .fold((0, f64::NEG_INFINITY), |b, c| if c.1 > b.1 { c } else { b });
+        let argmax = |js: &mut dyn Iterator<Item = i64>| {
+            js.map(|j| (j, p(j)))
+                .fold((0, f64::NEG_INFINITY), |b, c| if c.1 > b.1 { c } else { b })
+        };
+        // coarse to fine: the largest power on a grid of a quarter bin (and the window's
+        // edges), then on the twentieth-bin grid within a quarter bin of it — the same largest
+        // point as the whole fine grid's wherever the window holds one line (a Hann line's
+        // power falls monotonically from its peak over more than a bin), at a fifth of the
+        // DFT evaluations (a 10 s, 20 kHz record's 10th order at 1500 rpm: 201 → 51)
+        let (jc, _) = argmax(&mut (-steps..=steps).step_by(COARSE as usize).chain([steps]));
+        let (jb, _) = argmax(&mut ((jc - COARSE + 1).max(-steps)..=(jc + COARSE - 1).min(steps)));
         let (a, b, c) = (p(jb - 1), p(jb), p(jb + 1));
         // a line is a local maximum: the largest power on the window's edge that still rises
         // beyond it is the flank of a line outside the window, and every order whose line lies
