@@ -221,6 +221,7 @@ class Diagnosis:
         envelope: the chosen band's squared envelope spectrum, which the command draws but does
             not write in its JSON: ``band_hz``, ``resolution_hz``, ``power`` (a float64 array,
             one value per bin), ``spectral_kurtosis``, ``segments``.
+        rust_seconds: the time the Rust diagnosis itself took (no reading, copying or JSON), s.
     """
 
     def __init__(
@@ -232,9 +233,11 @@ class Diagnosis:
         source: Optional[str] = None,
         notes: Sequence[str] = (),
         envelope: Optional[Dict[str, Any]] = None,
+        rust_seconds: Optional[float] = None,
     ):
         self._r = report
         self.envelope = envelope
+        self.rust_seconds = rust_seconds
         op = report["operating_point"]
         self.verdict: str = report["verdict"]
         self.detected: List[str] = list(report["detected"])
@@ -265,6 +268,7 @@ class Diagnosis:
             source=source,
             notes=d["notes"],
             envelope=d.get("envelope"),
+            rust_seconds=d.get("rust_seconds"),
         )
 
     @property

@@ -212,8 +212,10 @@ impl Setup {
             rpm,
             ..self.plan.clone()
         };
+        let t = std::time::Instant::now();
         let o = diagnose_loaded_with(l, &plan, self.baseline.as_ref(), &self.search)
             .map_err(|e| Failure::new(Kind::Input, &e))?;
+        let rust_s = t.elapsed().as_secs_f64();
         let json = serde_json::to_string(&o.diagnosis).map_err(|e| Failure {
             kind: Kind::Internal,
             message: format!("serialising the diagnosis: {e}"),
@@ -221,6 +223,7 @@ impl Setup {
         Ok(Done {
             json,
             envelope: o.diagnosis.envelope.clone(),
+            rust_s,
             baseline_note: o.baseline_note,
             unit: o.unit.code.clone(),
             unit_statement: o.unit.statement.clone(),
@@ -234,6 +237,9 @@ struct Done {
     json: String,
     /// The chosen band's squared envelope spectrum (not in the report's JSON: the figure's).
     envelope: diagnosis::EnvelopeSpectrum,
+    /// Seconds spent in the Rust diagnosis itself (`diagnose_loaded_with`: no copy, no JSON):
+    /// what the binding's overhead is measured against.
+    rust_s: f64,
     baseline_note: Option<String>,
     unit: String,
     unit_statement: String,
@@ -266,6 +272,7 @@ fn to_py<'py>(py: Python<'py>, r: Result<Done, Failure>) -> PyResult<(String, Bo
             out.set_item("unit", d.unit)?;
             out.set_item("unit_statement", d.unit_statement)?;
             out.set_item("notes", d.notes)?;
+            out.set_item("rust_seconds", d.rust_s)?;
             let env = PyDict::new(py);
             env.set_item("band_hz", d.envelope.band_hz.to_vec())?;
             env.set_item("resolution_hz", d.envelope.resolution_hz)?;

@@ -55,3 +55,14 @@ def test_fleet_on_a_local_cluster_equals_one_process(cwru, tmp_path):
     last = table.iloc[-1]
     import pandas as pd
     assert pd.isna(last["verdict"]) and last["error"].startswith("DataError: ")
+
+
+def test_quickstart_runs_top_to_bottom(data, tmp_path):
+    import subprocess
+    import sys
+    script = EXAMPLE.with_name("quickstart.py")
+    r = subprocess.run([sys.executable, str(script), str(data), "--out", str(tmp_path)],
+                       check=True, capture_output=True, text=True)
+    assert "outer" in r.stdout and "recordings in" in r.stdout
+    assert (tmp_path / "rig.json").exists()
+    assert hf.MachineModel.load(tmp_path / "rig.json").fs == 12_000.0
