@@ -147,18 +147,20 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     print(f"cluster: {len(paths)} recordings in {t_cluster:.2f} s = "
           f"{len(paths) / t_cluster:.2f} recordings/s ({a.workers} workers)")
     if a.bench:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         for path in paths:
             try:
                 hf.diagnose(path, **options)
             except (hf.InputError, hf.DataError):
                 pass
-        t_one = time.perf_counter() - t0
+        t_one, c_one = time.perf_counter() - t0, time.process_time() - c0
         t0 = time.perf_counter()
         hf.diagnose_many(paths, errors="return", **options)
         t_many = time.perf_counter() - t0
-        print(f"one process, one at a time: {len(paths) / t_one:.2f} recordings/s; "
-              f"diagnose_many: {len(paths) / t_many:.2f} recordings/s")
+        print(f"one process, one at a time: {len(paths) / t_one:.2f} recordings/s "
+              f"({c_one / len(paths):.3f} CPU s per recording); "
+              f"diagnose_many: {len(paths) / t_many:.2f} recordings/s; load average "
+              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     if a.out:
         (table.to_parquet if a.out.endswith(".parquet") else table.to_csv)(a.out, index=False)
     return 1 if table["error"].notna().any() else 0
