@@ -34,6 +34,7 @@ __all__ = [
     "DataError",
     "Diagnosis",
     "Effect",
+    "Baseline",
     "Evidence",
     "InputError",
     "InternalError",
@@ -366,6 +367,41 @@ class Diagnosis:
         return ax
 
 
+class Baseline:
+    """A healthy baseline read once and prepared once per recording rate (and, for a machine
+    model, per speed), then reused by every :func:`diagnose` / :func:`diagnose_many` call it is
+    passed to (a path, array or :class:`Recording` given as ``baseline=`` is read and prepared
+    again by each call).
+
+    Args:
+        source: a path (a recording, or a machine-model JSON), a :class:`Recording`, a
+            :class:`MachineModel`, or an array (with ``fs``).
+        fs: the rate of an array, or of a text file that stores none.
+        channel: the channel or column of a file (default ``DE``).
+
+    Raises:
+        DataError: an unreadable file. InputError: a bad array or machine model.
+    """
+
+    def __init__(self, source: Any, fs: Optional[float] = None, channel: Optional[str] = None):
+        ch = "DE" if channel is None else str(channel)
+        if _is_path(source):
+            self._native = _native.PreparedBaseline(path=os.fspath(source),
+                                                    fs=_num(fs, "fs"), channel=ch)
+        elif isinstance(source, MachineModel):
+            self._native = _native.PreparedBaseline(machine=source.to_json())
+        elif isinstance(source, Recording):
+            self._native = _native.PreparedBaseline(samples=source.samples, fs=source.fs)
+        else:
+            if fs is None:
+                raise InputError("fs (the sampling rate, Hz) is required for an array baseline")
+            self._native = _native.PreparedBaseline(samples=_signal(source, "baseline"),
+                                                    fs=_num(fs, "fs"))
+
+    def __repr__(self) -> str:
+        return f"Baseline({os.fspath(self._native.path)!r})"
+
+
 def _signal(x: Any, what: str = "x") -> np.ndarray:
     """A 1-D contiguous float64 copy or view of ``x``; refuses what is not a real 1-D signal."""
     try:
@@ -417,6 +453,8 @@ def _baseline(baseline: Any, fs: Optional[float]) -> Dict[str, Any]:
         return {"baseline_path": os.fspath(baseline)}
     if isinstance(baseline, MachineModel):
         return {"baseline_machine": baseline.to_json()}
+    if isinstance(baseline, Baseline):
+        return {"baseline_prepared": baseline._native}
     if isinstance(baseline, Recording):
         return {"baseline_samples": baseline.samples, "baseline_fs": baseline.fs}
     if isinstance(baseline, tuple) and len(baseline) == 2 and not np.isscalar(baseline[0]):
@@ -470,9 +508,9 @@ def diagnose(
             +/- 10 % of ``rpm`` or without any.
         alpha: false-alarm probability per recording (default :data:`DEFAULT_FALSE_ALARM`).
         baseline: a healthy recording of the same machine: a path (a recording, or a machine
-            model JSON from ``hybrid-fdd calibrate``), a :class:`MachineModel`, a
-            :class:`Recording`, an array (at ``fs``) or ``(array, fs)``. Without one the evidence
-            is self-referenced.
+            model JSON from ``hybrid-fdd calibrate``), a :class:`Baseline` (prepared once, reused
+            across calls), a :class:`MachineModel`, a :class:`Recording`, an array (at ``fs``) or
+            ``(array, fs)``. Without one the evidence is self-referenced.
         channel: channel or column of a path ``x`` and of a baseline file (default ``DE``).
         unit: unit of an array's samples (``"g"``, ``"m/s^2"``); checked against a machine-model
             baseline's.

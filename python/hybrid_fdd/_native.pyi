@@ -23,6 +23,20 @@ class InternalError(RuntimeError):
 
 _Result = Tuple[str, Any]
 
+class PreparedBaseline:
+    """A baseline read once; its preparations cached across calls."""
+
+    def __init__(
+        self,
+        path: Optional[str] = None,
+        samples: Optional[npt.NDArray[np.float64]] = None,
+        fs: Optional[float] = None,
+        machine: Optional[str] = None,
+        channel: str = "DE",
+    ) -> None: ...
+    @property
+    def path(self) -> Any: ...
+
 def read(path: str, channel: Optional[str] = None, fs: Optional[float] = None) -> Dict[str, Any]: ...
 def diagnose_arrays(
     signals: Sequence[npt.NDArray[np.float64]],
@@ -35,6 +49,8 @@ def diagnose_arrays(
     baseline_path: Optional[str] = None,
     baseline_samples: Optional[npt.NDArray[np.float64]] = None,
     baseline_fs: Optional[float] = None,
+    baseline_machine: Optional[str] = None,
+    baseline_prepared: Optional[PreparedBaseline] = None,
     channel: str = "DE",
     threads: Optional[int] = None,
 ) -> List[_Result]: ...
@@ -49,8 +65,41 @@ def diagnose_files(
     baseline_path: Optional[str] = None,
     baseline_samples: Optional[npt.NDArray[np.float64]] = None,
     baseline_fs: Optional[float] = None,
+    baseline_machine: Optional[str] = None,
+    baseline_prepared: Optional[PreparedBaseline] = None,
     one_file: bool = False,
     threads: Optional[int] = None,
 ) -> List[_Result]: ...
 def recordings_in(directory: str) -> List[str]: ...
 def bearing(spec: str) -> str: ...
+def calibrate(
+    path: str,
+    rpm: Optional[float] = None,
+    bearing: Optional[str] = None,
+    channel: str = "DE",
+    fs: Optional[float] = None,
+    decimate: int = 1,
+    model: str = "physics",
+    units: Optional[str] = None,
+    line_frequency: float = 60.0,
+    max_effects: Optional[int] = None,
+    report: Optional[str] = None,
+) -> Tuple[str, str]: ...
+def close_loop_file(
+    path: str,
+    fault: str = "none",
+    machine: Optional[str] = None,
+    rpm: Optional[float] = None,
+    bearing: Optional[str] = None,
+    channel: str = "DE",
+    fs: Optional[float] = None,
+    decimate: int = 1,
+    model: str = "physics",
+    units: Optional[str] = None,
+    line_frequency: float = 60.0,
+    max_effects: int = 8,
+    seconds: Optional[float] = None,
+    fault_size_in: Optional[float] = None,
+    report: Optional[str] = None,
+) -> Tuple[str, str]: ...
+def machine_model(text: str) -> str: ...

@@ -16,6 +16,7 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use hybrid_fdd_cli::diagnose::{
     BaselineSource, FsFlag, Loaded, Plan, RecordingFlags, Search, diagnose_loaded_with,
@@ -132,7 +133,7 @@ fn guarded<T>(f: impl FnOnce() -> Result<T, Failure>) -> Result<T, Failure> {
 struct Setup {
     plan: Plan,
     search: Search,
-    baseline: Option<BaselineSource>,
+    baseline: Option<Arc<BaselineSource>>,
 }
 
 /// The arguments [`Setup::new`] takes, as the Python layer passes them.
@@ -145,6 +146,90 @@ struct SetupArgs<'a> {
     baseline_samples: Option<Vec<f64>>,
     baseline_fs: Option<f64>,
     baseline_machine: Option<String>,
+    baseline_prepared: Option<Arc<BaselineSource>>,
+}
+
+/// A baseline from one of: a file (read by [`BaselineSource::load`], `fs` for a text file that
+/// stores no rate), samples at `fs`, or a machine model's JSON text; `None` when none is given.
+fn baseline_source(
+    path: Option<PathBuf>,
+    samples: Option<Vec<f64>>,
+    fs: Option<f64>,
+    machine: Option<String>,
+    channel: &str,
+) -> Result<Option<BaselineSource>, Failure> {
+    let given = usize::from(path.is_some())
+        + usize::from(samples.is_some())
+        + usize::from(machine.is_some());
+    if given > 1 {
+        return Err(Failure {
+            kind: Kind::Input,
+            message: "give one baseline: a file, samples or a machine model".into(),
+        });
+    }
+    if let Some(p) = path {
+        return BaselineSource::load(&p, channel, fs)
+            .map(Some)
+            .map_err(|e| Failure::new(Kind::Data, &e));
+    }
+    if let Some(x) = samples {
+        let fs = fs.ok_or_else(|| Failure {
+            kind: Kind::Input,
+            message: "baseline samples need their sampling rate (baseline_fs)".into(),
+        })?;
+        return Ok(Some(BaselineSource::from_samples(
+            Path::new("<baseline array>"),
+            x,
+            fs,
+        )));
+    }
+    if let Some(text) = machine {
+        let m = close_loop::machine::MachineModel::from_json(&text)
+            .map_err(|e| Failure::new(Kind::Input, &anyhow::Error::from(e)))?;
+        return Ok(Some(BaselineSource::from_machine(
+            Path::new("<machine model>"),
+            m,
+        )));
+    }
+    Ok(None)
+}
+
+/// A healthy baseline read once and shared by every call it is passed to: its preparation at
+/// each recording rate (and, for a machine model, each speed) is cached, as the command's
+/// directory batch caches it.
+#[pyclass(frozen, name = "PreparedBaseline", module = "hybrid_fdd._native")]
+struct PreparedBaseline {
+    src: Arc<BaselineSource>,
+}
+
+#[pymethods]
+impl PreparedBaseline {
+    /// Read a baseline: `path` (a recording, or a machine model `.json`), `samples` at `fs`, or
+    /// `machine` (a machine model's JSON text); exactly one.
+    #[new]
+    #[pyo3(signature = (path = None, samples = None, fs = None, machine = None, channel = "DE"))]
+    fn new(
+        py: Python<'_>,
+        path: Option<PathBuf>,
+        samples: Option<PyReadonlyArray1<'_, f64>>,
+        fs: Option<f64>,
+        machine: Option<String>,
+        channel: &str,
+    ) -> PyResult<Self> {
+        let x = samples.as_ref().map(samples_of);
+        let channel = channel.to_string();
+        let src = py
+            .detach(move || guarded(|| baseline_source(path, x, fs, machine, &channel)))
+            .map_err(Failure::into_py)?
+            .ok_or_else(|| InputError::new_err("give a baseline: path, samples or machine"))?;
+        Ok(Self { src: Arc::new(src) })
+    }
+
+    /// Where the baseline came from.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.src.path.clone()
+    }
 }
 
 impl Setup {
@@ -164,39 +249,27 @@ impl Setup {
         if let Some((lo, hi)) = a.rpm_range {
             search.rpm_range = Some([lo, hi]);
         }
-        let given = usize::from(a.baseline_path.is_some())
-            + usize::from(a.baseline_samples.is_some())
-            + usize::from(a.baseline_machine.is_some());
-        if given > 1 {
-            return Err(Failure {
-                kind: Kind::Input,
-                message: "give one baseline: a file, samples or a machine model".into(),
-            });
-        }
-        let baseline = if let Some(p) = a.baseline_path {
-            Some(
-                BaselineSource::load(&p, a.channel, a.baseline_fs)
-                    .map_err(|e| Failure::new(Kind::Data, &e))?,
-            )
-        } else if let Some(x) = a.baseline_samples {
-            let fs = a.baseline_fs.ok_or_else(|| Failure {
-                kind: Kind::Input,
-                message: "baseline samples need their sampling rate (baseline_fs)".into(),
-            })?;
-            Some(BaselineSource::from_samples(
-                Path::new("<baseline array>"),
-                x,
-                fs,
-            ))
-        } else if let Some(text) = a.baseline_machine {
-            let m = close_loop::machine::MachineModel::from_json(&text)
-                .map_err(|e| Failure::new(Kind::Input, &anyhow::Error::from(e)))?;
-            Some(BaselineSource::from_machine(
-                Path::new("<machine model>"),
-                m,
-            ))
-        } else {
-            None
+        let baseline = match a.baseline_prepared {
+            Some(b) => {
+                if a.baseline_path.is_some()
+                    || a.baseline_samples.is_some()
+                    || a.baseline_machine.is_some()
+                {
+                    return Err(Failure {
+                        kind: Kind::Input,
+                        message: "give one baseline: a file, samples, a machine model or a prepared baseline".into(),
+                    });
+                }
+                Some(b)
+            }
+            None => baseline_source(
+                a.baseline_path,
+                a.baseline_samples,
+                a.baseline_fs,
+                a.baseline_machine,
+                a.channel,
+            )?
+            .map(Arc::new),
         };
         Ok(Self {
             plan,
@@ -213,7 +286,7 @@ impl Setup {
             ..self.plan.clone()
         };
         let t = std::time::Instant::now();
-        let o = diagnose_loaded_with(l, &plan, self.baseline.as_ref(), &self.search)
+        let o = diagnose_loaded_with(l, &plan, self.baseline.as_deref(), &self.search)
             .map_err(|e| Failure::new(Kind::Input, &e))?;
         let rust_s = t.elapsed().as_secs_f64();
         let json = serde_json::to_string(&o.diagnosis).map_err(|e| Failure {
@@ -362,7 +435,7 @@ fn read<'py>(
 }
 
 /// Copy a 1-D float64 array (any strides) into a vector.
-fn samples(x: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
+fn samples_of(x: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
     match x.as_slice() {
         Ok(s) => s.to_vec(),
         Err(_) => x.as_array().iter().copied().collect(),
@@ -377,7 +450,7 @@ fn samples(x: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
 #[pyfunction]
 #[pyo3(signature = (signals, fs, rpm, unit, bearing, rpm_range = None, alpha = None,
     baseline_path = None, baseline_samples = None, baseline_fs = None, baseline_machine = None,
-    channel = "DE", threads = None))]
+    baseline_prepared = None, channel = "DE", threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose_arrays<'py>(
     py: Python<'py>,
@@ -392,6 +465,7 @@ fn diagnose_arrays<'py>(
     baseline_samples: Option<PyReadonlyArray1<'py, f64>>,
     baseline_fs: Option<f64>,
     baseline_machine: Option<String>,
+    baseline_prepared: Option<Bound<'py, PreparedBaseline>>,
     channel: &str,
     threads: Option<usize>,
 ) -> PyResult<Vec<(String, Bound<'py, PyAny>)>> {
@@ -404,8 +478,9 @@ fn diagnose_arrays<'py>(
             unit.len()
         )));
     }
-    let xs: Vec<Vec<f64>> = signals.iter().map(samples).collect();
-    let bx = baseline_samples.as_ref().map(samples);
+    let xs: Vec<Vec<f64>> = signals.iter().map(samples_of).collect();
+    let bx = baseline_samples.as_ref().map(samples_of);
+    let prepared = baseline_prepared.map(|b| b.get().src.clone());
     let bearing = bearing.to_string();
     let channel = channel.to_string();
     let results = py.detach(move || {
@@ -419,6 +494,7 @@ fn diagnose_arrays<'py>(
                 baseline_samples: bx,
                 baseline_fs,
                 baseline_machine,
+                baseline_prepared: prepared,
             })
         })?;
         par_map(n, threads, |i| {
@@ -441,7 +517,7 @@ fn diagnose_arrays<'py>(
 #[pyfunction]
 #[pyo3(signature = (paths, bearing, channel = "DE", fs = None, rpm = None, rpm_range = None,
     alpha = None, baseline_path = None, baseline_samples = None, baseline_fs = None,
-    baseline_machine = None, one_file = false, threads = None))]
+    baseline_machine = None, baseline_prepared = None, one_file = false, threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose_files<'py>(
     py: Python<'py>,
@@ -456,10 +532,12 @@ fn diagnose_files<'py>(
     baseline_samples: Option<PyReadonlyArray1<'py, f64>>,
     baseline_fs: Option<f64>,
     baseline_machine: Option<String>,
+    baseline_prepared: Option<Bound<'py, PreparedBaseline>>,
     one_file: bool,
     threads: Option<usize>,
 ) -> PyResult<Vec<(String, Bound<'py, PyAny>)>> {
-    let bx = baseline_samples.as_ref().map(samples);
+    let bx = baseline_samples.as_ref().map(samples_of);
+    let prepared = baseline_prepared.map(|b| b.get().src.clone());
     let bearing = bearing.to_string();
     let channel = channel.to_string();
     let flag = if one_file {
@@ -479,6 +557,7 @@ fn diagnose_files<'py>(
                 baseline_path,
                 baseline_samples: bx,
                 baseline_machine,
+                baseline_prepared: prepared,
             })
         })?;
         par_map(paths.len(), threads, |i| {
@@ -754,6 +833,7 @@ fn machine_model(text: &str) -> PyResult<String> {
 /// and the exception classes; `hybrid_fdd/__init__.py` is the API over it.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PreparedBaseline>()?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose_files, m)?)?;

@@ -97,3 +97,18 @@ def test_paths_batch_equals_cli_directory_run(cwru, cli, tmp_path):
     for g in got:
         stem = g.source.rsplit("/", 1)[-1].removesuffix(".mat")
         assert g.to_dict() == json.loads((out / f"{stem}.json").read_text())
+
+
+def test_prepared_baseline_equals_cli_and_is_reused(cwru, run_cli):
+    rec, base = cwru / "12k_drive_end" / "130.mat", cwru / "normal" / "97.mat"
+    want = run_cli("--input", str(rec), "--bearing", "6205", "--baseline", str(base))
+    b = hf.Baseline(base)
+    assert "97.mat" in repr(b)
+    r = hf.read(rec)
+    assert hf.diagnose(r, baseline=b).to_dict() == want
+    assert hf.diagnose(r, baseline=b).to_dict() == want  # the cached preparation, same report
+    assert hf.diagnose(rec, baseline=b).to_dict() == want
+    assert [d.to_dict() for d in hf.diagnose_many([r, r], baseline=b)] == [want, want]
+    r97 = hf.read(base)
+    assert hf.diagnose(r, baseline=hf.Baseline(r97)).to_dict() == want
+    assert hf.diagnose(r, baseline=hf.Baseline(r97.samples, fs=r97.fs)).to_dict() == want

@@ -160,3 +160,17 @@ def test_unknown_bearing():
     with pytest.raises(hf.InputError, match="unknown bearing") as e:
         hf.bearing("6299-XYZ")
     one_line(e)
+
+
+def test_prepared_baseline_errors(tmp_path):
+    with pytest.raises(hf.DataError, match="gone.mat") as e:
+        hf.Baseline(tmp_path / "gone.mat")
+    one_line(e)
+    with pytest.raises(hf.InputError, match="fs") as e:
+        hf.Baseline(np.ones(1000))
+    one_line(e)
+    with pytest.raises(hf.InputError, match="one baseline") as e:
+        hf._native.diagnose_arrays([X], [FS], [1797.0], [None], "6205",
+                                   baseline_path="a.mat",
+                                   baseline_prepared=hf.Baseline(X, fs=FS)._native)
+    one_line(e)
