@@ -829,6 +829,43 @@ fn machine_model(text: &str) -> PyResult<String> {
     .map_err(Failure::into_py)
 }
 
+/// `hybrid-fdd simulate`'s flags, parsed by the command's own definition.
+#[derive(clap::Parser)]
+#[command(name = "simulate")]
+struct SimulateCli {
+    #[command(flatten)]
+    a: hybrid_fdd_cli::simulate::Args,
+}
+
+/// Run `hybrid-fdd simulate FLAGS --out OUT` (the command's own code: its CSV and JSON sidecar
+/// are written at `out`, and its lines printed on standard output). `flags` are the command's
+/// flags and values as strings (`["--fault", "outer", "--rpm", "1797"]`).
+#[pyfunction]
+fn simulate_to(py: Python<'_>, flags: Vec<String>, out: PathBuf) -> PyResult<()> {
+    use clap::Parser as _;
+    py.detach(move || {
+        guarded(|| {
+            let mut argv = vec!["simulate".to_string()];
+            argv.extend(flags);
+            argv.push("--out".into());
+            argv.push(out.to_string_lossy().into_owned());
+            let cli = SimulateCli::try_parse_from(argv).map_err(|e| Failure {
+                kind: Kind::Input,
+                // clap's first paragraph (its usage lines follow)
+                message: one_line(
+                    e.to_string()
+                        .split("\n\n")
+                        .next()
+                        .unwrap_or_default()
+                        .trim_start_matches("error: "),
+                ),
+            })?;
+            hybrid_fdd_cli::simulate::run(cli.a).map_err(|e| Failure::new(Kind::Input, &e))
+        })
+    })
+    .map_err(Failure::into_py)
+}
+
 /// The native module: `read`, `diagnose_arrays`, `diagnose_files`, `recordings_in`, `bearing`
 /// and the exception classes; `hybrid_fdd/__init__.py` is the API over it.
 #[pymodule]
@@ -842,6 +879,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(close_loop_file, m)?)?;
     m.add_function(wrap_pyfunction!(machine_model, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_to, m)?)?;
     m.add("InputError", m.py().get_type::<InputError>())?;
     m.add("DataError", m.py().get_type::<DataError>())?;
     m.add("InternalError", m.py().get_type::<InternalError>())?;

@@ -112,3 +112,25 @@ def test_prepared_baseline_equals_cli_and_is_reused(cwru, run_cli):
     r97 = hf.read(base)
     assert hf.diagnose(r, baseline=hf.Baseline(r97)).to_dict() == want
     assert hf.diagnose(r, baseline=hf.Baseline(r97.samples, fs=r97.fs)).to_dict() == want
+
+
+def test_simulate_equals_cli(cli, tmp_path):
+    out = tmp_path / "cli.csv"
+    subprocess.run([str(cli), "simulate", "--fault", "outer", "--rpm", "1750", "--fs", "12000",
+                    "--duration", "1.5", "--seed", "7", "--out", str(out)], check=True,
+                   stdout=subprocess.DEVNULL)
+    rec, side = hf.simulate(fault="outer", rpm=1750, fs=12000, duration=1.5, seed=7)
+    import json
+    import numpy as np
+    want = hf.read(out)
+    assert np.array_equal(rec.samples, want.samples) and rec.fs == want.fs
+    assert side == json.loads(out.with_suffix(".json").read_text())
+    assert rec.unit == "g" and rec.rpm == 1750 and side["params"] == "calibrated"
+    # the bare 5-DOF model (m/s^2), kept at `out`
+    kept = tmp_path / "bare" / "b.csv"
+    rec2, side2 = hf.simulate(out=kept, fault="inner", params="cwru", duration=0.5, seed=1)
+    assert kept.exists() and rec2.unit == "m/s^2" and side2["params"] == "cwru"
+    with pytest.raises(hf.InputError, match="unexpected argument"):
+        hf.simulate(no_such_flag=1)
+    with pytest.raises(hf.InputError, match="rpm"):
+        hf.simulate(rpm=-5)
