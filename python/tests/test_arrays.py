@@ -106,6 +106,34 @@ def test_bearing_catalogue():
     assert b["geometry"]["n_balls"] == 9
 
 
+class OtherRunnable:
+    """Samples, in a thread, how many threads other than this test's two (its loop and this
+    sampler) are runnable on the machine (the 4th field of Linux's /proc/loadavg), every 20 ms;
+    ``mean`` is ``None`` where /proc/loadavg does not exist."""
+
+    def __enter__(self):
+        import threading
+        self.samples, self._stop = [], threading.Event()
+        self._t = threading.Thread(target=self._run, daemon=True)
+        self._t.start()
+        return self
+
+    def _run(self):
+        while not self._stop.wait(0.02):
+            try:
+                with open("/proc/loadavg") as f:
+                    running = int(f.read().split()[3].split("/")[0])
+            except (OSError, ValueError, IndexError):
+                return
+            self.samples.append(max(running - 2, 0))
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        self._t.join()
+        self.mean = sum(self.samples) / len(self.samples) if self.samples else None
+        return False
+
+
 def test_speed_up_of_diagnose_many(cwru):
     """diagnose_many against one call at a time, on the machine's cores: three interleaved rounds,
     the best ratio reported (other jobs on a shared machine come and go) and asserted only
@@ -113,11 +141,13 @@ def test_speed_up_of_diagnose_many(cwru):
     cores = os.cpu_count() or 1
     recs = [hf.read(cwru / "12k_drive_end" / f"{n}.mat") for n in (105, 118, 130, 169, 185, 197)]
     hf.diagnose(recs[0])  # warm up
-    rounds = []
+    rounds, others = [], []
     for _ in range(3):
-        t0 = time.perf_counter()
-        one = [hf.diagnose(r) for r in recs]
-        t_seq = time.perf_counter() - t0
+        with OtherRunnable() as busy:
+            t0 = time.perf_counter()
+            one = [hf.diagnose(r) for r in recs]
+            t_seq = time.perf_counter() - t0
+        others.append(busy.mean)
         t0 = time.perf_counter()
         many = hf.diagnose_many(recs)
         t_par = time.perf_counter() - t0
@@ -129,9 +159,15 @@ def test_speed_up_of_diagnose_many(cwru):
           f"{', '.join(f'{r[0]:.2f}x' for r in rounds)} ({len(recs)} CWRU records, {seconds:.0f} s "
           f"of signal: one at a time {t_seq:.2f} s = {len(recs) / t_seq:.2f} rec/s, diagnose_many "
           f"{t_par:.2f} s = {len(recs) / t_par:.2f} rec/s; load average {os.getloadavg()[0]:.1f})")
-    # a loose bound (issue 56 asks 1.7x on 2 idle cores): a machine whose cores other jobs hold
-    # may set HYBRID_FDD_SPEEDUP_MIN=0 to report without asserting
+    # a loose bound (issue 56 asks 1.7x on 2 idle cores), asserted when the cores were free for
+    # this process: fewer than half a thread of other jobs runnable on average while the one-at-a-
+    # time loop ran (Linux's /proc/loadavg); HYBRID_FDD_SPEEDUP_MIN sets the bound (0: report only)
     floor = float(os.environ.get("HYBRID_FDD_SPEEDUP_MIN", "1.2"))
+    busy = min((o for o in others if o is not None), default=None)
+    print(f"other runnable threads while measuring: {busy if busy is None else round(busy, 2)}")
+    if busy is not None and busy >= 0.5 and "HYBRID_FDD_SPEEDUP_MIN" not in os.environ:
+        print(f"speed-up not asserted: other jobs held ~{busy:.1f} of {cores} cores")
+        return
     if cores >= 2:
         assert speed_up > floor, (
             f"diagnose_many only {speed_up:.2f}x faster on {cores} cores (load average "
