@@ -11,8 +11,8 @@ use super::loader::sniff;
 
 /// Files a directory input expands to, sorted: `.mat`, `.csv`, `.tsv`, and files named without an
 /// extension or with an all-digit one (IMS names its records by date, `2004.02.12.10.32.39`)
-/// whose content is a MAT-file or text ([`sniff`]).
-pub(super) fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
+/// whose content is a MAT-file or text (read by content, as the loader sniffs them).
+pub fn expand(input: &Path) -> anyhow::Result<Vec<PathBuf>> {
     if !input.is_dir() {
         return Ok(vec![input.to_path_buf()]);
     }

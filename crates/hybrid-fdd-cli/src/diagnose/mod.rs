@@ -19,7 +19,7 @@ pub use baseline::{
     BaselineSource, MACHINE_SYNTHESIS_S, MACHINE_SYNTHESIS_SEED, MACHINE_SYNTHESIS_TURNS, Prepared,
     decimated_to,
 };
-pub use batch::report_names;
+pub use batch::{expand, report_names};
 pub use classifier::{TrainedClass, apply_classifier, load_classifier};
 pub use loader::{
     FsFlag, Loaded, MAT_RATE_TOLERANCE, TIME_RATE_TOLERANCE, TIME_STEP_TOLERANCE,
@@ -164,6 +164,42 @@ pub fn diagnose_loaded_with(
     })
 }
 
+/// Read one recording as `diagnose` does before diagnosing it: [`load_with`] (`channel`, `fs`
+/// under `flag`), a note when a `fs` given is not the file's own rate, and the speed to declare
+/// (`rpm` when given; else, for a file that stores none, its `simulate` sidecar's,
+/// [`rpm_or_sidecar`], with a note). Returns the samples, that declared speed (`None`: the
+/// file's own [`Loaded::rpm`], if any, is used) and the notes; the command and the Python
+/// binding (`python/`) both call it.
+///
+/// # Errors
+/// As [`load_with`].
+pub fn read_recording(
+    path: &Path,
+    channel: &str,
+    fs: Option<f64>,
+    rpm: Option<f64>,
+    flag: FsFlag,
+) -> anyhow::Result<(Loaded, Option<f64>, Vec<String>)> {
+    let mut notes = Vec::new();
+    let l = load_with(path, channel, fs, flag)?;
+    if let Some(f) = fs
+        && (l.fs_hz - f).abs() > MAT_RATE_TOLERANCE * f
+    {
+        notes.push(format!(
+            "{}: its own rate {} Hz used (--fs {f} is for files that store no rate)",
+            path.display(),
+            l.fs_hz
+        ));
+    }
+    let (rpm, note) = if l.rpm.is_none() {
+        rpm_or_sidecar(path, rpm)
+    } else {
+        (rpm, None)
+    };
+    notes.extend(note);
+    Ok((l, rpm, notes))
+}
+
 /// Run `diagnose` with these flags (one file, or a directory in parallel with a progress bar).
 ///
 /// # Errors
@@ -188,23 +224,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         FsFlag::MustAgree
     };
     let one = |path: &Path, out: &Path| -> anyhow::Result<(Outcome, Vec<String>)> {
-        let mut notes = Vec::new();
-        let l = load_with(path, &plan.channel, plan.fs, flag)?;
-        if let Some(f) = plan.fs
-            && (l.fs_hz - f).abs() > MAT_RATE_TOLERANCE * f
-        {
-            notes.push(format!(
-                "{}: its own rate {} Hz used (--fs {f} is for files that store no rate)",
-                path.display(),
-                l.fs_hz
-            ));
-        }
-        let (rpm, note) = if l.rpm.is_none() {
-            rpm_or_sidecar(path, plan.rpm)
-        } else {
-            (plan.rpm, None)
-        };
-        notes.extend(note);
+        let (l, rpm, notes) = read_recording(path, &plan.channel, plan.fs, plan.rpm, flag)?;
         let plan = Plan {
             rpm,
             ..plan.clone()

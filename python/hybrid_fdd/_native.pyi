@@ -1,0 +1,106 @@
+"""Type stub of the native module ``hybrid_fdd._native`` (python/src/lib.rs).
+
+The public API is ``hybrid_fdd`` (``__init__.py``); these are the calls it makes. Each diagnosis
+result is ``("ok", {"json": str, "baseline_note": str | None, "unit": str,
+"unit_statement": str, "notes": list[str]})`` or ``(error class name, message)``.
+"""
+
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+DEFAULT_FALSE_ALARM: float
+
+class InputError(ValueError):
+    """Input the diagnosis refuses (one-line Rust message)."""
+
+class DataError(OSError):
+    """A file that cannot be read or parsed (one-line Rust message)."""
+
+class InternalError(RuntimeError):
+    """The Rust code panicked: a bug."""
+
+_Result = Tuple[str, Any]
+
+class PreparedBaseline:
+    """A baseline read once; its preparations cached across calls."""
+
+    def __init__(
+        self,
+        path: Optional[str] = None,
+        samples: Optional[npt.NDArray[np.float64]] = None,
+        fs: Optional[float] = None,
+        machine: Optional[str] = None,
+        channel: str = "DE",
+    ) -> None: ...
+    @property
+    def path(self) -> Any: ...
+
+def read(path: str, channel: Optional[str] = None, fs: Optional[float] = None) -> Dict[str, Any]: ...
+def diagnose_arrays(
+    signals: Sequence[npt.NDArray[np.float64]],
+    fs: Sequence[float],
+    rpm: Sequence[Optional[float]],
+    unit: Sequence[Optional[str]],
+    bearing: str,
+    rpm_range: Optional[Tuple[float, float]] = None,
+    alpha: Optional[float] = None,
+    baseline_path: Optional[str] = None,
+    baseline_samples: Optional[npt.NDArray[np.float64]] = None,
+    baseline_fs: Optional[float] = None,
+    baseline_machine: Optional[str] = None,
+    baseline_prepared: Optional[PreparedBaseline] = None,
+    channel: str = "DE",
+    threads: Optional[int] = None,
+) -> List[_Result]: ...
+def diagnose_files(
+    paths: Sequence[str],
+    bearing: str,
+    channel: str = "DE",
+    fs: Optional[float] = None,
+    rpm: Optional[float] = None,
+    rpm_range: Optional[Tuple[float, float]] = None,
+    alpha: Optional[float] = None,
+    baseline_path: Optional[str] = None,
+    baseline_samples: Optional[npt.NDArray[np.float64]] = None,
+    baseline_fs: Optional[float] = None,
+    baseline_machine: Optional[str] = None,
+    baseline_prepared: Optional[PreparedBaseline] = None,
+    one_file: bool = False,
+    threads: Optional[int] = None,
+) -> List[_Result]: ...
+def recordings_in(directory: str) -> List[str]: ...
+def bearing(spec: str) -> str: ...
+def calibrate(
+    path: str,
+    rpm: Optional[float] = None,
+    bearing: Optional[str] = None,
+    channel: str = "DE",
+    fs: Optional[float] = None,
+    decimate: int = 1,
+    model: str = "physics",
+    units: Optional[str] = None,
+    line_frequency: float = 60.0,
+    max_effects: Optional[int] = None,
+    report: Optional[str] = None,
+) -> Tuple[str, str]: ...
+def close_loop_file(
+    path: str,
+    fault: str = "none",
+    machine: Optional[str] = None,
+    rpm: Optional[float] = None,
+    bearing: Optional[str] = None,
+    channel: str = "DE",
+    fs: Optional[float] = None,
+    decimate: int = 1,
+    model: str = "physics",
+    units: Optional[str] = None,
+    line_frequency: float = 60.0,
+    max_effects: int = 8,
+    seconds: Optional[float] = None,
+    fault_size_in: Optional[float] = None,
+    report: Optional[str] = None,
+) -> Tuple[str, str]: ...
+def machine_model(text: str) -> str: ...
+def simulate_to(flags: Sequence[str], out: str) -> None: ...
