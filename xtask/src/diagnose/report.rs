@@ -231,9 +231,31 @@ fn strip(o: &Result<Outcome, String>) -> serde_json::Value {
         Ok(o) => {
             let mut d = o.diagnosis.clone();
             d.whitening.coefficients.clear();
-            serde_json::json!({ "baseline": o.baseline_note, "diagnosis": d })
+            let mut v = serde_json::json!({ "baseline": o.baseline_note, "diagnosis": d });
+            round_numbers(&mut v);
+            v
         }
         Err(e) => serde_json::json!({ "error": e }),
+    }
+}
+
+/// Every non-integer number of `v` to 6 significant digits: `records.json` is a table of 222
+/// diagnoses to read and script against, not their bit-exact record (the command's own
+/// `--report` keeps full precision); full precision made it 2.3 MB.
+fn round_numbers(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Number(n) if n.is_f64() => {
+            let x = n.as_f64().unwrap_or(0.0);
+            if x != 0.0 && x.is_finite() {
+                let r: f64 = format!("{x:.5e}").parse().unwrap_or(x);
+                if let Some(m) = serde_json::Number::from_f64(r) {
+                    *n = m;
+                }
+            }
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(round_numbers),
+        serde_json::Value::Object(o) => o.values_mut().for_each(round_numbers),
+        _ => {}
     }
 }
 
