@@ -249,17 +249,34 @@ impl Prepared {
     /// `LoopConfig` defaults) whose structural path is the physics observers' model (identified
     /// from the segment directly when the loop added none because the declared model already
     /// explained it).
+    ///
+    /// The calibration starts from the 6205's declared healthy 5-DOF model (CWRU's drive end);
+    /// [`Prepared::new_for`] takes the bearing.
     pub fn new(healthy: &[f64], fs: f64, rpm: f64, fuzzy: bool, physics: bool) -> Result<Self> {
+        Self::new_for(
+            healthy,
+            fs,
+            rpm,
+            bearing_model::Bearing::Skf6205,
+            fuzzy,
+            physics,
+        )
+    }
+
+    /// [`Prepared::new`] with the machine model's calibration started from `bearing`'s declared
+    /// healthy 5-DOF model (only used when `physics`).
+    pub fn new_for(
+        healthy: &[f64],
+        fs: f64,
+        rpm: f64,
+        bearing: bearing_model::Bearing,
+        fuzzy: bool,
+        physics: bool,
+    ) -> Result<Self> {
         let revolution = (fs * 60.0 / rpm).round().max(1.0) as usize;
         let (path, path_modes, calibration_error, path_order, path_lines) = if physics {
             let cfg = close_loop::LoopConfig::default().check()?;
-            let machine = close_loop::machine::calibrate(
-                healthy,
-                fs,
-                rpm,
-                bearing_model::Bearing::Skf6205,
-                &cfg,
-            )?;
+            let machine = close_loop::machine::calibrate(healthy, fs, rpm, bearing, &cfg)?;
             let (path, path_modes, path_order, path_lines) = match &machine.path {
                 Some(p) => (
                     machine.predictor_model()?,

@@ -1,0 +1,808 @@
+//! The run: indicators of every recording (in parallel), thresholds from the baseline, the
+//! per-indicator onsets, the run's alarm, the fault named and the severity after it.
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::alarm::{self, Domain, Severity, Threshold};
+use crate::config::{CheckedTrendConfig, MIN_BASELINES};
+use crate::error::{Result, TrendError};
+use crate::indicators::{self, Unit, Zone};
+use crate::order::TimeAxis;
+
+/// The dissertation's proposed observers whose residual energy is trended (ch. 2–5).
+pub const OBSERVERS: [pipeline::Method; 4] = [
+    pipeline::Method::Hostsmo,
+    pipeline::Method::Pflo,
+    pipeline::Method::Smalpio,
+    pipeline::Method::Afsmo,
+];
+
+/// Seconds of baseline recordings the diagnosis' healthy reference is fitted on, at most (the
+/// baseline recordings joined end to end).
+pub const DIAGNOSIS_BASELINE_SECONDS: f64 = 10.0;
+
+/// One recording, in memory.
+#[derive(Debug, Clone)]
+pub struct Recording {
+    /// Its name (a file name), for reports and errors.
+    pub name: String,
+    /// Its time on the run's [`TimeAxis`].
+    pub time: f64,
+    /// The samples of one channel (acceleration).
+    pub samples: Vec<f64>,
+    /// Sampling rate, Hz.
+    pub fs_hz: f64,
+    /// Declared shaft speed, rpm (the diagnosis searches ± 10 % around it).
+    pub rpm: f64,
+}
+
+/// What an indicator measures, which decides its threshold domain, its speed normalisation
+/// and whether a sensor-gain change moves it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Scale {
+    /// An amplitude (× gain; normalised by (rpm/rpm_ref)^p).
+    Amplitude,
+    /// An energy, amplitude² (× gain²; normalised by (rpm/rpm_ref)^2p).
+    Energy,
+    /// A ratio of the signal to itself (gain-immune, not normalised).
+    Dimensionless,
+    /// The diagnosis' evidence −log10 p_healthy (gain-immune, not normalised).
+    Evidence,
+}
+
+impl Scale {
+    /// The threshold domain.
+    pub fn domain(self) -> Domain {
+        match self {
+            Scale::Evidence => Domain::Linear,
+            _ => Domain::Log10,
+        }
+    }
+
+    /// Power of the speed ratio in the normalisation, in units of p.
+    pub fn speed_power(self) -> f64 {
+        match self {
+            Scale::Amplitude => 1.0,
+            Scale::Energy => 2.0,
+            _ => 0.0,
+        }
+    }
+
+    /// Whether a change of the sensor's gain leaves the indicator unchanged.
+    pub fn gain_immune(self) -> bool {
+        matches!(self, Scale::Dimensionless | Scale::Evidence)
+    }
+}
+
+/// One indicator (a column of the table).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct IndicatorInfo {
+    /// Column name (`rms`, `kurtosis`, `evidence_outer`, `hostsmo_ms`, …).
+    pub name: String,
+    /// Its scale.
+    pub scale: Scale,
+    /// Its unit.
+    pub unit: String,
+    /// One line on what it is.
+    pub description: String,
+}
+
+/// One recording's row.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Row {
+    /// Name.
+    pub name: String,
+    /// Time on the run's axis.
+    pub time: f64,
+    /// Whether it is one of the baseline recordings.
+    pub baseline: bool,
+    /// The speed the normalisation used: the diagnosis' (`rpm_used`) when diagnosed, else the
+    /// declared one, rpm.
+    pub rpm: f64,
+    /// Each indicator as measured (`None`: not computed, see `notes`).
+    pub values: Vec<Option<f64>>,
+    /// Each indicator after the speed normalisation (what the thresholds apply to).
+    pub normalised: Vec<Option<f64>>,
+    /// Each indicator above its threshold.
+    pub above: Vec<bool>,
+    /// The diagnosis' verdict (`None`: not diagnosed).
+    pub verdict: Option<String>,
+    /// The diagnosis' p_healthy (3 × min over hypotheses, capped at 1).
+    pub p_healthy: Option<f64>,
+    /// Modulation depth per hypothesis (`inner`, `outer`, `ball`) where the diagnosis read one.
+    pub modulation_depth: BTreeMap<String, f64>,
+    /// ISO 20816-3 zone of the (not normalised) velocity, when a group is given and the unit
+    /// known.
+    pub zone: Option<Zone>,
+    /// What was not computed, and why.
+    pub notes: Vec<String>,
+}
+
+/// An indicator's onset under the m-of-n rule.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Onset {
+    /// Indicator.
+    pub indicator: String,
+    /// Row where the rule was first met.
+    pub index: usize,
+    /// Its time.
+    pub time: f64,
+    /// Row of the first exceedance in that window.
+    pub first_exceedance_index: usize,
+    /// The fault the diagnosis named over the window's exceeding recordings.
+    pub fault: String,
+    /// The severity trend of this indicator from the onset on.
+    pub severity: Severity,
+}
+
+/// The run's alarm: the earliest onset among the alarm indicators.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Alarm {
+    /// Row.
+    pub index: usize,
+    /// Its name.
+    pub name: String,
+    /// Its time.
+    pub time: f64,
+    /// The indicators whose onset is at that row.
+    pub indicators: Vec<String>,
+    /// The fault named: the most frequent non-normal verdict among the recordings of the
+    /// m-of-n window where one of these indicators was above its threshold.
+    pub fault: String,
+    /// The verdicts of those recordings.
+    pub verdicts: Vec<String>,
+    /// Severity after the alarm, per alarm indicator.
+    pub severity: Vec<Severity>,
+}
+
+/// How the observers' healthy model was prepared.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ObserverSetup {
+    /// The observers trended.
+    pub methods: Vec<String>,
+    /// Samples of the fit segment.
+    pub fit_samples: usize,
+    /// The recording it came from.
+    pub fit_recording: String,
+    /// The declared 5-DOF bearing the machine model's calibration started from.
+    pub declared_bearing: String,
+    /// Share of every recording skipped before the residual energy (observer start-up).
+    pub settle_fraction: f64,
+}
+
+/// Wall-clock times of a run (not serialised: they vary run to run).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Timing {
+    /// Preparing the diagnosis reference and the observers, s.
+    pub prepare_s: f64,
+    /// Mean per recording: signal indicators, s (CPU time on one thread).
+    pub signal_s: f64,
+    /// Mean per recording: diagnosis, s.
+    pub diagnosis_s: f64,
+    /// Mean per recording: all observers' residuals, s.
+    pub observers_s: f64,
+}
+
+/// A run's result.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TrendReport {
+    /// The time axis.
+    pub axis: TimeAxis,
+    /// Its unit.
+    pub time_unit: String,
+    /// The samples' unit.
+    pub unit: Unit,
+    /// The bearing declared.
+    pub bearing: String,
+    /// Sampling rate, Hz.
+    pub fs_hz: f64,
+    /// The baseline's speed every amplitude is normalised to (median of the baseline rows'
+    /// speeds), rpm.
+    pub rpm_reference: f64,
+    /// The parameters.
+    pub config: CheckedTrendConfig,
+    /// The indicators, in column order.
+    pub indicators: Vec<IndicatorInfo>,
+    /// Threshold per indicator (`None`: fewer than the minimum baseline values).
+    pub thresholds: Vec<Option<Threshold>>,
+    /// One row per recording, in time order.
+    pub rows: Vec<Row>,
+    /// Onset per indicator (`None`: never met the rule).
+    pub onsets: Vec<Option<Onset>>,
+    /// The indicators the alarm is taken over.
+    pub alarm_on: Vec<String>,
+    /// The run's alarm.
+    pub alarm: Option<Alarm>,
+    /// The observers' setup (`None`: not prepared, see `notes`).
+    pub observers: Option<ObserverSetup>,
+    /// What was not computed, and why (run level).
+    pub notes: Vec<String>,
+    /// Wall-clock times.
+    #[serde(skip)]
+    pub timing: Timing,
+}
+
+impl TrendReport {
+    /// Index of the indicator named `name`.
+    pub fn indicator(&self, name: &str) -> Option<usize> {
+        self.indicators.iter().position(|i| i.name == name)
+    }
+}
+
+fn info(name: &str, scale: Scale, unit: &str, description: &str) -> IndicatorInfo {
+    IndicatorInfo {
+        name: name.into(),
+        scale,
+        unit: unit.into(),
+        description: description.into(),
+    }
+}
+
+/// The indicator columns of a run.
+fn columns(unit: Unit, diagnosis: bool, observers: &[pipeline::Method]) -> Vec<IndicatorInfo> {
+    let u = unit.code();
+    let v = if unit.to_si().is_some() {
+        "mm/s".to_string()
+    } else {
+        "unit·s".to_string()
+    };
+    let mut c = vec![
+        info("rms", Scale::Amplitude, u, "RMS of the signal"),
+        info("peak", Scale::Amplitude, u, "largest |sample|"),
+        info("crest", Scale::Dimensionless, "1", "peak / RMS"),
+        info(
+            "kurtosis",
+            Scale::Dimensionless,
+            "1",
+            "m4/m2² (3 = Gaussian)",
+        ),
+        info(
+            "velocity_rms",
+            Scale::Amplitude,
+            &v,
+            "velocity RMS 10–1000 Hz (frequency-domain integration)",
+        ),
+        info(
+            "signal_ms",
+            Scale::Energy,
+            &format!("({u})²"),
+            "mean square of the signal (the raw energy the observers' residual energy is compared with)",
+        ),
+    ];
+    if diagnosis {
+        for h in ["inner", "outer", "ball"] {
+            c.push(info(
+                &format!("evidence_{h}"),
+                Scale::Evidence,
+                "decades",
+                &format!("−log10 p_healthy of the {h}-race hypothesis (diagnosis)"),
+            ));
+        }
+    }
+    for m in observers {
+        let n = m.name().to_ascii_lowercase();
+        c.push(info(
+            &format!("{n}_ms"),
+            Scale::Energy,
+            &format!("({u})²"),
+            &format!(
+                "mean square of the {} residual on the baseline's healthy model",
+                m.name()
+            ),
+        ));
+        c.push(info(
+            &format!("{n}_ratio"),
+            Scale::Dimensionless,
+            "1",
+            &format!(
+                "{} residual mean square / signal mean square (same samples)",
+                m.name()
+            ),
+        ));
+    }
+    c
+}
+
+/// The observers' healthy model, prepared once on the baseline.
+struct Observers {
+    prepared: pipeline::Prepared,
+    tuned: Vec<(pipeline::Method, pipeline::Tuning)>,
+}
+
+/// Prepare the observers on the first baseline recording (its first `fit_seconds`).
+fn prepare_observers(
+    first: &Recording,
+    fit_seconds: f64,
+    bearing: &diagnosis::BearingSpec,
+    notes: &mut Vec<String>,
+) -> Option<(Observers, ObserverSetup)> {
+    let n = ((fit_seconds * first.fs_hz).round() as usize).min(first.samples.len());
+    let fit = &first.samples[..n];
+    let declared = bearing
+        .name
+        .parse::<bearing_model::Bearing>()
+        .or_else(|_| bearing.given.parse::<bearing_model::Bearing>());
+    let declared_bearing = match declared {
+        Ok(b) => b,
+        Err(_) => {
+            notes.push(format!(
+                "the observers' machine model was calibrated from the 6205's declared healthy 5-DOF model (the built-in physics has only the 6205 and 6203; {} enters the diagnosis only): the structural path and lines are identified from the baseline either way",
+                bearing.echo()
+            ));
+            bearing_model::Bearing::Skf6205
+        }
+    };
+    let prepared = match pipeline::Prepared::new_for(
+        fit,
+        first.fs_hz,
+        first.rpm,
+        declared_bearing,
+        true,
+        true,
+    ) {
+        Ok(p) => p,
+        Err(e) => {
+            notes.push(format!(
+                "observers not prepared on {} ({n} samples): {e}",
+                first.name
+            ));
+            return None;
+        }
+    };
+    let mut tuned = Vec::new();
+    for m in OBSERVERS {
+        match prepared.tune(m) {
+            Ok(t) => tuned.push((m, t)),
+            Err(e) => notes.push(format!("{} not tuned on the baseline: {e}", m.name())),
+        }
+    }
+    if tuned.is_empty() {
+        return None;
+    }
+    let setup = ObserverSetup {
+        methods: tuned.iter().map(|(m, _)| m.name().to_string()).collect(),
+        fit_samples: n,
+        fit_recording: first.name.clone(),
+        declared_bearing: declared_bearing.designation().to_string(),
+        settle_fraction: pipeline::INPUT_SETTLE,
+    };
+    Some((Observers { prepared, tuned }, setup))
+}
+
+/// Everything measured on one recording before the thresholds.
+struct Measured {
+    values: Vec<Option<f64>>,
+    rpm: f64,
+    verdict: Option<String>,
+    p_healthy: Option<f64>,
+    modulation_depth: BTreeMap<String, f64>,
+    notes: Vec<String>,
+    secs: [f64; 3],
+}
+
+fn measure(
+    r: &Recording,
+    cfg: &CheckedTrendConfig,
+    bearing: &diagnosis::BearingSpec,
+    reference: Option<&diagnosis::Baseline>,
+    obs: Option<&Observers>,
+) -> Result<Measured> {
+    let c = cfg.get();
+    let t0 = Instant::now();
+    let s = indicators::signal_indicators(&r.name, &r.samples, r.fs_hz, c.unit)?;
+    let mut values = vec![
+        Some(s.rms),
+        Some(s.peak),
+        Some(s.crest),
+        Some(s.kurtosis),
+        Some(s.velocity_rms),
+        Some(s.mean_square),
+    ];
+    let t1 = Instant::now();
+    let mut notes = Vec::new();
+    let (mut rpm, mut verdict, mut p_healthy) = (r.rpm, None, None);
+    let mut depth = BTreeMap::new();
+    if c.diagnosis {
+        let options = diagnosis::DiagnoseOptions::declared(r.rpm).with_false_alarm(c.false_alarm);
+        let d = if bearing.name == "unknown" {
+            diagnosis::diagnose_unknown_bearing(&r.samples, r.fs_hz, reference, &options)
+        } else {
+            diagnosis::diagnose_with_options(&r.samples, r.fs_hz, bearing, reference, &options)
+        };
+        match d {
+            Ok(d) => {
+                for h in diagnosis::Hypothesis::ALL {
+                    let sig = d
+                        .evidence
+                        .iter()
+                        .find(|e| e.hypothesis == h)
+                        .and_then(|e| e.significance.as_ref());
+                    values.push(sig.map(|s| -s.p_healthy.max(1e-300).log10().min(300.0)));
+                    if let Some(s) = sig.filter(|s| s.modulation_depth.is_finite()) {
+                        depth.insert(h.name().to_string(), s.modulation_depth);
+                    }
+                }
+                rpm = d.operating_point.rpm_used;
+                verdict = Some(d.verdict.clone());
+                p_healthy = Some(d.p_healthy);
+            }
+            Err(e) => {
+                notes.push(format!("not diagnosed: {e}"));
+                values.extend([None, None, None]);
+            }
+        }
+    }
+    let t2 = Instant::now();
+    if let Some(o) = obs {
+        let n = r.samples.len();
+        let skip = ((pipeline::INPUT_SETTLE * n as f64).round() as usize).min(n.saturating_sub(1));
+        let sig_ms = close_loop::metric::mean_square(&r.samples[skip..]);
+        // the machine model's input is shared by the observers that take it
+        let input = match o.prepared.machine_input(&r.samples) {
+            Ok(u) => u,
+            Err(e) => {
+                notes.push(format!("machine model input: {e}"));
+                None
+            }
+        };
+        for (m, t) in &o.tuned {
+            let res =
+                pipeline::residual_with_input(*m, &o.prepared, t, &r.samples, input.as_deref());
+            match res {
+                Ok(e) if e.iter().all(|v| v.is_finite()) => {
+                    let ms = close_loop::metric::mean_square(&e[skip..]);
+                    values.push(Some(ms));
+                    values.push((sig_ms > 0.0).then(|| ms / sig_ms));
+                }
+                Ok(_) => {
+                    notes.push(format!("{}: non-finite residual", m.name()));
+                    values.extend([None, None]);
+                }
+                Err(e) => {
+                    notes.push(format!("{}: {e}", m.name()));
+                    values.extend([None, None]);
+                }
+            }
+        }
+    }
+    let t3 = Instant::now();
+    Ok(Measured {
+        values,
+        rpm,
+        verdict,
+        p_healthy,
+        modulation_depth: depth,
+        notes,
+        secs: [
+            (t1 - t0).as_secs_f64(),
+            (t2 - t1).as_secs_f64(),
+            (t3 - t2).as_secs_f64(),
+        ],
+    })
+}
+
+/// Check the recordings: enough of them, one sampling rate, finite samples, positive speed,
+/// increasing times.
+fn check(recs: &[Recording], baseline_count: usize) -> Result<()> {
+    if baseline_count < MIN_BASELINES {
+        return Err(TrendError::TooFewBaselines {
+            needed: MIN_BASELINES,
+            found: baseline_count,
+        });
+    }
+    if recs.len() < baseline_count {
+        return Err(TrendError::TooFewRecordings {
+            needed: baseline_count,
+            found: recs.len(),
+        });
+    }
+    let first = &recs[0];
+    for (i, r) in recs.iter().enumerate() {
+        let bad = |reason: String| TrendError::BadRecording {
+            name: r.name.clone(),
+            reason,
+        };
+        if !(r.fs_hz.is_finite() && r.fs_hz > 0.0) {
+            return Err(bad(format!("sampling rate {} Hz", r.fs_hz)));
+        }
+        if (r.fs_hz - first.fs_hz).abs() > 1e-9 * first.fs_hz {
+            return Err(TrendError::MixedRates {
+                name: r.name.clone(),
+                fs_hz: r.fs_hz,
+                first: first.name.clone(),
+                expected_hz: first.fs_hz,
+            });
+        }
+        if !(r.rpm.is_finite() && r.rpm > 0.0) {
+            return Err(bad(format!("declared speed {} rpm", r.rpm)));
+        }
+        if !r.time.is_finite() {
+            return Err(bad(format!("time {}", r.time)));
+        }
+        if i > 0 && r.time <= recs[i - 1].time {
+            return Err(TrendError::NotOrdered {
+                name: r.name.clone(),
+                time: r.time,
+                previous: recs[i - 1].time,
+            });
+        }
+        if let Some(k) = r.samples.iter().position(|v| !v.is_finite()) {
+            return Err(bad(format!("sample {k} is not finite")));
+        }
+    }
+    Ok(())
+}
+
+/// [`analyse_with_progress`] without progress.
+///
+/// # Errors
+/// As [`analyse_with_progress`].
+pub fn analyse(
+    recs: &[Recording],
+    axis: TimeAxis,
+    bearing: &diagnosis::BearingSpec,
+    cfg: &CheckedTrendConfig,
+) -> Result<TrendReport> {
+    analyse_with_progress(recs, axis, bearing, cfg, &|| {})
+}
+
+/// Analyse recordings in time order (`recs[k].time` increasing on `axis`): the first
+/// `baseline_count` are the healthy baseline. `tick` is called once per recording measured
+/// (from rayon's threads).
+///
+/// Steps: (1) the diagnosis' healthy reference (`diagnosis::Baseline::prepare` on the baseline
+/// recordings joined, at most [`DIAGNOSIS_BASELINE_SECONDS`]) and the observers' healthy model
+/// (`pipeline::Prepared::new_for` on the first baseline recording's first `fit_seconds`, each of
+/// [`OBSERVERS`] tuned on it by `Prepared::tune`); (2) every recording's indicators, in
+/// parallel; (3) the speed normalisation; (4) thresholds from the baseline rows; (5) the m-of-n
+/// onset of each indicator, the alarm over `alarm_on`, the fault named and the severity after.
+///
+/// # Errors
+/// Too few recordings or baselines, mixed sampling rates, non-finite samples, times not
+/// increasing, an `alarm_on` naming no indicator: one line naming the recording. A recording
+/// the diagnosis or an observer cannot read is not an error: its value is `None` and the row's
+/// notes say why.
+pub fn analyse_with_progress(
+    recs: &[Recording],
+    axis: TimeAxis,
+    bearing: &diagnosis::BearingSpec,
+    cfg: &CheckedTrendConfig,
+    tick: &(dyn Fn() + Sync),
+) -> Result<TrendReport> {
+    let c = cfg.get();
+    let nb = c.baseline_count;
+    check(recs, nb)?;
+    let fs = recs[0].fs_hz;
+    let mut notes = Vec::new();
+    let tp = Instant::now();
+    let reference = if c.diagnosis {
+        let cap = (DIAGNOSIS_BASELINE_SECONDS * fs) as usize;
+        let joined: Vec<f64> = recs[..nb]
+            .iter()
+            .flat_map(|r| r.samples.iter().copied())
+            .take(cap)
+            .collect();
+        match diagnosis::Baseline::prepare(&joined, fs) {
+            Ok(b) => Some(b),
+            Err(e) => {
+                notes.push(format!(
+                    "the diagnosis' healthy reference could not be fitted on the baseline ({e}); every recording is diagnosed self-referenced"
+                ));
+                None
+            }
+        }
+    } else {
+        notes.push("diagnosis not run: no evidence indicators, no fault named".into());
+        None
+    };
+    let obs = if c.observers {
+        prepare_observers(&recs[0], c.fit_seconds, bearing, &mut notes)
+    } else {
+        notes.push("observers not run (disabled)".into());
+        None
+    };
+    let prepare_s = tp.elapsed().as_secs_f64();
+    let methods: Vec<pipeline::Method> = obs
+        .as_ref()
+        .map(|(o, _)| o.tuned.iter().map(|t| t.0).collect())
+        .unwrap_or_default();
+    let indicators = columns(c.unit, c.diagnosis, &methods);
+    let measured: Vec<Measured> = recs
+        .par_iter()
+        .map(|r| {
+            let m = measure(
+                r,
+                cfg,
+                bearing,
+                reference.as_ref(),
+                obs.as_ref().map(|o| &o.0),
+            );
+            tick();
+            m
+        })
+        .collect::<Result<_>>()?;
+    let nr = recs.len() as f64;
+    let mean = |k: usize| measured.iter().map(|m| m.secs[k]).sum::<f64>() / nr;
+    let timing = Timing {
+        prepare_s,
+        signal_s: mean(0),
+        diagnosis_s: mean(1),
+        observers_s: mean(2),
+    };
+    // speed normalisation to the baseline's median speed
+    let rpm_reference = alarm::median(&measured[..nb].iter().map(|m| m.rpm).collect::<Vec<_>>())
+        .unwrap_or(recs[0].rpm);
+    let normalised: Vec<Vec<Option<f64>>> = measured
+        .iter()
+        .map(|m| {
+            let ratio = m.rpm / rpm_reference;
+            m.values
+                .iter()
+                .zip(&indicators)
+                .map(|(v, i)| {
+                    v.map(|v| v / ratio.powf(c.speed_exponent * i.scale.speed_power()))
+                        .filter(|v| v.is_finite())
+                })
+                .collect()
+        })
+        .collect();
+    let thresholds: Vec<Option<Threshold>> = (0..indicators.len())
+        .map(|j| {
+            let b: Vec<Option<f64>> = normalised[..nb].iter().map(|row| row[j]).collect();
+            alarm::threshold(&b, indicators[j].scale.domain(), c.k, MIN_BASELINES)
+        })
+        .collect();
+    for (i, t) in indicators.iter().zip(&thresholds) {
+        if t.is_none() {
+            notes.push(format!(
+                "{}: no threshold (fewer than {MIN_BASELINES} baseline values)",
+                i.name
+            ));
+        }
+    }
+    let above: Vec<Vec<bool>> = normalised
+        .iter()
+        .map(|row| {
+            row.iter()
+                .zip(&thresholds)
+                .map(|(v, t)| matches!((v, t), (Some(v), Some(t)) if *v > t.value))
+                .collect()
+        })
+        .collect();
+    let times: Vec<f64> = recs.iter().map(|r| r.time).collect();
+    let verdicts: Vec<Option<&str>> = measured.iter().map(|m| m.verdict.as_deref()).collect();
+    let zone_level = match (c.machine_group, c.unit.to_si()) {
+        (Some(g), Some(_)) => Some(g.boundaries_mm_s()[1]),
+        _ => None,
+    };
+    let level_of = |j: usize| -> Option<(f64, String)> {
+        if indicators[j].name == "velocity_rms"
+            && let Some(l) = zone_level
+        {
+            return Some((l, format!("ISO 20816-3 zone B/C boundary ({l} mm/s)")));
+        }
+        thresholds[j].map(|t| {
+            (
+                c.level_factor * t.value,
+                format!("{} x threshold", c.level_factor),
+            )
+        })
+    };
+    let col = |j: usize| -> Vec<Option<f64>> { normalised.iter().map(|r| r[j]).collect() };
+    let onsets: Vec<Option<Onset>> = (0..indicators.len())
+        .map(|j| {
+            let a: Vec<bool> = above.iter().map(|r| r[j]).collect();
+            let (idx, first) = alarm::m_of_n(&a, nb, c.m, c.n)?;
+            let lo = nb.max((idx + 1).saturating_sub(c.n));
+            let fired: Vec<Option<&str>> =
+                (lo..=idx).filter(|&k| a[k]).map(|k| verdicts[k]).collect();
+            let (level, basis) = level_of(j)?;
+            Some(Onset {
+                indicator: indicators[j].name.clone(),
+                index: idx,
+                time: times[idx],
+                first_exceedance_index: first,
+                fault: alarm::fault_named(&fired),
+                severity: alarm::severity(&times, &col(j), idx, level, &basis, axis.rate_unit()),
+            })
+        })
+        .collect();
+    let alarm_on: Vec<String> = match &c.alarm_on {
+        Some(list) => {
+            for n in list {
+                if !indicators.iter().any(|i| &i.name == n) {
+                    return Err(TrendError::Config(format!(
+                        "alarm indicator `{n}` is not among this run's indicators ({})",
+                        indicators
+                            .iter()
+                            .map(|i| i.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )));
+                }
+            }
+            list.clone()
+        }
+        None => indicators.iter().map(|i| i.name.clone()).collect(),
+    };
+    let alarm_idx: Vec<usize> = (0..indicators.len())
+        .filter(|&j| alarm_on.contains(&indicators[j].name))
+        .collect();
+    let alarm = alarm_idx
+        .iter()
+        .filter_map(|&j| onsets[j].as_ref().map(|o| o.index))
+        .min()
+        .map(|idx| {
+            let firing: Vec<usize> = alarm_idx
+                .iter()
+                .copied()
+                .filter(|&j| onsets[j].as_ref().is_some_and(|o| o.index == idx))
+                .collect();
+            let lo = nb.max((idx + 1).saturating_sub(c.n));
+            let fired: Vec<Option<&str>> = (lo..=idx)
+                .filter(|&k| firing.iter().any(|&j| above[k][j]))
+                .map(|k| verdicts[k])
+                .collect();
+            Alarm {
+                index: idx,
+                name: recs[idx].name.clone(),
+                time: times[idx],
+                indicators: firing.iter().map(|&j| indicators[j].name.clone()).collect(),
+                fault: alarm::fault_named(&fired),
+                verdicts: fired.iter().flatten().map(|v| v.to_string()).collect(),
+                severity: firing
+                    .iter()
+                    .filter_map(|&j| onsets[j].as_ref().map(|o| o.severity.clone()))
+                    .collect(),
+            }
+        });
+    let rows: Vec<Row> = recs
+        .iter()
+        .zip(measured)
+        .zip(normalised)
+        .zip(above)
+        .enumerate()
+        .map(|(k, (((r, m), nv), ab))| {
+            let zone = match (c.machine_group, c.unit.to_si()) {
+                (Some(g), Some(_)) => m.values[4].map(|v| g.zone(v)),
+                _ => None,
+            };
+            Row {
+                name: r.name.clone(),
+                time: r.time,
+                baseline: k < nb,
+                rpm: m.rpm,
+                values: m.values,
+                normalised: nv,
+                above: ab,
+                verdict: m.verdict,
+                p_healthy: m.p_healthy,
+                modulation_depth: m.modulation_depth,
+                zone,
+                notes: m.notes,
+            }
+        })
+        .collect();
+    Ok(TrendReport {
+        axis,
+        time_unit: axis.unit().to_string(),
+        unit: c.unit,
+        bearing: bearing.echo().to_string(),
+        fs_hz: fs,
+        rpm_reference,
+        config: cfg.clone(),
+        indicators,
+        thresholds,
+        rows,
+        onsets,
+        alarm_on,
+        alarm,
+        observers: obs.map(|o| o.1),
+        notes,
+        timing,
+    })
+}

@@ -1,0 +1,192 @@
+//! Whole runs on seeded synthetic sequences: a gain step must not fire the dimensionless
+//! indicators, a growing outer-race fault must raise the alarm after the baseline and be named.
+
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+
+const FS: f64 = 12_000.0;
+const RPM: f64 = 1797.0;
+/// The 6205's BPFO order (× shaft frequency).
+const BPFO: f64 = 3.5848;
+
+/// One second of a healthy machine: coloured noise (a 2.5 kHz resonance driven by white noise)
+/// plus the shaft's first two harmonics; with `impact` > 0, outer-race impacts at BPFO ringing
+/// that resonance. Seeded.
+fn recording(seed: u64, gain: f64, impact: f64) -> Vec<f64> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let w = Normal::new(0.0, 1.0).unwrap();
+    let n = FS as usize;
+    let fr = RPM / 60.0;
+    let (f0, zeta) = (2500.0, 0.05);
+    let wd = 2.0 * std::f64::consts::PI * f0 / FS;
+    let r = (-zeta * wd).exp();
+    let (a1, a2) = (2.0 * r * wd.cos(), -r * r);
+    let period = FS / (BPFO * fr);
+    let mut next = period * 0.37;
+    let (mut y1, mut y2) = (0.0, 0.0);
+    (0..n)
+        .map(|i| {
+            let mut e = 0.05 * w.sample(&mut rng);
+            if impact > 0.0 && i as f64 >= next {
+                e += impact;
+                // slip: ±1 % jitter of the impact spacing
+                next += period * (1.0 + 0.01 * w.sample(&mut rng).clamp(-2.0, 2.0));
+            }
+            let y = a1 * y1 + a2 * y2 + e;
+            y2 = y1;
+            y1 = y;
+            let t = i as f64 / FS;
+            let shaft = 0.02 * (2.0 * std::f64::consts::PI * fr * t).sin()
+                + 0.01 * (4.0 * std::f64::consts::PI * fr * t + 0.3).sin();
+            gain * (y + shaft + 0.01 * w.sample(&mut rng))
+        })
+        .collect()
+}
+
+fn run(recs: Vec<trend::Recording>, observers: bool) -> trend::TrendReport {
+    let cfg = trend::TrendConfig {
+        baseline_count: 6,
+        observers,
+        unit: trend::Unit::G,
+        ..Default::default()
+    }
+    .check()
+    .unwrap();
+    let bearing = diagnosis::BearingSpec::parse("6205").unwrap();
+    trend::analyse(&recs, trend::TimeAxis::Index, &bearing, &cfg).unwrap()
+}
+
+fn rec(k: usize, samples: Vec<f64>) -> trend::Recording {
+    trend::Recording {
+        name: format!("{}.csv", k + 1),
+        time: (k + 1) as f64,
+        samples,
+        fs_hz: FS,
+        rpm: RPM,
+    }
+}
+
+#[test]
+fn a_gain_step_fires_amplitudes_but_not_dimensionless_indicators() {
+    let recs: Vec<trend::Recording> = (0..14)
+        .map(|k| {
+            let gain = if k >= 8 { 3.0 } else { 1.0 };
+            rec(k, recording(100 + k as u64, gain, 0.0))
+        })
+        .collect();
+    let r = run(recs, false);
+    let onset = |name: &str| r.onsets[r.indicator(name).unwrap()].clone();
+    assert!(onset("rms").is_some(), "a ×3 gain step must move the RMS");
+    for name in [
+        "crest",
+        "kurtosis",
+        "evidence_inner",
+        "evidence_outer",
+        "evidence_ball",
+    ] {
+        assert!(
+            onset(name).is_none(),
+            "{name} fired on a gain step: {:?}",
+            onset(name)
+        );
+    }
+    assert!(
+        r.rows
+            .iter()
+            .all(|row| row.verdict.as_deref() == Some("normal"))
+    );
+}
+
+#[test]
+fn a_growing_outer_race_fault_raises_the_alarm_and_is_named() {
+    // healthy 0..8, then impacts growing from recording 8 on
+    let recs: Vec<trend::Recording> = (0..14)
+        .map(|k| {
+            let impact = if k >= 8 { 0.5 * (k - 7) as f64 } else { 0.0 };
+            rec(k, recording(200 + k as u64, 1.0, impact))
+        })
+        .collect();
+    let r = run(recs, false);
+    let a = r.alarm.as_ref().expect("an alarm");
+    assert!(
+        a.index >= 8,
+        "alarm at {} before the fault began (8)",
+        a.index
+    );
+    assert_eq!(a.fault, "outer", "{a:?}");
+    // no indicator alarms before the fault
+    for o in r.onsets.iter().flatten() {
+        assert!(o.first_exceedance_index >= 8, "{o:?}");
+    }
+    let k = r.onsets[r.indicator("kurtosis").unwrap()]
+        .as_ref()
+        .expect("kurtosis alarms");
+    assert!(k.severity.slope.unwrap() > 0.0);
+}
+
+#[test]
+fn the_observers_trend_on_a_healthy_model_of_the_baseline() {
+    let recs: Vec<trend::Recording> = (0..8)
+        .map(|k| {
+            let impact = if k >= 6 { 2.0 } else { 0.0 };
+            rec(k, recording(300 + k as u64, 1.0, impact))
+        })
+        .collect();
+    let r = run(recs, true);
+    let setup = r.observers.as_ref().expect("observers prepared");
+    assert_eq!(setup.methods.len(), 4, "{:?}", r.notes);
+    eprintln!(
+        "timing: prepare {:.2} s; per recording of {} samples: signal {:.4} s, diagnosis {:.3} s, observers {:.3} s",
+        r.timing.prepare_s,
+        FS as usize,
+        r.timing.signal_s,
+        r.timing.diagnosis_s,
+        r.timing.observers_s
+    );
+    for m in &setup.methods {
+        let j = r
+            .indicator(&format!("{}_ms", m.to_ascii_lowercase()))
+            .unwrap();
+        for row in &r.rows {
+            let v = row.values[j].expect("residual energy");
+            assert!(v.is_finite() && v > 0.0);
+        }
+    }
+}
+
+#[test]
+fn too_few_recordings_and_mixed_rates_are_typed_errors() {
+    let cfg = trend::TrendConfig {
+        baseline_count: 6,
+        observers: false,
+        diagnosis: false,
+        ..Default::default()
+    }
+    .check()
+    .unwrap();
+    let bearing = diagnosis::BearingSpec::parse("6205").unwrap();
+    let recs: Vec<trend::Recording> = (0..4)
+        .map(|k| rec(k, recording(k as u64, 1.0, 0.0)))
+        .collect();
+    let e = trend::analyse(&recs, trend::TimeAxis::Index, &bearing, &cfg).unwrap_err();
+    assert!(matches!(
+        e,
+        trend::TrendError::TooFewRecordings {
+            needed: 6,
+            found: 4
+        }
+    ));
+    let mut recs: Vec<trend::Recording> = (0..7)
+        .map(|k| rec(k, recording(k as u64, 1.0, 0.0)))
+        .collect();
+    recs[5].fs_hz = 24_000.0;
+    let e = trend::analyse(&recs, trend::TimeAxis::Index, &bearing, &cfg).unwrap_err();
+    assert!(
+        e.to_string().starts_with("6.csv: sampled at 24000 Hz"),
+        "{e}"
+    );
+    recs[5].fs_hz = FS;
+    recs[5].samples[10] = f64::NAN;
+    let e = trend::analyse(&recs, trend::TimeAxis::Index, &bearing, &cfg).unwrap_err();
+    assert!(e.to_string().starts_with("6.csv: sample 10"), "{e}");
+}
