@@ -23,6 +23,7 @@ pub mod diagnose;
 pub mod figure;
 pub mod simulate;
 pub mod train;
+pub mod trend;
 
 /// Parse a `--bearing` spec with bearing-model's parser and say on stderr what looks wrong
 /// without being an error ([`bearing_model::BearingSpec::warnings`]: a `bsf` away from the

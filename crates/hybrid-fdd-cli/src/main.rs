@@ -9,6 +9,7 @@
 //! hybrid-fdd train-classifier --labels labelled.csv --bearing 6205 --out clf.json
 //! hybrid-fdd diagnose --input 130.mat --bearing 6205 --classifier clf.json --report out/130.json
 //! hybrid-fdd bearings            # the built-in bearing catalogue; `hybrid-fdd bearings uc204`
+//! hybrid-fdd trend --input ims/1st_test --bearing ZA-2115 --rpm 2000 --report out/trend
 //! ```
 
 use clap::{Parser, Subcommand};
@@ -43,6 +44,10 @@ enum Command {
     /// fault orders (× shaft frequency) and the source of each row; or the one row a
     /// designation names.
     Bearings(hybrid_fdd_cli::bearings::Args),
+    /// Watch a machine over time: a directory of its recordings (or an index CSV `file,time`)
+    /// in time order → health indicators per recording, thresholds from the first N, the onset
+    /// alarm, the fault named and the severity after it (trend.csv/json, summary.md, trend.png).
+    Trend(hybrid_fdd_cli::trend::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -53,6 +58,7 @@ fn main() -> std::process::ExitCode {
         Command::Simulate(a) => hybrid_fdd_cli::simulate::run(a),
         Command::TrainClassifier(a) => hybrid_fdd_cli::train::run(&a),
         Command::Bearings(a) => hybrid_fdd_cli::bearings::run(&a),
+        Command::Trend(a) => hybrid_fdd_cli::trend::run(&a),
     };
     match r {
         Ok(()) => std::process::ExitCode::SUCCESS,

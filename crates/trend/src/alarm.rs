@@ -107,8 +107,12 @@ pub fn m_of_n(above: &[bool], start: usize, m: usize, n: usize) -> Option<(usize
 
 /// The fault the diagnosis names among `verdicts` (those of the recordings that fired): the
 /// most frequent verdict that is neither `normal` nor `uncertain` (ties: the latest), else
-/// `uncertain` if any, else `normal`; `None` entries (not diagnosed) are skipped.
+/// `uncertain` if any, else `normal`; `None` entries (not diagnosed) are skipped, and
+/// `not diagnosed` when all are `None`.
 pub fn fault_named(verdicts: &[Option<&str>]) -> String {
+    if verdicts.iter().all(Option::is_none) {
+        return "not diagnosed".into();
+    }
     let mut best: Option<(&str, usize, usize)> = None;
     for (i, v) in verdicts.iter().enumerate() {
         let Some(v) = *v else { continue };

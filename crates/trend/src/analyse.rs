@@ -166,7 +166,8 @@ pub struct ObserverSetup {
     pub methods: Vec<String>,
     /// Samples of the fit segment.
     pub fit_samples: usize,
-    /// The recording it came from.
+    /// The recording(s) it came from (`a .. b (joined)` when the first baseline recording is
+    /// shorter than the fit segment).
     pub fit_recording: String,
     /// The declared 5-DOF bearing the machine model's calibration started from.
     pub declared_bearing: String,
@@ -245,6 +246,10 @@ fn info(name: &str, scale: Scale, unit: &str, description: &str) -> IndicatorInf
 /// The indicator columns of a run.
 fn columns(unit: Unit, diagnosis: bool, observers: &[pipeline::Method]) -> Vec<IndicatorInfo> {
     let u = unit.code();
+    let u2 = match unit {
+        Unit::G => "g²".to_string(),
+        _ => format!("({u})²"),
+    };
     let v = if unit.to_si().is_some() {
         "mm/s".to_string()
     } else {
@@ -269,7 +274,7 @@ fn columns(unit: Unit, diagnosis: bool, observers: &[pipeline::Method]) -> Vec<I
         info(
             "signal_ms",
             Scale::Energy,
-            &format!("({u})²"),
+            &u2,
             "mean square of the signal (the raw energy the observers' residual energy is compared with)",
         ),
     ];
@@ -288,7 +293,7 @@ fn columns(unit: Unit, diagnosis: bool, observers: &[pipeline::Method]) -> Vec<I
         c.push(info(
             &format!("{n}_ms"),
             Scale::Energy,
-            &format!("({u})²"),
+            &u2,
             &format!(
                 "mean square of the {} residual on the baseline's healthy model",
                 m.name()
@@ -313,15 +318,36 @@ struct Observers {
     tuned: Vec<(pipeline::Method, pipeline::Tuning)>,
 }
 
-/// Prepare the observers on the first baseline recording (its first `fit_seconds`).
+/// Prepare the observers on the first `fit_seconds` of the baseline recordings joined end to
+/// end (the first recording's alone when it is that long).
 fn prepare_observers(
-    first: &Recording,
+    baseline: &[Recording],
     fit_seconds: f64,
     bearing: &diagnosis::BearingSpec,
     notes: &mut Vec<String>,
 ) -> Option<(Observers, ObserverSetup)> {
-    let n = ((fit_seconds * first.fs_hz).round() as usize).min(first.samples.len());
-    let fit = &first.samples[..n];
+    let first = &baseline[0];
+    let cap = (fit_seconds * first.fs_hz).round() as usize;
+    let fit: Vec<f64> = baseline
+        .iter()
+        .flat_map(|r| r.samples.iter().copied())
+        .take(cap)
+        .collect();
+    let n = fit.len();
+    let joined = baseline
+        .iter()
+        .scan(0usize, |acc, r| {
+            let start = *acc;
+            *acc += r.samples.len();
+            Some(start)
+        })
+        .take_while(|&start| start < n)
+        .count();
+    let fit_recording = if joined > 1 {
+        format!("{} .. {} (joined)", first.name, baseline[joined - 1].name)
+    } else {
+        first.name.clone()
+    };
     let declared = bearing
         .name
         .parse::<bearing_model::Bearing>()
@@ -337,7 +363,7 @@ fn prepare_observers(
         }
     };
     let prepared = match pipeline::Prepared::new_for(
-        fit,
+        &fit,
         first.fs_hz,
         first.rpm,
         declared_bearing,
@@ -347,8 +373,7 @@ fn prepare_observers(
         Ok(p) => p,
         Err(e) => {
             notes.push(format!(
-                "observers not prepared on {} ({n} samples): {e}",
-                first.name
+                "observers not prepared on {fit_recording} ({n} samples): {e}"
             ));
             return None;
         }
@@ -366,7 +391,7 @@ fn prepare_observers(
     let setup = ObserverSetup {
         methods: tuned.iter().map(|(m, _)| m.name().to_string()).collect(),
         fit_samples: n,
-        fit_recording: first.name.clone(),
+        fit_recording,
         declared_bearing: declared_bearing.designation().to_string(),
         settle_fraction: pipeline::INPUT_SETTLE,
     };
@@ -421,7 +446,8 @@ fn measure(
                         .iter()
                         .find(|e| e.hypothesis == h)
                         .and_then(|e| e.significance.as_ref());
-                    values.push(sig.map(|s| -s.p_healthy.max(1e-300).log10().min(300.0)));
+                    // + 0.0: −log10 1 is −0, printed "-0"
+                    values.push(sig.map(|s| -s.p_healthy.max(1e-300).log10().min(300.0) + 0.0));
                     if let Some(s) = sig.filter(|s| s.modulation_depth.is_finite()) {
                         depth.insert(h.name().to_string(), s.modulation_depth);
                     }
@@ -600,7 +626,7 @@ pub fn analyse_with_progress(
         None
     };
     let obs = if c.observers {
-        prepare_observers(&recs[0], c.fit_seconds, bearing, &mut notes)
+        prepare_observers(&recs[..nb], c.fit_seconds, bearing, &mut notes)
     } else {
         notes.push("observers not run (disabled)".into());
         None

@@ -47,8 +47,9 @@ pub struct TrendConfig {
     pub diagnosis: bool,
     /// Prepare the dissertation's observers on the baseline and trend their residual energy.
     pub observers: bool,
-    /// Seconds of the first baseline recording the observers' healthy model is fitted on
-    /// (the whole recording when shorter; `pipeline::FIT_SECONDS` by default).
+    /// Seconds of baseline the observers' healthy model is fitted on: the first baseline
+    /// recording's, joined to the next ones when it is shorter (`pipeline`'s `FIT_SECONDS`,
+    /// 1 s, by default).
     pub fit_seconds: f64,
     /// The diagnosis' false-alarm probability per recording.
     pub false_alarm: f64,

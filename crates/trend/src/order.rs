@@ -273,10 +273,16 @@ pub struct IndexEntry {
     pub time: NameTime,
     /// 1-based line in the index.
     pub line: usize,
+    /// Optional `start_s` column: the recording starts this many seconds into the file.
+    pub start_s: Option<f64>,
+    /// Optional `duration_s` column: only this many seconds are read (so one long file can give
+    /// several recordings of a staged sequence).
+    pub duration_s: Option<f64>,
 }
 
 /// Parse an index CSV (`path` names it in errors): a header `file,time` (either order, case
-/// ignored, further columns ignored), then one row per recording; blank lines and `#` comments
+/// ignored; optional `start_s` and `duration_s` columns cut a segment of the file, seconds;
+/// further columns ignored), then one row per recording; blank lines and `#` comments
 /// skipped. Times are numbers or calendar times ([`parse_time`]), one kind for the whole file.
 ///
 /// # Errors
@@ -321,6 +327,25 @@ pub fn parse_index(path: &str, text: &str) -> Result<Vec<IndexEntry>> {
         if file.is_empty() {
             return Err(err(line, "empty `file`".into()));
         }
+        let seconds = |name: &str| -> Result<Option<f64>> {
+            let Some(c) = cols.iter().position(|c| c == name) else {
+                return Ok(None);
+            };
+            match f.get(c).copied().filter(|v| !v.is_empty()) {
+                None => Ok(None),
+                Some(v) => match v.parse::<f64>() {
+                    Ok(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
+                    _ => Err(err(
+                        line,
+                        format!("{file}: `{name}` = {v:?} is not a number of seconds >= 0"),
+                    )),
+                },
+            }
+        };
+        let (start_s, duration_s) = (seconds("start_s")?, seconds("duration_s")?);
+        if duration_s == Some(0.0) {
+            return Err(err(line, format!("{file}: `duration_s` is 0")));
+        }
         let t = parse_time(time).map_err(|e| err(line, format!("{file}: {e}")))?;
         if let Some(first) = out.first().map(|e: &IndexEntry| e.time.axis)
             && first != t.axis
@@ -336,6 +361,8 @@ pub fn parse_index(path: &str, text: &str) -> Result<Vec<IndexEntry>> {
             file: file.to_string(),
             time: t,
             line,
+            start_s,
+            duration_s,
         });
     }
     if out.is_empty() {
@@ -406,6 +433,16 @@ mod tests {
         let e = parse_index("i.csv", "file,time\nx,0\ny,2024-03-01T12:00:00\n").unwrap_err();
         assert!(e.to_string().contains("line 3"), "{e}");
         assert!(parse_index("i.csv", "name,t\n").is_err());
+        let rows = parse_index(
+            "i.csv",
+            "file,time,start_s,duration_s\n97.mat,0,0,2\n97.mat,1,2,2\n",
+        )
+        .unwrap();
+        assert_eq!(
+            (rows[1].start_s, rows[1].duration_s),
+            (Some(2.0), Some(2.0))
+        );
+        assert!(parse_index("i.csv", "file,time,start_s\n97.mat,0,-1\n").is_err());
     }
 
     #[test]

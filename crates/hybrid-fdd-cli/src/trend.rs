@@ -1,0 +1,748 @@
+//! `trend`: a directory of recordings of one machine (or an index CSV `file,time`) → one row
+//! per recording of health indicators, thresholds from the first N, the onset alarm and the fault
+//! named (the `trend` crate), as `trend.csv`, `trend.json`, `summary.md` and `trend.png`.
+//!
+//! Layouts read as they come: IMS (ASCII, tab-separated, no header, 4 or 8 columns, files named
+//! by their timestamp without extension, 20 kHz by default), XJTU-SY (CSV with the header
+//! `Horizontal_vibration_signals,Vertical_vibration_signals`, files `1.csv`, `2.csv`, …,
+//! 25.6 kHz by default), and whatever `diagnose` reads (`.mat`, CSV with a JSON sidecar).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context as _, bail};
+use rayon::prelude::*;
+
+use crate::diagnose::{FsFlag, load_with, rpm_or_sidecar};
+
+/// Default sampling rate of IMS-layout files, Hz (the IMS data set's README: 20 kHz).
+pub const IMS_FS_HZ: f64 = 20_000.0;
+/// Default sampling rate of XJTU-SY-layout files, Hz (the XJTU-SY data set: 25.6 kHz).
+pub const XJTU_FS_HZ: f64 = 25_600.0;
+/// XJTU-SY's header.
+pub const XJTU_HEADER: [&str; 2] = ["Horizontal_vibration_signals", "Vertical_vibration_signals"];
+
+/// Flags of `trend`.
+#[derive(clap::Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
+pub struct Args {
+    /// Directory of recordings of one machine, ordered by the time in their names (IMS's
+    /// `2004.02.12.10.32.39`, ISO dates such as `2024-03-01T12:00:00` or `20240301T120000`, or
+    /// numbers as XJTU-SY's `1.csv`, `2.csv`, … in numeric order).
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// Index CSV `file,time` instead of (or restricting) `--input`: files absolute or relative
+    /// to the index's directory, times numbers (order only) or calendar times.
+    #[arg(long)]
+    pub index: Option<PathBuf>,
+    /// Bearing: a catalogue designation (`hybrid-fdd bearings`), a geometry
+    /// `n=…,d=…,D=…[,angle=…]`, or `unknown`.
+    #[arg(long)]
+    pub bearing: String,
+    /// Declared shaft speed, rpm (searched ± 10 % per recording by the diagnosis); by default a
+    /// file's stored speed or its `simulate` sidecar's.
+    #[arg(long)]
+    pub rpm: Option<f64>,
+    /// Sampling rate, Hz, of files that store none (default: 20 000 for IMS-layout files,
+    /// 25 600 for XJTU-SY-layout files).
+    #[arg(long)]
+    pub fs: Option<f64>,
+    /// Channel: a column name or number (1 = first) of a text file (default: column 1 of IMS
+    /// files, `Horizontal_vibration_signals` of XJTU-SY files), DE/FE/BA of a CWRU `.mat`.
+    #[arg(long)]
+    pub channel: Option<String>,
+    /// The first N recordings (in time order) are the healthy baseline.
+    #[arg(long, default_value_t = 10)]
+    pub baseline_count: usize,
+    /// ISO 20816-3 machine group and foundation, for the velocity's zone: group1-rigid,
+    /// group1-flexible, group2-rigid, group2-flexible.
+    #[arg(long)]
+    pub machine_group: Option<String>,
+    /// Unit of the samples: g or m/s2 (default: what the files state, else unknown).
+    #[arg(long)]
+    pub unit: Option<String>,
+    /// k of the thresholds median + k·1.4826·MAD.
+    #[arg(long, default_value_t = trend::DEFAULT_K)]
+    pub k: f64,
+    /// Alarm rule: above the threshold in M of N consecutive recordings, as `M/N`.
+    #[arg(long, default_value = "3/4")]
+    pub alarm: String,
+    /// Exponent p of the speed normalisation of amplitudes (energies take 2p).
+    #[arg(long, default_value_t = trend::DEFAULT_SPEED_EXPONENT)]
+    pub speed_exponent: f64,
+    /// Decimate files sampled at an integer multiple of this rate (Hz) to it, with the
+    /// anti-aliasing decimator `diagnose` uses for baselines (e.g. CWRU's 48 kHz 97.mat in a
+    /// 12 kHz staged sequence); without it, mixed rates are an error.
+    #[arg(long)]
+    pub decimate_to: Option<f64>,
+    /// Skip the dissertation's observers (their calibration on the baseline takes seconds).
+    #[arg(long)]
+    pub no_observers: bool,
+    /// Output directory: trend.csv, trend.json, summary.md, trend.png.
+    #[arg(long)]
+    pub report: PathBuf,
+}
+
+/// How the files of a run are laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// IMS: headerless tab-separated text, 4 or 8 columns.
+    Ims,
+    /// XJTU-SY: CSV with the two-column header.
+    Xjtu,
+    /// Anything `diagnose` reads.
+    Other,
+}
+
+impl Layout {
+    fn name(self) -> &'static str {
+        match self {
+            Layout::Ims => "IMS (tab-separated, no header)",
+            Layout::Xjtu => "XJTU-SY (CSV, horizontal/vertical header)",
+            Layout::Other => "diagnose's readers (.mat, CSV)",
+        }
+    }
+}
+
+/// The layout of one file and its column count (text files; 0 for others).
+///
+/// # Errors
+/// Unreadable files.
+pub fn layout_of(path: &Path) -> anyhow::Result<(Layout, usize)> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    if ext == "mat" {
+        return Ok((Layout::Other, 0));
+    }
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
+        .with_context(|| format!("reading {}", path.display()))?;
+    if head.starts_with(b"MATLAB")
+        || std::str::from_utf8(&head).is_err_and(|e| e.error_len().is_some())
+    {
+        return Ok((Layout::Other, 0));
+    }
+    let text = String::from_utf8_lossy(&head);
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('#'))
+        .unwrap_or("");
+    let first = first.trim_start_matches('\u{feff}');
+    let delim = if first.contains('\t') {
+        '\t'
+    } else if first.contains(';') {
+        ';'
+    } else {
+        ','
+    };
+    let fields: Vec<&str> = first
+        .split(delim)
+        .map(|f| f.trim().trim_matches('"'))
+        .collect();
+    let numeric = fields.iter().all(|f| f.parse::<f64>().is_ok());
+    if fields.len() == 2
+        && fields
+            .iter()
+            .zip(XJTU_HEADER)
+            .all(|(f, h)| f.eq_ignore_ascii_case(h))
+    {
+        return Ok((Layout::Xjtu, 2));
+    }
+    if numeric && delim == '\t' && matches!(fields.len(), 4 | 8) && ext.is_empty()
+        || numeric
+            && delim == '\t'
+            && matches!(fields.len(), 4 | 8)
+            && ext.bytes().all(|b| b.is_ascii_digit())
+    {
+        return Ok((Layout::Ims, fields.len()));
+    }
+    Ok((Layout::Other, fields.len()))
+}
+
+/// The files of a run with their names (as shown) and times, in time order, and the axis.
+/// A file of a run: its path, the name shown, its time, and the segment (start, duration) in
+/// seconds an index row asks for.
+type Entry = (PathBuf, String, f64, (Option<f64>, Option<f64>));
+
+fn files_in_order(args: &Args) -> anyhow::Result<(Vec<Entry>, trend::TimeAxis)> {
+    if let Some(index) = &args.index {
+        let text = std::fs::read_to_string(index)
+            .with_context(|| format!("reading {}", index.display()))?;
+        let entries = trend::parse_index(&index.display().to_string(), &text)?;
+        let base = index
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let names: Vec<String> = entries
+            .iter()
+            .map(|e| match (e.start_s, e.duration_s) {
+                (None, None) => e.file.clone(),
+                (a, d) => format!(
+                    "{}[{}+{}s]",
+                    e.file,
+                    a.unwrap_or(0.0),
+                    d.map_or("end".to_string(), |d| d.to_string())
+                ),
+            })
+            .collect();
+        let times: Vec<(usize, trend::NameTime)> = entries
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (i, e.time))
+            .collect();
+        let (order, axis) = trend::order::order_times(&names, &times)?;
+        let mut out = Vec::new();
+        for (i, t) in order {
+            let e = &entries[i];
+            let p = Path::new(&e.file);
+            let path = if p.is_absolute() {
+                p.to_path_buf()
+            } else {
+                base.join(p)
+            };
+            if !path.is_file() {
+                bail!(
+                    "{}: line {}: {} is not a file",
+                    index.display(),
+                    e.line,
+                    path.display()
+                );
+            }
+            out.push((path, names[i].clone(), t, (e.start_s, e.duration_s)));
+        }
+        return Ok((out, axis));
+    }
+    let input = args
+        .input
+        .as_deref()
+        .context("--input DIR or --index FILE is required")?;
+    if !input.is_dir() {
+        bail!("--input {} is not a directory", input.display());
+    }
+    let files = crate::diagnose::expand(input)?;
+    let names: Vec<String> = files
+        .iter()
+        .map(|p| {
+            p.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        })
+        .collect();
+    let (order, axis) = trend::order_names(&names)?;
+    Ok((
+        order
+            .into_iter()
+            .map(|(i, t)| (files[i].clone(), names[i].clone(), t, (None, None)))
+            .collect(),
+        axis,
+    ))
+}
+
+/// Run `trend`.
+///
+/// # Errors
+/// Bad flags, unreadable or mixed files (one line naming the file), the `trend` crate's typed
+/// errors, output errors.
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let bearing = if args
+        .bearing
+        .trim()
+        .eq_ignore_ascii_case(crate::diagnose::UNKNOWN_BEARING)
+    {
+        crate::diagnose::unknown_bearing()
+    } else {
+        crate::parse_bearing(&args.bearing)?
+    };
+    let (m, n) = args
+        .alarm
+        .split_once('/')
+        .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)))
+        .with_context(|| format!("--alarm {}: expected M/N, e.g. 3/4", args.alarm))?;
+    let group = args
+        .machine_group
+        .as_deref()
+        .map(trend::MachineGroup::parse)
+        .transpose()?;
+    let declared_unit = args.unit.as_deref().map(trend::Unit::parse).transpose()?;
+    if let Some(f) = args.fs
+        && !(f.is_finite() && f > 0.0)
+    {
+        bail!("--fs {f}: must be a positive number of Hz");
+    }
+    if let Some(r) = args.rpm
+        && !(r.is_finite() && r > 0.0)
+    {
+        bail!("--rpm {r}: must be a positive number of rpm");
+    }
+    // check the configuration before reading anything
+    let cfg = trend::TrendConfig {
+        baseline_count: args.baseline_count,
+        k: args.k,
+        m,
+        n,
+        speed_exponent: args.speed_exponent,
+        machine_group: group,
+        observers: !args.no_observers,
+        ..Default::default()
+    };
+    cfg.clone().check()?;
+    // outputs never go into the input directory
+    std::fs::create_dir_all(&args.report)
+        .with_context(|| format!("creating {}", args.report.display()))?;
+    if let Some(input) = &args.input {
+        let (a, b) = (
+            std::fs::canonicalize(input),
+            std::fs::canonicalize(&args.report),
+        );
+        if let (Ok(a), Ok(b)) = (a, b)
+            && a == b
+        {
+            bail!(
+                "--report {} is the input directory: choose another",
+                args.report.display()
+            );
+        }
+    }
+    let (files, axis) = files_in_order(args)?;
+    if files.len() < args.baseline_count {
+        return Err(trend::TrendError::TooFewRecordings {
+            needed: args.baseline_count,
+            found: files.len(),
+        }
+        .into());
+    }
+    // one layout and one column count for the whole run
+    let layouts: Vec<(Layout, usize)> = files
+        .iter()
+        .map(|(p, _, _, _)| layout_of(p))
+        .collect::<anyhow::Result<_>>()?;
+    let (layout, cols) = layouts[0];
+    for ((l, c), (_, name, _, _)) in layouts.iter().zip(&files) {
+        if *l != layout {
+            bail!(
+                "{name}: laid out as {}, but {} as {}: one layout per run",
+                l.name(),
+                files[0].1,
+                layout.name()
+            );
+        }
+        if *c != cols {
+            bail!(
+                "{name}: {c} columns, but {} has {cols}: one channel count per run",
+                files[0].1
+            );
+        }
+    }
+    let channel = args.channel.clone().unwrap_or_else(|| match layout {
+        Layout::Ims => "1".into(),
+        Layout::Xjtu => XJTU_HEADER[0].into(),
+        Layout::Other => "DE".into(),
+    });
+    let fs = args.fs.or(match layout {
+        Layout::Ims => Some(IMS_FS_HZ),
+        Layout::Xjtu => Some(XJTU_FS_HZ),
+        Layout::Other => None,
+    });
+    let bar = indicatif::ProgressBar::new(2 * files.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message("reading");
+    type Read = (trend::Recording, String, Vec<String>);
+    let read: Vec<Read> = files
+        .par_iter()
+        .map(|(path, name, time, (start, duration))| {
+            let mut l =
+                load_with(path, &channel, fs, FsFlag::ForUnstated).with_context(|| name.clone())?;
+            let mut notes = Vec::new();
+            if start.is_some() || duration.is_some() {
+                let a = (start.unwrap_or(0.0) * l.fs_hz).round() as usize;
+                let b = duration.map_or(l.samples.len(), |d| a + (d * l.fs_hz).round() as usize);
+                if b > l.samples.len() || a >= b {
+                    bail!(
+                        "{name}: the segment asks for samples {a}..{b}, the file has {}",
+                        l.samples.len()
+                    );
+                }
+                l.samples = l.samples[a..b].to_vec();
+            }
+            if let Some(to) = args.decimate_to
+                && let Some((x, q)) = crate::diagnose::decimated_to(&l.samples, l.fs_hz, to)
+                    .with_context(|| name.clone())?
+            {
+                notes.push(format!(
+                    "{name}: decimated by {q} from {} Hz to {to} Hz",
+                    l.fs_hz
+                ));
+                l.samples = x;
+                l.fs_hz = to;
+            }
+            let rpm = match args.rpm.or(l.rpm) {
+                Some(r) => r,
+                None => {
+                    let (r, note) = rpm_or_sidecar(path, None);
+                    notes.extend(note);
+                    r.with_context(|| format!("{name}: no speed stored in the file; give --rpm"))?
+                }
+            };
+            bar.inc(1);
+            Ok((
+                trend::Recording {
+                    name: name.clone(),
+                    time: *time,
+                    samples: l.samples,
+                    fs_hz: l.fs_hz,
+                    rpm,
+                },
+                l.unit.code.clone(),
+                notes,
+            ))
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let file_units: Vec<&str> = read.iter().map(|r| r.1.as_str()).collect();
+    let mut run_notes: Vec<String> = read.iter().flat_map(|r| r.2.clone()).collect();
+    let unit = match declared_unit {
+        Some(u) => u,
+        None if file_units.iter().all(|u| *u == file_units[0]) => {
+            trend::Unit::parse(file_units[0]).unwrap_or(trend::Unit::Unknown)
+        }
+        None => {
+            run_notes.push(
+                "the files state different units: unit taken as unknown (give --unit)".into(),
+            );
+            trend::Unit::Unknown
+        }
+    };
+    let cfg = trend::TrendConfig { unit, ..cfg }.check()?;
+    let recs: Vec<trend::Recording> = read.into_iter().map(|r| r.0).collect();
+    bar.set_message("analysing");
+    let report = trend::analyse_with_progress(&recs, axis, &bearing, &cfg, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    let out = &args.report;
+    let source = match (&args.index, &args.input) {
+        (Some(i), _) => format!("index {}", i.display()),
+        (None, Some(d)) => format!("directory {}", d.display()),
+        (None, None) => String::new(),
+    };
+    std::fs::write(out.join("trend.csv"), csv(&report))?;
+    let mut json = serde_json::to_value(&report)?;
+    json["source"] = serde_json::Value::String(source.clone());
+    json["layout"] = serde_json::Value::String(layout.name().into());
+    json["channel"] = serde_json::Value::String(channel.clone());
+    json["run_notes"] = serde_json::to_value(&run_notes)?;
+    std::fs::write(
+        out.join("trend.json"),
+        serde_json::to_string_pretty(&json)? + "\n",
+    )?;
+    std::fs::write(
+        out.join("summary.md"),
+        summary(&report, &source, layout, &channel, &run_notes),
+    )?;
+    figure(&report, &out.join("trend.png"))?;
+    let t = report.timing;
+    eprintln!(
+        "{} recordings; prepare {:.2} s; per recording: signal indicators {:.4} s, diagnosis {:.3} s, observers {:.3} s (CPU on one thread)",
+        recs.len(),
+        t.prepare_s,
+        t.signal_s,
+        t.diagnosis_s,
+        t.observers_s
+    );
+    match &report.alarm {
+        Some(a) => crate::say!(
+            "alarm at {} ({}) on {}: fault named {}",
+            a.name,
+            report.axis.format(a.time),
+            a.indicators.join(", "),
+            a.fault
+        ),
+        None => crate::say!("no alarm over {} recordings", recs.len()),
+    }
+    crate::say!("report in {}", out.display());
+    Ok(())
+}
+
+/// A number for a table: 6 significant digits, empty when absent.
+fn num(v: Option<f64>) -> String {
+    match v {
+        Some(v) if v.is_finite() => format!("{v:.6e}")
+            .parse::<f64>()
+            .map(|x| format!("{x}"))
+            .unwrap_or_default(),
+        _ => String::new(),
+    }
+}
+
+/// `trend.csv`: one row per recording.
+pub fn csv(r: &trend::TrendReport) -> String {
+    let mut s = String::from("time,time_text,file,baseline,rpm,verdict,p_healthy,zone");
+    for i in &r.indicators {
+        s.push_str(&format!(",{}", i.name));
+    }
+    for i in &r.indicators {
+        s.push_str(&format!(",above_{}", i.name));
+    }
+    s.push('\n');
+    for row in &r.rows {
+        let name = if row.name.contains([',', '"']) {
+            format!("\"{}\"", row.name.replace('"', "\"\""))
+        } else {
+            row.name.clone()
+        };
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{}",
+            row.time,
+            r.axis.format(row.time),
+            name,
+            row.baseline,
+            num(Some(row.rpm)),
+            row.verdict.clone().unwrap_or_default(),
+            num(row.p_healthy),
+            row.zone.map(|z| format!("{z:?}")).unwrap_or_default()
+        ));
+        for v in &row.values {
+            s.push_str(&format!(",{}", num(*v)));
+        }
+        for a in &row.above {
+            s.push_str(&format!(",{}", u8::from(*a)));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// `summary.md`.
+pub fn summary(
+    r: &trend::TrendReport,
+    source: &str,
+    layout: Layout,
+    channel: &str,
+    run_notes: &[String],
+) -> String {
+    let c = r.config.get();
+    let (ru, _) = r.axis.rate_unit();
+    let mut s = format!(
+        "# Trend of {} recordings\n\nSource: {source} ({}; channel `{channel}`; {} Hz). Bearing {}. Samples in {}. Time axis: {}.\n\n",
+        r.rows.len(),
+        layout.name(),
+        r.fs_hz,
+        r.bearing,
+        r.unit.code(),
+        r.time_unit
+    );
+    s.push_str("## Alarm\n\n");
+    match &r.alarm {
+        Some(a) => {
+            s.push_str(&format!(
+                "**Alarm at {} ({})**, recording {} of {}, on {} (above the threshold in {} of {} consecutive recordings after the baseline).\n\n",
+                a.name,
+                r.axis.format(a.time),
+                a.index + 1,
+                r.rows.len(),
+                a.indicators.join(", "),
+                c.m,
+                c.n
+            ));
+            s.push_str(&format!(
+                "Fault named by the diagnosis at the alarm: **{}** (the most frequent verdict other than normal among the recordings of the alarm window where these indicators were above; their verdicts: {}).\n\n",
+                a.fault,
+                if a.verdicts.is_empty() {
+                    "none diagnosed".to_string()
+                } else {
+                    a.verdicts.join(", ")
+                }
+            ));
+            s.push_str("Severity after the alarm (least squares from the alarm on):\n\n| indicator | slope | points | level | level reached / projected |\n|---|---|---|---|---|\n");
+            for (name, sv) in a.indicators.iter().zip(&a.severity) {
+                let unit = r
+                    .indicator(name)
+                    .map(|j| r.indicators[j].unit.clone())
+                    .unwrap_or_default();
+                let reach = match (sv.reached_at, sv.time_to_level) {
+                    (Some(t), Some(d)) => format!(
+                        "reached at {} ({d:.3} {ru} after the alarm)",
+                        r.axis.format(t)
+                    ),
+                    (None, Some(d)) => {
+                        format!("projected {d:.3} {ru} after the alarm (extrapolated)")
+                    }
+                    _ => "not reached, not rising".into(),
+                };
+                s.push_str(&format!(
+                    "| {name} | {} {unit}/{ru} | {} | {} {unit} ({}) | {reach} |\n",
+                    num(sv.slope),
+                    sv.points,
+                    num(Some(sv.level)),
+                    sv.level_basis
+                ));
+            }
+            s.push('\n');
+        }
+        None => s.push_str("No alarm: no indicator stayed above its threshold long enough.\n\n"),
+    }
+    s.push_str(&format!(
+        "## Thresholds\n\nFrom the first {} recordings (the baseline, assumed healthy): per indicator, median + k·σ̂ with σ̂ = 1.4826·MAD of the baseline values (floored at {} decades in log10, {} decades for the evidence), k = {}, in log10 for positive indicators and linear for the diagnosis' evidence −log10 p_healthy. Amplitudes are normalised to the baseline's median speed {:.1} rpm by (rpm/rpm_ref)^{} (energies by its square); the speed is the one the diagnosis found in each recording (± 10 % around the declared; the declared one where the recording was not diagnosed). Dimensionless indicators (crest, kurtosis, evidence, observer residual ratios) are neither normalised nor moved by a sensor-gain change.\n\n| indicator | unit | baseline median | σ̂ | threshold | onset | fault at onset |\n|---|---|---|---|---|---|---|\n",
+        c.baseline_count,
+        trend::MIN_LOG_SPREAD,
+        trend::MIN_EVIDENCE_SPREAD,
+        c.k,
+        r.rpm_reference,
+        c.speed_exponent
+    ));
+    for ((i, t), o) in r.indicators.iter().zip(&r.thresholds).zip(&r.onsets) {
+        let (med, sp, th) = match t {
+            Some(t) => (
+                num(Some(t.median)),
+                format!(
+                    "{}{}",
+                    num(Some(t.spread)),
+                    if t.spread_floored { " (floor)" } else { "" }
+                ),
+                num(Some(t.value)),
+            ),
+            None => ("—".into(), "—".into(), "none".into()),
+        };
+        let (on, f) = match o {
+            Some(o) => (
+                format!("{} ({})", r.rows[o.index].name, r.axis.format(o.time)),
+                o.fault.clone(),
+            ),
+            None => ("—".into(), "—".into()),
+        };
+        s.push_str(&format!(
+            "| {} | {} | {med} | {sp} | {th} | {on} | {f} |\n",
+            i.name, i.unit
+        ));
+    }
+    s.push_str("\n## Observers\n\n");
+    match &r.observers {
+        Some(o) => s.push_str(&format!(
+            "{} prepared once on the first {} samples of {} (the machine model calibrated from the {}'s declared healthy 5-DOF model, ARX-Laguerre and fuzzy ARX-Laguerre identified, gains from the bound measured there: `pipeline::Prepared`); each recording's residual mean square skips its first {:.0} % (the observers start from rest). `*_ms` is in the signal's unit squared, `*_ratio` is it over the signal's own mean square on the same samples.\n\n",
+            o.methods.join(", "),
+            o.fit_samples,
+            o.fit_recording,
+            o.declared_bearing,
+            100.0 * o.settle_fraction
+        )),
+        None => s.push_str("Not run.\n\n"),
+    }
+    s.push_str("## What is not seen\n\n- The baseline is assumed healthy; a machine already faulty in it raises the thresholds and hides the fault.\n- Load is not measured: a load step moves the amplitude indicators (RMS, peak, velocity, energies); only speed is normalised.\n- A sensor-gain change moves the amplitude indicators too; the dimensionless ones are immune.\n- The severity level and its projection are a straight line through the indicator after the alarm, not a remaining-life model.\n- The velocity zone (ISO 20816-3) needs the unit and a machine group; on a bearing housing at high frequency it is a machine-condition measure, not a bearing-fault measure.\n");
+    let notes: Vec<&String> = run_notes.iter().chain(&r.notes).collect();
+    if !notes.is_empty() {
+        s.push_str("\n## Notes\n\n");
+        for n in notes {
+            s.push_str(&format!("- {n}\n"));
+        }
+    }
+    let row_notes: Vec<String> = r
+        .rows
+        .iter()
+        .filter(|row| !row.notes.is_empty())
+        .map(|row| format!("- {}: {}", row.name, row.notes.join("; ")))
+        .collect();
+    if !row_notes.is_empty() {
+        s.push_str("\n## Recordings with something not computed\n\n");
+        s.push_str(&row_notes.join("\n"));
+        s.push('\n');
+    }
+    s
+}
+
+/// `trend.png`: every indicator over time as a small multiple, divided by its threshold (the
+/// threshold is the line at 1), the baseline shaded, the alarm marked.
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn figure(r: &trend::TrendReport, path: &Path) -> anyhow::Result<()> {
+    use plotters::prelude::*;
+    let text = crate::figure::font_available();
+    let k = r.indicators.len().max(1);
+    let cols = 3usize;
+    let rows = k.div_ceil(cols);
+    let (w, h) = (1200u32, 220 * rows as u32);
+    let bytes = crate::figure::render_png(w, h, |root| {
+        let areas = root.split_evenly((rows, cols));
+        let (ru, per) = r.axis.rate_unit();
+        let t0 = r.rows.first().map_or(0.0, |x| x.time);
+        let x = |t: f64| (t - t0) * per;
+        let xmax = r.rows.last().map_or(1.0, |l| x(l.time)).max(1e-9);
+        let nb = r.config.get().baseline_count;
+        for (j, area) in areas.iter().enumerate().take(k) {
+            let info = &r.indicators[j];
+            let th = r.thresholds[j].map(|t| t.value).filter(|v| *v > 0.0);
+            let pts: Vec<(f64, f64)> = r
+                .rows
+                .iter()
+                .filter_map(|row| row.normalised[j].map(|v| (x(row.time), th.map_or(v, |t| v / t))))
+                .collect();
+            let ymax = pts
+                .iter()
+                .map(|p| p.1)
+                .fold(if th.is_some() { 1.2 } else { 0.0 }, f64::max)
+                * 1.05;
+            let ymin = pts.iter().map(|p| p.1).fold(0.0f64, f64::min);
+            let ymax = if ymax > ymin { ymax } else { ymin + 1.0 };
+            let mut b = ChartBuilder::on(area);
+            b.margin(6);
+            if text {
+                let cap = match th {
+                    Some(_) => format!("{} / threshold", info.name),
+                    None => format!("{} ({}; no threshold)", info.name, info.unit),
+                };
+                b.caption(cap, ("sans-serif", 13))
+                    .x_label_area_size(22)
+                    .y_label_area_size(38);
+            }
+            let mut c = b.build_cartesian_2d(0.0..xmax * 1.02, ymin..ymax)?;
+            let mut mesh = c.configure_mesh();
+            mesh.light_line_style(TRANSPARENT).x_labels(5).y_labels(4);
+            if text {
+                mesh.x_desc(ru);
+            } else {
+                mesh.x_labels(0).y_labels(0);
+            }
+            mesh.draw()?;
+            if nb > 0 && nb <= r.rows.len() {
+                let xb = x(r.rows[nb - 1].time);
+                c.draw_series(std::iter::once(Rectangle::new(
+                    [(0.0, ymin), (xb, ymax)],
+                    RGBColor(200, 200, 200).mix(0.35).filled(),
+                )))?;
+            }
+            if th.is_some() {
+                c.draw_series(LineSeries::new(
+                    vec![(0.0, 1.0), (xmax * 1.02, 1.0)],
+                    RGBColor(214, 39, 40).stroke_width(1),
+                ))?;
+            }
+            if let Some(a) = &r.alarm {
+                let xa = x(a.time);
+                c.draw_series(LineSeries::new(
+                    vec![(xa, ymin), (xa, ymax)],
+                    RGBColor(255, 127, 14).stroke_width(2),
+                ))?;
+            }
+            c.draw_series(LineSeries::new(pts.clone(), RGBColor(31, 119, 180)))?;
+            c.draw_series(
+                pts.iter()
+                    .zip(r.rows.iter().filter(|row| row.normalised[j].is_some()))
+                    .map(|(p, row)| {
+                        let col = if row.above[j] {
+                            RGBColor(214, 39, 40)
+                        } else {
+                            RGBColor(31, 119, 180)
+                        };
+                        Circle::new(*p, 2, col.filled())
+                    }),
+            )?;
+        }
+        Ok(())
+    })?;
+    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))
+}
