@@ -45,3 +45,8 @@ pub use config::{
 pub use error::{Result, TrendError};
 pub use indicators::{MachineGroup, SignalIndicators, Unit, Zone};
 pub use order::{IndexEntry, NameTime, TimeAxis, order_names, parse_index, parse_name};
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
