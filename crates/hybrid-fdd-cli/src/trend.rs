@@ -587,7 +587,7 @@ pub fn summary(
         None => s.push_str("No alarm: no indicator stayed above its threshold long enough.\n\n"),
     }
     s.push_str(&format!(
-        "## Thresholds\n\nFrom the first {} recordings (the baseline, assumed healthy): per indicator, median + k·σ̂ with σ̂ = 1.4826·MAD of the baseline values (floored at {} decades in log10, {} decades for the evidence), k = {}, in log10 for positive indicators and linear for the diagnosis' evidence −log10 p_healthy. Amplitudes are normalised to the baseline's median speed {:.1} rpm by (rpm/rpm_ref)^{} (energies by its square); the speed is the one the diagnosis found in each recording (± 10 % around the declared; the declared one where the recording was not diagnosed). Dimensionless indicators (crest, kurtosis, evidence, observer residual ratios) are neither normalised nor moved by a sensor-gain change.\n\n| indicator | unit | baseline median | σ̂ | threshold | onset | fault at onset |\n|---|---|---|---|---|---|---|\n",
+        "## Thresholds\n\nFrom the first {} recordings (the baseline, assumed healthy): per indicator, median + k·σ̂ with σ̂ = 1.4826·MAD of the baseline values (floored at {} decades in log10, {} decades for the evidence), k = {}, in log10 for positive indicators and linear for the diagnosis' evidence −log10 p_healthy. Amplitudes are normalised to the baseline's median speed {:.1} rpm by (rpm/rpm_ref)^p (energies by its square), p in the table: {} unless the baseline's speeds span 10 % or more, when it is fitted per indicator on the baseline (log-log least squares, clamped to [0, 4]); the speed is the one the diagnosis found in each recording (± 10 % around the declared; the declared one where the recording was not diagnosed). Dimensionless indicators (crest, kurtosis, evidence, observer residual ratios) are neither normalised nor moved by a sensor-gain change.\n\n| indicator | unit | speed exponent p | baseline median | σ̂ | threshold | onset | fault at onset |\n|---|---|---|---|---|---|---|---|\n",
         c.baseline_count,
         trend::MIN_LOG_SPREAD,
         trend::MIN_EVIDENCE_SPREAD,
@@ -595,7 +595,14 @@ pub fn summary(
         r.rpm_reference,
         c.speed_exponent
     ));
-    for ((i, t), o) in r.indicators.iter().zip(&r.thresholds).zip(&r.onsets) {
+    for (((i, t), o), p) in r
+        .indicators
+        .iter()
+        .zip(&r.thresholds)
+        .zip(&r.onsets)
+        .zip(&r.speed_exponents)
+    {
+        let p = p.map_or("—".to_string(), |p| format!("{p:.2}"));
         let (med, sp, th) = match t {
             Some(t) => (
                 num(Some(t.median)),
@@ -616,7 +623,7 @@ pub fn summary(
             None => ("—".into(), "—".into()),
         };
         s.push_str(&format!(
-            "| {} | {} | {med} | {sp} | {th} | {on} | {f} |\n",
+            "| {} | {} | {p} | {med} | {sp} | {th} | {on} | {f} |\n",
             i.name, i.unit
         ));
     }

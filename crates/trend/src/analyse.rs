@@ -7,7 +7,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::alarm::{self, Domain, Severity, Threshold};
-use crate::config::{CheckedTrendConfig, MIN_BASELINES};
+use crate::config::{CheckedTrendConfig, MIN_BASELINES, SPEED_FIT_MIN_SPAN};
 use crate::error::{Result, TrendError};
 use crate::indicators::{self, Unit, Zone};
 use crate::order::TimeAxis;
@@ -210,6 +210,9 @@ pub struct TrendReport {
     pub indicators: Vec<IndicatorInfo>,
     /// Threshold per indicator (`None`: fewer than the minimum baseline values).
     pub thresholds: Vec<Option<Threshold>>,
+    /// Speed exponent p per indicator (amplitudes divided by (rpm/rpm_ref)^p, energies by
+    /// its square; `None`: not normalised).
+    pub speed_exponents: Vec<Option<f64>>,
     /// One row per recording, in time order.
     pub rows: Vec<Row>,
     /// Onset per indicator (`None`: never met the rule).
@@ -511,6 +514,57 @@ fn measure(
     })
 }
 
+/// The speed exponent p of each indicator (`None`: not normalised): fitted on the baseline rows
+/// by least squares of ln v against ln rpm (divided by the scale's power, clamped to [0, 4])
+/// when their speeds span at least [`SPEED_FIT_MIN_SPAN`] and `fit_speed_exponent`, else the
+/// configured `speed_exponent`.
+fn speed_exponents(
+    baseline: &[Measured],
+    indicators: &[IndicatorInfo],
+    c: &crate::config::TrendConfig,
+    notes: &mut Vec<String>,
+) -> Vec<Option<f64>> {
+    let rpms: Vec<f64> = baseline.iter().map(|m| m.rpm).collect();
+    let (lo, hi) = rpms
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
+    let fit = c.fit_speed_exponent && lo > 0.0 && hi / lo - 1.0 >= SPEED_FIT_MIN_SPAN;
+    indicators
+        .iter()
+        .enumerate()
+        .map(|(j, info)| {
+            let power = info.scale.speed_power();
+            if power == 0.0 {
+                return None;
+            }
+            if !fit {
+                return Some(c.speed_exponent);
+            }
+            let pts: Vec<(f64, f64)> = baseline
+                .iter()
+                .filter_map(|m| m.values[j].filter(|v| *v > 0.0).map(|v| (m.rpm.ln(), v.ln())))
+                .collect();
+            let n = pts.len() as f64;
+            let (mx, my) = (
+                pts.iter().map(|p| p.0).sum::<f64>() / n,
+                pts.iter().map(|p| p.1).sum::<f64>() / n,
+            );
+            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+            let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+            let p = if pts.len() >= MIN_BASELINES && sxx > 0.0 {
+                (sxy / sxx / power).clamp(0.0, 4.0)
+            } else {
+                c.speed_exponent
+            };
+            notes.push(format!(
+                "{}: speed exponent {p:.2} fitted on the baseline (its speeds span {lo:.0}–{hi:.0} rpm)",
+                info.name
+            ));
+            Some(p)
+        })
+        .collect()
+}
+
 /// Check the recordings: enough of them, one sampling rate, finite samples, positive speed,
 /// increasing times.
 fn check(recs: &[Recording], baseline_count: usize) -> Result<()> {
@@ -662,6 +716,7 @@ pub fn analyse_with_progress(
     // speed normalisation to the baseline's median speed
     let rpm_reference = alarm::median(&measured[..nb].iter().map(|m| m.rpm).collect::<Vec<_>>())
         .unwrap_or(recs[0].rpm);
+    let speed_exponents = speed_exponents(&measured[..nb], &indicators, c, &mut notes);
     let normalised: Vec<Vec<Option<f64>>> = measured
         .iter()
         .map(|m| {
@@ -669,8 +724,9 @@ pub fn analyse_with_progress(
             m.values
                 .iter()
                 .zip(&indicators)
-                .map(|(v, i)| {
-                    v.map(|v| v / ratio.powf(c.speed_exponent * i.scale.speed_power()))
+                .zip(&speed_exponents)
+                .map(|((v, i), p)| {
+                    v.map(|v| v / ratio.powf(p.unwrap_or(0.0) * i.scale.speed_power()))
                         .filter(|v| v.is_finite())
                 })
                 .collect()
@@ -823,6 +879,7 @@ pub fn analyse_with_progress(
         config: cfg.clone(),
         indicators,
         thresholds,
+        speed_exponents,
         rows,
         onsets,
         alarm_on,

@@ -14,6 +14,9 @@ pub const DEFAULT_M: usize = 3;
 pub const DEFAULT_N: usize = 4;
 /// Default exponent p of the speed normalisation (amplitude / (rpm/rpm_ref)^p).
 pub const DEFAULT_SPEED_EXPONENT: f64 = 1.5;
+/// Smallest spread of the baseline's speeds, max/min − 1, at which the speed exponent of each
+/// amplitude indicator is fitted on the baseline instead of taking `speed_exponent`.
+pub const SPEED_FIT_MIN_SPAN: f64 = 0.10;
 /// Default severity level: this multiple of an indicator's threshold.
 pub const DEFAULT_LEVEL_FACTOR: f64 = 10.0;
 /// Smallest spread σ̂ of a log10-domain threshold, decades (2 % in ratio terms per σ̂): a
@@ -36,6 +39,9 @@ pub struct TrendConfig {
     pub n: usize,
     /// Exponent p of the speed normalisation of amplitude indicators (energies take 2p).
     pub speed_exponent: f64,
+    /// Fit p per amplitude indicator on the baseline (log-log least squares, clamped to
+    /// [0, 4]) when the baseline's speeds span at least [`SPEED_FIT_MIN_SPAN`].
+    pub fit_speed_exponent: bool,
     /// The severity level an indicator is projected to: this multiple of its threshold (the
     /// velocity's zone C boundary instead, when a machine group is given and the unit known).
     pub level_factor: f64,
@@ -66,6 +72,7 @@ impl Default for TrendConfig {
             m: DEFAULT_M,
             n: DEFAULT_N,
             speed_exponent: DEFAULT_SPEED_EXPONENT,
+            fit_speed_exponent: true,
             level_factor: DEFAULT_LEVEL_FACTOR,
             unit: Unit::Unknown,
             machine_group: None,

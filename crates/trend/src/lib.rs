@@ -40,7 +40,8 @@ pub use analyse::{
 };
 pub use config::{
     CheckedTrendConfig, DEFAULT_K, DEFAULT_LEVEL_FACTOR, DEFAULT_M, DEFAULT_N,
-    DEFAULT_SPEED_EXPONENT, MIN_BASELINES, MIN_EVIDENCE_SPREAD, MIN_LOG_SPREAD, TrendConfig,
+    DEFAULT_SPEED_EXPONENT, MIN_BASELINES, MIN_EVIDENCE_SPREAD, MIN_LOG_SPREAD, SPEED_FIT_MIN_SPAN,
+    TrendConfig,
 };
 pub use error::{Result, TrendError};
 pub use indicators::{MachineGroup, SignalIndicators, Unit, Zone};
