@@ -66,7 +66,12 @@ pub struct Args {
     /// Alarm rule: above the threshold in M of N consecutive recordings, as `M/N`.
     #[arg(long, default_value = "3/4")]
     pub alarm: String,
-    /// Exponent p of the speed normalisation of amplitudes (energies take 2p).
+    /// The indicators whose onset makes the run's alarm, comma-separated (default: all), e.g.
+    /// `kurtosis,evidence_outer,hostsmo_ratio`.
+    #[arg(long, value_delimiter = ',')]
+    pub alarm_on: Option<Vec<String>>,
+    /// Exponent p of the speed normalisation of amplitudes (energies take 2p; fitted per
+    /// indicator instead when the baseline's speeds span 10 % or more).
     #[arg(long, default_value_t = trend::DEFAULT_SPEED_EXPONENT)]
     pub speed_exponent: f64,
     /// Decimate files sampled at an integer multiple of this rate (Hz) to it, with the
@@ -288,6 +293,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         speed_exponent: args.speed_exponent,
         machine_group: group,
         observers: !args.no_observers,
+        alarm_on: args.alarm_on.clone(),
         ..Default::default()
     };
     cfg.clone().check()?;

@@ -403,3 +403,22 @@ fn the_report_may_not_be_the_input_directory() {
     let e = err(&ims_args(&d, &d, "5"));
     assert!(e.contains("is the input directory"), "{e}");
 }
+
+#[test]
+fn alarm_on_restricts_the_alarm_and_rejects_unknown_indicators() {
+    let d = common::dir("trend-alarm-on");
+    let input = fixtures("ims");
+    let mut args = ims_args(&input, &d, "5");
+    args.extend(["--alarm-on", "crest,kurtosis"]);
+    run(&args).unwrap();
+    let j = json(&d);
+    assert_eq!(j["alarm"]["indicators"], serde_json::json!(["kurtosis"]));
+    assert_eq!(j["alarm_on"], serde_json::json!(["crest", "kurtosis"]));
+    let mut args = ims_args(&input, &d, "5");
+    args.extend(["--alarm-on", "kurtosis,hostsmo_ms"]);
+    let e = err(&args);
+    assert!(
+        e.contains("alarm indicator `hostsmo_ms` is not among this run's indicators"),
+        "{e}"
+    );
+}

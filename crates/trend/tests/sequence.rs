@@ -262,3 +262,42 @@ fn too_few_recordings_and_mixed_rates_are_typed_errors() {
     let e = trend::analyse(&recs, trend::TimeAxis::Index, &bearing, &cfg).unwrap_err();
     assert!(e.to_string().starts_with("6.csv: sample 10"), "{e}");
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 12, ..Default::default() })]
+
+    /// A sensor-gain step after the baseline leaves every dimensionless indicator's exceedances
+    /// exactly as they were without it (crest and kurtosis are scale-invariant), whatever the
+    /// gain and the seed.
+    #[test]
+    fn a_gain_step_leaves_dimensionless_exceedances_unchanged(seed in 0u64..10_000, gain in 0.05f64..20.0) {
+        let make = |g: f64| -> Vec<trend::Recording> {
+            (0..10)
+                .map(|k| {
+                    let gain = if k >= 7 { g } else { 1.0 };
+                    rec(k, recording(seed * 100 + k as u64, gain, 0.0))
+                })
+                .collect()
+        };
+        let cfg = || trend::TrendConfig {
+            baseline_count: 5,
+            observers: false,
+            diagnosis: false,
+            ..Default::default()
+        };
+        let a = run_with(make(1.0), cfg());
+        let b = run_with(make(gain), cfg());
+        for name in ["crest", "kurtosis"] {
+            let j = a.indicator(name).unwrap();
+            let fa: Vec<bool> = a.rows.iter().map(|r| r.above[j]).collect();
+            let fb: Vec<bool> = b.rows.iter().map(|r| r.above[j]).collect();
+            proptest::prop_assert_eq!(fa, fb, "{}", name);
+        }
+        // the RMS sees any step beyond its threshold's ratio
+        let j = b.indicator("rms").unwrap();
+        let t = b.thresholds[j].unwrap();
+        if gain > 1.5 * t.value / t.median {
+            proptest::prop_assert!(b.rows[7..].iter().all(|r| r.above[j]));
+        }
+    }
+}
