@@ -30,8 +30,9 @@ pub struct Args {
     /// numbers as XJTU-SY's `1.csv`, `2.csv`, … in numeric order).
     #[arg(long)]
     pub input: Option<PathBuf>,
-    /// Index CSV `file,time` instead of (or restricting) `--input`: files absolute or relative
-    /// to the index's directory, times numbers (order only) or calendar times.
+    /// Index CSV `file,time[,start_s,duration_s]` instead of `--input`: files absolute or
+    /// relative to the index's directory (anywhere: a staged sequence without copying data),
+    /// times numbers (order only) or calendar times, optional segments in seconds.
     #[arg(long)]
     pub index: Option<PathBuf>,
     /// Bearing: a catalogue designation (`hybrid-fdd bearings`), a geometry
@@ -175,6 +176,9 @@ pub fn layout_of(path: &Path) -> anyhow::Result<(Layout, usize)> {
 type Entry = (PathBuf, String, f64, (Option<f64>, Option<f64>));
 
 fn files_in_order(args: &Args) -> anyhow::Result<(Vec<Entry>, trend::TimeAxis)> {
+    if args.index.is_some() && args.input.is_some() {
+        bail!("give --input DIR or --index FILE, not both");
+    }
     if let Some(index) = &args.index {
         let text = std::fs::read_to_string(index)
             .with_context(|| format!("reading {}", index.display()))?;
@@ -681,7 +685,7 @@ pub fn figure(r: &trend::TrendReport, path: &Path) -> anyhow::Result<()> {
     let (w, h) = (1200u32, 220 * rows as u32);
     let bytes = crate::figure::render_png(w, h, |root| {
         let areas = root.split_evenly((rows, cols));
-        let (ru, per) = r.axis.rate_unit();
+        let (_, per) = r.axis.rate_unit();
         let t0 = r.rows.first().map_or(0.0, |x| x.time);
         let x = |t: f64| (t - t0) * per;
         let xmax = r.rows.last().map_or(1.0, |l| x(l.time)).max(1e-9);
@@ -716,7 +720,10 @@ pub fn figure(r: &trend::TrendReport, path: &Path) -> anyhow::Result<()> {
             let mut mesh = c.configure_mesh();
             mesh.light_line_style(TRANSPARENT).x_labels(5).y_labels(4);
             if text {
-                mesh.x_desc(ru);
+                mesh.x_desc(match r.axis {
+                    trend::TimeAxis::Seconds => "hours since the first recording",
+                    trend::TimeAxis::Index => "recordings since the first",
+                });
             } else {
                 mesh.x_labels(0).y_labels(0);
             }
