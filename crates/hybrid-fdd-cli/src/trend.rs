@@ -489,7 +489,9 @@ fn num(v: Option<f64>) -> String {
     }
 }
 
-/// `trend.csv`: one row per recording.
+/// `trend.csv`: one row per recording — time, file, baseline flag, speed used, verdict,
+/// p_healthy, ISO zone, each indicator as measured, each indicator's above-threshold flag (on
+/// the speed-normalised value), and the diagnosis' modulation depth per hypothesis.
 pub fn csv(r: &trend::TrendReport) -> String {
     let mut s = String::from("time,time_text,file,baseline,rpm,verdict,p_healthy,zone");
     for i in &r.indicators {
@@ -498,6 +500,7 @@ pub fn csv(r: &trend::TrendReport) -> String {
     for i in &r.indicators {
         s.push_str(&format!(",above_{}", i.name));
     }
+    s.push_str(",depth_inner,depth_outer,depth_ball");
     s.push('\n');
     for row in &r.rows {
         let name = if row.name.contains([',', '"']) {
@@ -521,6 +524,9 @@ pub fn csv(r: &trend::TrendReport) -> String {
         }
         for a in &row.above {
             s.push_str(&format!(",{}", u8::from(*a)));
+        }
+        for h in ["inner", "outer", "ball"] {
+            s.push_str(&format!(",{}", num(row.modulation_depth.get(h).copied())));
         }
         s.push('\n');
     }

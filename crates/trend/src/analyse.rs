@@ -248,10 +248,14 @@ fn info(name: &str, scale: Scale, unit: &str, description: &str) -> IndicatorInf
 
 /// The indicator columns of a run.
 fn columns(unit: Unit, diagnosis: bool, observers: &[pipeline::Method]) -> Vec<IndicatorInfo> {
-    let u = unit.code();
+    let u = match unit {
+        Unit::Unknown => "unit",
+        _ => unit.code(),
+    };
     let u2 = match unit {
         Unit::G => "g²".to_string(),
-        _ => format!("({u})²"),
+        Unit::MetersPerSecondSquared => "(m/s^2)²".to_string(),
+        Unit::Unknown => "unit²".to_string(),
     };
     let v = if unit.to_si().is_some() {
         "mm/s".to_string()
