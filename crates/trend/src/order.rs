@@ -185,8 +185,9 @@ pub fn parse_name(name: &str) -> Result<NameTime> {
     })
 }
 
-/// A time as written in an index CSV: a number (a [`TimeAxis::Index`] position or seconds — the
-/// caller says which by the axis all rows share) or a calendar time as [`parse_name`] reads it.
+/// A time as written in an index CSV: a number (a position on a [`TimeAxis::Index`] axis: its
+/// order and spacing are used, slopes are per unit of it) or a calendar time as [`parse_name`]
+/// reads it ([`TimeAxis::Seconds`]).
 ///
 /// # Errors
 /// [`TrendError::Timestamp`] when it is neither.
