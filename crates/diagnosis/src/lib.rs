@@ -172,7 +172,7 @@ pub struct Baseline {
     /// recording's residual in that range is the whitener's amplification, not a change of the
     /// machine (a healthy bearing read +25 dB in energy against 97.mat decimated to 12 kHz). The
     /// energy and kurtosis ratios then compare both residuals below this frequency
-    /// ([`Baseline::band_limited`]; `docs/equations/diagnosis.md`, "A decimated baseline").
+    /// ([`Baseline::band_limited`]; `docs/journal/diagnosis.md`, "A decimated baseline").
     #[serde(default)]
     pub band_limit_hz: Option<f64>,
     /// Samples in the baseline.
