@@ -221,8 +221,10 @@ impl Default for Schedule {
     }
 }
 
-/// Latest start accepted: 9999-12-31 23:59:59 UTC minus a margin for the run itself.
-const MAX_START_UNIX_S: i64 = 253_402_300_799 / 2;
+/// Latest start accepted, s since 1970 (about year 5985: half of the last second of 9999).
+const MAX_START_UNIX_S: i64 = MAX_END_UNIX_S / 2;
+/// Latest start of a run's last recording: 9999-12-31 23:59:59 UTC.
+const MAX_END_UNIX_S: i64 = 253_402_300_799;
 
 impl Schedule {
     /// The range the onset index is drawn from, `(first, last)` inclusive (unchecked: see
@@ -260,6 +262,17 @@ impl Schedule {
                 "start_unix_s",
                 self.start_unix_s,
                 "0 ..= 126701150399 (s since 1970)",
+            ));
+        }
+        let end = (k as u64 - 1)
+            .checked_mul(self.interval_s)
+            .and_then(|span| i64::try_from(span).ok())
+            .and_then(|span| span.checked_add(self.start_unix_s));
+        if end.is_none_or(|e| e > MAX_END_UNIX_S) {
+            return Err(invalid(
+                "interval_s",
+                self.interval_s,
+                "a run ending by 9999-12-31T23:59:59Z",
             ));
         }
         let (f0, f1) = self.onset_fraction;
@@ -374,7 +387,8 @@ fn stepped_level(
             let up = r.random::<bool>();
             let cand = if up { level * m } else { level / m };
             level = if cand < range.0 || cand > range.1 {
-                if up { level / m } else { level * m }
+                // the other way (clamped: with a ratio near 2 both ways can leave the range)
+                (if up { level / m } else { level * m }).clamp(range.0, range.1)
             } else {
                 cand
             };
@@ -1032,6 +1046,54 @@ mod tests {
         assert_eq!(truth.recordings[0].timestamp, "2026-01-01T00:00:00Z");
     }
 
+    proptest::proptest! {
+        /// Any valid schedule: the onset in its range, the first load step in the healthy
+        /// stretch, every level in its range, steps only where stated, growth from 0 to 1.
+        #[test]
+        fn schedules_keep_their_promises(
+            seed in 0u64..1_000_000,
+            k in 4usize..80,
+            loads in 0usize..4,
+            gains in 0usize..4,
+            ratio in 1.0f64..2.0,
+        ) {
+            let s = Schedule {
+                recordings: k,
+                load_steps: loads.min(k - 1),
+                gain_steps: gains.min(k - 1),
+                load_step_ratio: (1.0, ratio),
+                gain_step_ratio: (1.0, ratio),
+                ..Schedule::default()
+            };
+            proptest::prop_assume!(s.validate().is_ok());
+            let p = plan_schedule(&s, seed).unwrap();
+            let (lo, hi) = s.onset_range();
+            proptest::prop_assert!((lo..=hi).contains(&p.onset_index));
+            proptest::prop_assert!(p.onset_index >= 1 && p.onset_index < k);
+            proptest::prop_assert_eq!(p.load_step_indices.len(), s.load_steps);
+            proptest::prop_assert_eq!(p.gain_step_indices.len(), s.gain_steps);
+            if let Some(&f) = p.load_step_indices.first() {
+                proptest::prop_assert!(f >= 1 && f < p.onset_index);
+            }
+            for i in 1..k {
+                if p.load[i] != p.load[i - 1] {
+                    proptest::prop_assert!(p.load_step_indices.contains(&i));
+                }
+                if p.gain[i] != p.gain[i - 1] {
+                    proptest::prop_assert!(p.gain_step_indices.contains(&i));
+                }
+            }
+            proptest::prop_assert!(p.load.iter().all(|l| (LOAD_RANGE.0..=LOAD_RANGE.1).contains(l)));
+            proptest::prop_assert!(p.gain.iter().all(|g| (GAIN_RANGE.0..=GAIN_RANGE.1).contains(g)));
+            proptest::prop_assert!(p.speed_factor.iter().all(|f| (f - 1.0).abs() <= s.speed_drift + 1e-12));
+            proptest::prop_assert_eq!(p.growth[p.onset_index], Some(0.0));
+            if p.onset_index < k - 1 {
+                proptest::prop_assert_eq!(p.growth[k - 1], Some(1.0));
+            }
+            proptest::prop_assert!(p.growth[..p.onset_index].iter().all(Option::is_none));
+        }
+    }
+
     #[test]
     fn timestamps_and_names() {
         assert_eq!(iso_timestamp(0), "1970-01-01T00:00:00Z");
@@ -1067,6 +1129,8 @@ mod tests {
         bad(&|c| c.schedule.gain_step_ratio = (0.5, 1.2));
         bad(&|c| c.schedule.load_step_ratio = (1.2, f64::INFINITY));
         bad(&|c| c.schedule.start_unix_s = -1);
+        bad(&|c| c.schedule.interval_s = u64::MAX);
+        bad(&|c| c.schedule.interval_s = 30_000_000_000);
         bad(&|c| c.severity_db = (0.0, -10.0));
         bad(&|c| c.severity_db = (-80.0, 0.0));
         bad(&|c| c.machine.snr_db = f64::NAN);
