@@ -337,6 +337,38 @@ mod tests {
     }
 
     #[test]
+    fn the_parts_sum_to_the_synthesis() {
+        let rig = cwru_rig().unwrap();
+        for class in [
+            bearing_model::FaultClass::Outer,
+            bearing_model::FaultClass::InnerBall,
+        ] {
+            let s = Synthesis::new(class, 0.1778, 1797.0, 4096, 9);
+            let y = rig.synthesize(&s).unwrap();
+            let (h, f) = rig.synthesize_parts(&s).unwrap();
+            let none = Synthesis {
+                class: bearing_model::FaultClass::None,
+                ..s
+            };
+            assert_eq!(h, rig.synthesize(&none).unwrap());
+            let top = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for ((a, b), c) in y.iter().zip(&h).zip(&f) {
+                assert!((a - (b + c)).abs() <= 1e-9 * top, "{a} vs {}", b + c);
+            }
+        }
+        let (_, f) = rig
+            .synthesize_parts(&Synthesis::new(
+                bearing_model::FaultClass::None,
+                0.1,
+                1797.0,
+                2048,
+                1,
+            ))
+            .unwrap();
+        assert!(f.iter().all(|v| *v == 0.0));
+    }
+
+    #[test]
     fn bad_rig_configs_are_typed_errors() {
         let rig = cwru_rig().unwrap();
         let mut c = small(FaultLocation::Inner);
