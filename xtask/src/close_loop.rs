@@ -185,7 +185,7 @@ fn all_real(
     md.push_str(&format!(
         "
 A step of the fault lines' rate is a `speed_offset` only if the record's shaft lines \
-         moved with it (`docs/equations/close-loop.md`, \"Speed or defect rate\"): {defect} \
+         moved with it (`docs/journal/close-loop.md`, \"Speed or defect rate\"): {defect} \
          `defect_rate` effects (the fault's rate off its geometry's at the shaft's measured \
          speed, with the effective contact angle), {speed_read} speed offsets read from the \
          shaft lines, {speed_unread} where the shaft lines are too weak to tell the two apart.\n"
@@ -217,7 +217,7 @@ A step of the fault lines' rate is a `speed_offset` only if the record's shaft l
     md.push_str(&format!(
         "\nOf the {slips} `slip` effects, {slip_at_bound} take the largest slip the search tries \
          (the model's largest, 10 % for the 5-DOF model; `parameters.at_search_bound` = 1): a \
-         broad correction, not a measured slip (docs/equations/close-loop.md, \"What the slip \
+         broad correction, not a measured slip (docs/journal/close-loop.md, \"What the slip \
          at the model's bound does not mean\").\n"
     ));
     // faults nobody declared: where the diagnosis's envelope evidence added a spall

@@ -16,6 +16,9 @@
 //! * [`machine`]: phenomenological recordings of whole machines (m/s²; structure, shaft comb,
 //!   once-per-rev impacts, gear mesh, electrical lines, sensor noise, ADC, a localized fault),
 //!   fast enough for detector corpora of hundreds of recordings — no ODE.
+//! * [`life`]: simulated degradation runs with known truth (a healthy stretch, a spall that
+//!   appears at a known recording and grows; speed drift, load and sensor-gain steps before
+//!   the onset too), seeded, each recording generated independently.
 //!
 //! # Dependencies and why
 //!
@@ -41,6 +44,7 @@ pub mod catalog;
 pub mod error;
 pub mod fault;
 pub mod geometry;
+pub mod life;
 pub mod machine;
 pub mod params;
 pub mod scenario;

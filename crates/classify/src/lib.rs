@@ -15,6 +15,27 @@
 //!
 //! Knows nothing about observers or signals: it takes feature rows.
 //!
+//! # As a linfa model
+//! [`LinearSvmParams`] and [`GiniTreeParams`] implement linfa's `Fit` on a `linfa::DatasetBase`
+//! of `f64` records and `usize` targets; [`OvoLinearSvm`] and [`GiniTree`] implement
+//! `PredictInplace` (hence `predict` on a records matrix or a dataset), so linfa's
+//! `confusion_matrix` and cross-validation helpers take them as they take linfa's own models.
+//! linfa's `predict` has no error path and panics on a row that cannot be classified;
+//! `predict_records` is the same with a [`ClassifyError`] instead.
+//!
+//! ```
+//! use classify::LinearSvmParams;
+//! use linfa::prelude::*;
+//! use ndarray::{Array1, Array2};
+//!
+//! let x = Array2::from_shape_fn((40, 1), |(i, _)| if i < 20 { i as f64 } else { 50.0 + i as f64 });
+//! let y = Array1::from_shape_fn(40, |i| usize::from(i >= 20));
+//! let data = DatasetBase::new(x, y);
+//! let svm = LinearSvmParams::default().fit(&data)?;
+//! assert_eq!(svm.predict(&data).confusion_matrix(&data)?.accuracy(), 1.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! # Dependencies and why
 //! - `linfa`, `linfa-svm`: the Rust ML toolkit's SMO solver (a libsvm port); we wrap it rather
 //!   than re-implement it.
@@ -60,6 +81,7 @@
 mod dataset;
 mod error;
 mod evaluate;
+mod linfa_api;
 mod metrics;
 mod model;
 mod protocol;

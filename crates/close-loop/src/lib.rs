@@ -56,3 +56,8 @@ pub use report::{
     AcceptedOn, EffectEntry, KINEMATIC_LINE_TOLERANCE, Ledger, Outcome, Spectra, VerificationPass,
 };
 pub use runner::{MIN_NPERSEG, close_loop, close_loop_from, fit_len, min_samples};
+
+/// The README's examples, compiled as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

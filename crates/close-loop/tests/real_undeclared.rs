@@ -1170,7 +1170,7 @@ fn a_fault_nobody_declared_is_named_from_the_machine_model_106_235() {
 /// That path is identified near the resonance, where the impacts dominate, and below it the
 /// physics puts BPFO combs that the record does not show. Until 2026-11-27 only a random slip at
 /// the model's 10 % bound could smear them, and the comb the record keeps at the resonance went
-/// with them (`docs/equations/close-loop.md`, "What the slip at the model's bound does not
+/// with them (`docs/journal/close-loop.md`, "What the slip at the model's bound does not
 /// mean"). The loop now names `impacts_high_pass`: a physics placement, a corner inside its
 /// search range, and a held-out error lowered by at least 10 %. No slip is then taken at the
 /// model's bound.

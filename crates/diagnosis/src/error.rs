@@ -143,6 +143,7 @@ pub enum DiagnosisError {
     },
 }
 
+#[cfg(feature = "trained")]
 impl From<classify::ClassifyError> for DiagnosisError {
     fn from(e: classify::ClassifyError) -> Self {
         Self::Classifier(e.to_string())

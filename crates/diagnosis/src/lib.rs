@@ -44,15 +44,16 @@
 //!    fault's family explains do not); `uncertain` when two explain each other's lines equally
 //!    well. Against a baseline recording, a line the healthy machine already holds counts only
 //!    by what it has grown ([`Line::evidence_db`]). See `docs/equations/diagnosis.md`.
-//! 5. **Optional, with labels** ([`trained`]): a classifier trained on the evidence of labelled
-//!    recordings' segments, beside the training-free verdict.
+//! 5. **Optional, with labels** (`trained`, cargo feature `trained`): a classifier trained on the
+//!    evidence of labelled recordings' segments, beside the training-free verdict.
 //!
 //! # Dependencies and why
 //! - `bearing-model`: the bearing's kinematics (`BearingSpec`, `FaultOrders`, its catalogue of
 //!   designations), one type for it.
 //! - `laguerre-id`: the AR least squares of the whitening filter.
 //! - `residual-features`: the FFT, band envelopes and Welch spectra.
-//! - `classify`: the optional trained classifier (its Gini tree and linear SVM, and `Dataset`).
+//! - `classify` (only with the feature `trained`, which brings linfa with it): the optional
+//!   trained classifier (its Gini tree and linear SVM, and `Dataset`).
 //! - `serde` / `serde_json`: reports and the trained classifier's file; `thiserror`: the one
 //!   error enum.
 //!
@@ -77,6 +78,7 @@ pub mod evidence;
 mod lines;
 pub mod options;
 pub use residual_features::speed;
+#[cfg(feature = "trained")]
 pub mod trained;
 pub mod unknown;
 pub mod whiten;
@@ -97,6 +99,7 @@ pub use options::{DiagnoseOptions, SpeedFinding, SpeedSource};
 pub use report::{
     BandChoice, Diagnosis, OperatingPoint, Scores, SecondaryRead, Statistics, Thresholds,
 };
+#[cfg(feature = "trained")]
 pub use trained::{EVIDENCE_FEATURES, Labelled, TrainedDiagnoser};
 pub use unknown::{BearingGuess, diagnose_unknown_bearing};
 pub use whiten::{ArWhitener, OrderScore};
@@ -172,7 +175,7 @@ pub struct Baseline {
     /// recording's residual in that range is the whitener's amplification, not a change of the
     /// machine (a healthy bearing read +25 dB in energy against 97.mat decimated to 12 kHz). The
     /// energy and kurtosis ratios then compare both residuals below this frequency
-    /// ([`Baseline::band_limited`]; `docs/equations/diagnosis.md`, "A decimated baseline").
+    /// ([`Baseline::band_limited`]; `docs/journal/diagnosis.md`, "A decimated baseline").
     #[serde(default)]
     pub band_limit_hz: Option<f64>,
     /// Samples in the baseline.

@@ -22,6 +22,7 @@ pub mod close_loop;
 pub mod diagnose;
 pub mod figure;
 pub mod simulate;
+pub mod simulate_life;
 pub mod train;
 pub mod trend;
 

@@ -36,6 +36,9 @@ enum Command {
     /// Simulate a recording: the calibrated CWRU rig at 6205 / 12 kHz (accel in g), else the
     /// bare 5-DOF model (m/s²); CSV `time_s,accel` + JSON sidecar stating `accel_unit`.
     Simulate(hybrid_fdd_cli::simulate::Args),
+    /// Simulate a degradation run with known truth: recordings named by time, a spall that
+    /// appears and grows, speed drift, load and gain steps; plus DIR/truth.json.
+    SimulateLife(hybrid_fdd_cli::simulate_life::Args),
     /// Train the optional classifier on labelled recordings (CSV `file,label[,load_hp][,rpm]`):
     /// the diagnosis evidence of their segments, a Gini tree or linear SVM, grouped
     /// cross-validation printed; `diagnose --classifier` then adds its class to the report.
@@ -56,6 +59,7 @@ fn main() -> std::process::ExitCode {
         Command::Calibrate(a) => hybrid_fdd_cli::close_loop::calibrate(a),
         Command::CloseLoop(a) => hybrid_fdd_cli::close_loop::run(a),
         Command::Simulate(a) => hybrid_fdd_cli::simulate::run(a),
+        Command::SimulateLife(a) => hybrid_fdd_cli::simulate_life::run(a),
         Command::TrainClassifier(a) => hybrid_fdd_cli::train::run(&a),
         Command::Bearings(a) => hybrid_fdd_cli::bearings::run(&a),
         Command::Trend(a) => hybrid_fdd_cli::trend::run(&a),

@@ -845,3 +845,8 @@ fn take(mut a: Vec<f64>, n: usize) -> Result<Vec<f64>> {
     a.truncate(n);
     Ok(a)
 }
+
+/// The README's examples, compiled as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

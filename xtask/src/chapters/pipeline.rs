@@ -120,7 +120,24 @@ type SourceOut = inputs::SourceFeatures;
 /// Features of one (source, recording): window energies.
 pub type FeatMap = BTreeMap<(String, RecKey), Vec<f64>>;
 
-/// Run one chapter.
+/// Prepared models per healthy recording.
+type Models = BTreeMap<RecKey, std::sync::Arc<pl::Prepared>>;
+/// Tuned gains per (observer, healthy recording).
+type Tunings = BTreeMap<(Method, RecKey), pl::Tuning>;
+/// Residual traces (figures) and residual / signal RMS ratios per (source, recording).
+type SourceMap<T> = BTreeMap<(String, RecKey), T>;
+
+/// What step 3 yields: window energies, residual traces and RMS ratios of every
+/// (source, recording).
+struct Features {
+    feats: FeatMap,
+    traces: SourceMap<Vec<f64>>,
+    ratios: SourceMap<f64>,
+}
+
+/// Run one chapter: its recordings (1), the models on each healthy fit segment and their gains
+/// (2), the residual features of every (source, recording) (3), the tables (4), chapter 5's
+/// rules (5), the figures (6) and the headline (7).
 pub fn run_chapter(
     ctx: &Context,
     cfg: &Config,
@@ -138,16 +155,6 @@ pub fn run_chapter(
         anyhow::bail!("CI=true but the CWRU data directory was not found (set HYBRID_FDD_DATA)");
     }
     let mut notes = base_notes(cfg, ch, clf, cwru_sim);
-
-    // 1. Recordings every table needs.
-    let mut keys: Vec<RecKey> = Vec::new();
-    for d in &diss {
-        for k in d.recording_keys(&cfg.scope()) {
-            if !keys.contains(&k) {
-                keys.push(k);
-            }
-        }
-    }
     let t0 = std::time::Instant::now();
     let stage = |what: &str| {
         if cfg.progress {
@@ -157,21 +164,108 @@ pub fn run_chapter(
             );
         }
     };
+
+    // 1. Recordings every table needs.
+    let keys = recordings_needed(&diss, cfg);
     let pb = progress(cfg, keys.len() as u64, format!("chapter {ch}: recordings"));
     cache.load_all(ctx, cfg, &keys, &pb)?;
     pb.finish_and_clear();
     stage("recordings");
 
-    // 2. Models identified on each healthy fit segment (once per healthy recording).
+    // 2. Models identified on each healthy fit segment (once per healthy recording), and the
+    // gains tuned per (method, healthy recording) on the fit segment only.
     let mut healthy: Vec<RecKey> = keys.iter().map(inputs::healthy_key).collect();
     healthy.sort();
     healthy.dedup();
-    let fuzzy = methods
-        .iter()
-        .any(|m| matches!(m, Method::Afsmo | Method::Asmo | Method::SmoFuzzy));
-    // every model is prepared with the fuzzy model and the calibrated machine model (the physics
-    // observers run on it, its one-step prediction is the ARX-Laguerre models' input), whichever
-    // chapter asks first: a later chapter then reuses it
+    let prepared = prepare_models(cache, &healthy)?;
+    notes.extend(model_notes(cache, &prepared, &methods)?);
+    let tunings = tune_gains(cache, &prepared, &healthy, &methods)?;
+    stage("models and tuning");
+
+    // 3. Residual features for every (source, recording), in parallel, collected in order.
+    let mut sources: Vec<Option<Method>> = methods.iter().copied().map(Some).collect();
+    sources.push(None);
+    let features = residual_features(cfg, ch, cache, &keys, &sources, &prepared, &tunings)?;
+    stage("observers");
+
+    // 4. Tables.
+    let mut data_notes = Vec::new();
+    let (tuning_extra, residual_rms_ratio) =
+        tuning_section(&methods, &tunings, &features.ratios, cache)?;
+    let mut extras = vec![tuning_extra];
+    for d in &diss {
+        data_notes.push(data_note(cfg, cache, d, &features.feats, &methods)?);
+    }
+    let report_tables = classify_tables(cfg, ch, cache, &diss, &sources, clf, &features.feats)?;
+    stage("classifiers");
+
+    // 5. Chapter 5: the learned rules (eqs 5.35–5.36, Fig. 5.8).
+    let mut figures = Vec::new();
+    if clf == ClassifierKind::Tree {
+        if let Some((extra, figure)) = learned_rules(cfg, cache, &diss, &features.feats, &methods)?
+        {
+            extras.push(extra);
+            figures.extend(figure);
+        }
+    }
+
+    // 6. Figures.
+    if cfg.figures {
+        figures.extend(super::figures::chapter_figures(
+            ch,
+            cache,
+            &diss,
+            &report_tables,
+            &features.feats,
+            &features.traces,
+            &methods,
+        )?);
+    }
+    let figure_names: Vec<String> = figures.iter().map(|(n, _)| n.clone()).collect();
+
+    // 7. Headline.
+    let headline = headline(ch, &diss, &report_tables, &methods);
+    notes.push(format!(
+        "Headline (average of the per-cell average accuracies, proposed method {}):\n{}",
+        methods[0].name(),
+        indent(&headline)
+    ));
+
+    Ok(ChapterOutput {
+        report: ChapterReport {
+            generated_by: format!("cargo xtask chapter{ch}"),
+            chapter: ch,
+            title: title.to_string(),
+            cwru_simulated: cwru_sim,
+            notes,
+            data: data_notes,
+            tables: report_tables,
+            extras,
+            figures: figure_names,
+            residual_rms_ratio,
+        },
+        figures,
+        headline: format!("chapter {ch} ({}):\n{headline}", methods[0].name()),
+    })
+}
+
+/// Step 1: the recordings every table needs, in the tables' order, each once.
+fn recordings_needed(diss: &[&DissTable], cfg: &Config) -> Vec<RecKey> {
+    let mut keys: Vec<RecKey> = Vec::new();
+    for d in diss {
+        for k in d.recording_keys(&cfg.scope()) {
+            if !keys.contains(&k) {
+                keys.push(k);
+            }
+        }
+    }
+    keys
+}
+
+/// Step 2: the model of every healthy recording. Every model is prepared with the fuzzy model
+/// and the calibrated machine model (the physics observers run on it, its one-step prediction is
+/// the ARX-Laguerre models' input), whichever chapter asks first: a later chapter then reuses it.
+fn prepare_models(cache: &mut Cache, healthy: &[RecKey]) -> anyhow::Result<Models> {
     let reusable = |cache: &Cache, h: &RecKey| cache.models.get(h).map(std::sync::Arc::clone);
     let made: Vec<(RecKey, std::sync::Arc<pl::Prepared>)> = healthy
         .par_iter()
@@ -186,16 +280,34 @@ pub fn run_chapter(
     for (h, p) in made {
         cache.models.insert(h, p);
     }
-    let prepared: BTreeMap<RecKey, std::sync::Arc<pl::Prepared>> = healthy
+    healthy
         .iter()
         .map(|h| {
             reusable(cache, h)
                 .map(|p| (*h, p))
                 .ok_or_else(|| anyhow::anyhow!("no model for {h:?}"))
         })
-        .collect::<anyhow::Result<_>>()?;
+        .collect()
+}
 
-    for (h, p) in &prepared {
+/// Step 2, reported: per healthy recording, the identified model's orders and held-out error,
+/// and the calibrated machine model the physics observers run on.
+fn model_notes(
+    cache: &Cache,
+    prepared: &Models,
+    methods: &[Method],
+) -> anyhow::Result<Vec<String>> {
+    let fuzzy = methods
+        .iter()
+        .any(|m| matches!(m, Method::Afsmo | Method::Asmo | Method::SmoFuzzy));
+    let physics = |m: &Method| {
+        matches!(
+            m,
+            Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
+        )
+    };
+    let mut notes = Vec::new();
+    for (h, p) in prepared {
         let rec = cache.get(h)?;
         let id = &rec.id;
         // the identified predictor on the rest of the healthy recording, which no
@@ -213,53 +325,13 @@ pub fn run_chapter(
                 format!(" Its one-step NRMSE on the rest of {id} could not be computed: {e}.")
             }
         };
-        if methods.iter().any(|m| {
-            !matches!(
-                m,
-                Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo
-            )
-        }) {
-            let scores: Vec<String> = p
-                .order_scores
-                .iter()
-                .map(|((a, b), e)| {
-                    if p.n_b > 0 {
-                        format!("{a}/{b}: {e:.3}")
-                    } else {
-                        format!("{a}: {e:.3}")
-                    }
-                })
-                .collect();
-            let what = if fuzzy {
-                "Fuzzy ARX-Laguerre (eq. 5.19, Table 5.1 rules, N_f = 2, ±3σ universes; its ARX-Laguerre part)"
-            } else {
-                "ARX-Laguerre"
-            };
-            match (p.zeta_b, p.input_nrmse) {
-                (Some(zeta_b), Some(alone)) if p.n_b > 0 => notes.push(format!(
-                    "{what} model identified on the first {} s of {id} with the calibrated machine model's one-step prediction as its exogenous input u (eq. 2.33's u read as the physics model's output at the sensor; docs/equations/xtask-chapters.md, \"ARX-Laguerre on the calibrated machine model\"), after the first {:.0} % of the segment (the machine model's observer settling): (N_a, N_b) = ({}, {}) chosen by held-out one-step NRMSE on the last {:.0} % (N_a/N_b: NRMSE = {}; the machine model's prediction alone {alone:.3}), poles ζ_a = {:.4}, ζ_b = {zeta_b:.4}.{rest}",
-                    inputs::FIT_SECONDS,
-                    100.0 * pl::INPUT_SETTLE,
-                    p.n_a,
-                    p.n_b,
-                    100.0 * pl::ORDER_HOLDOUT,
-                    scores.join(", "),
-                    p.zeta_a
-                )),
-                _ => notes.push(format!(
-                    "{what} model (AR form) identified on the first {} s of {id}: N_a = {} chosen by held-out one-step NRMSE on the last {:.0} % of that segment (N_a: NRMSE = {}), pole ζ_a = {:.4}.{rest}",
-                    inputs::FIT_SECONDS,
-                    p.n_a,
-                    100.0 * pl::ORDER_HOLDOUT,
-                    scores.join(", "),
-                    p.zeta_a
-                )),
-            }
+        if methods.iter().any(|m| !physics(m)) {
+            notes.push(identification_note(p, id, fuzzy, &rest));
         }
         if let Some((before, after, by_loop)) = p.calibration_error {
             notes.push(format!(
                 "{} the machine model calibrated on the first {} s of {id} (the closed loop from the declared healthy 5-DOF model; held-out error {before:.2} → {after:.2} dB): its structural path from bearing to sensor{}, AR order {} with {} modes, and its {} lines (shaft harmonics and tones), together as the one-step predictor of the whole model, AR order {} (docs/equations/observers.md, \"Physics observers on the calibrated machine model\").",
-                if methods.iter().any(|m| matches!(m, Method::Hostsmo | Method::Smo | Method::Flo | Method::Pflo)) {
+                if methods.iter().any(physics) {
                     "Physics observers run on"
                 } else {
                     "The ARX-Laguerre models' input comes from"
@@ -273,8 +345,58 @@ pub fn run_chapter(
             ));
         }
     }
+    Ok(notes)
+}
 
-    // 2b. Gains tuned per (method, healthy recording) on the fit segment only.
+/// The ARX-Laguerre (or fuzzy ARX-Laguerre) model identified on `id`'s fit segment: its orders,
+/// the held-out error of each order tried, its poles; `rest` its error on the rest of `id`.
+fn identification_note(p: &pl::Prepared, id: &str, fuzzy: bool, rest: &str) -> String {
+    let scores: Vec<String> = p
+        .order_scores
+        .iter()
+        .map(|((a, b), e)| {
+            if p.n_b > 0 {
+                format!("{a}/{b}: {e:.3}")
+            } else {
+                format!("{a}: {e:.3}")
+            }
+        })
+        .collect();
+    let what = if fuzzy {
+        "Fuzzy ARX-Laguerre (eq. 5.19, Table 5.1 rules, N_f = 2, ±3σ universes; its ARX-Laguerre part)"
+    } else {
+        "ARX-Laguerre"
+    };
+    match (p.zeta_b, p.input_nrmse) {
+        (Some(zeta_b), Some(alone)) if p.n_b > 0 => format!(
+            "{what} model identified on the first {} s of {id} with the calibrated machine model's one-step prediction as its exogenous input u (eq. 2.33's u read as the physics model's output at the sensor; docs/equations/xtask-chapters.md, \"ARX-Laguerre on the calibrated machine model\"), after the first {:.0} % of the segment (the machine model's observer settling): (N_a, N_b) = ({}, {}) chosen by held-out one-step NRMSE on the last {:.0} % (N_a/N_b: NRMSE = {}; the machine model's prediction alone {alone:.3}), poles ζ_a = {:.4}, ζ_b = {zeta_b:.4}.{rest}",
+            inputs::FIT_SECONDS,
+            100.0 * pl::INPUT_SETTLE,
+            p.n_a,
+            p.n_b,
+            100.0 * pl::ORDER_HOLDOUT,
+            scores.join(", "),
+            p.zeta_a
+        ),
+        _ => format!(
+            "{what} model (AR form) identified on the first {} s of {id}: N_a = {} chosen by held-out one-step NRMSE on the last {:.0} % of that segment (N_a: NRMSE = {}), pole ζ_a = {:.4}.{rest}",
+            inputs::FIT_SECONDS,
+            p.n_a,
+            100.0 * pl::ORDER_HOLDOUT,
+            scores.join(", "),
+            p.zeta_a
+        ),
+    }
+}
+
+/// Step 2b: the gains of every (method, healthy recording), tuned on the fit segment only (each
+/// once: a later chapter reuses the cache's).
+fn tune_gains(
+    cache: &mut Cache,
+    prepared: &Models,
+    healthy: &[RecKey],
+    methods: &[Method],
+) -> anyhow::Result<Tunings> {
     let tune_jobs: Vec<(Method, RecKey)> = methods
         .iter()
         .flat_map(|m| healthy.iter().map(move |h| (*m, *h)))
@@ -295,7 +417,7 @@ pub fn run_chapter(
         })
         .collect::<anyhow::Result<_>>()?;
     cache.tunings.extend(tuned);
-    let tunings: BTreeMap<(Method, RecKey), pl::Tuning> = tune_jobs
+    tune_jobs
         .iter()
         .map(|j| {
             cache
@@ -304,67 +426,35 @@ pub fn run_chapter(
                 .map(|t| (*j, *t))
                 .ok_or_else(|| anyhow::anyhow!("no tuning for {j:?}"))
         })
-        .collect::<anyhow::Result<_>>()?;
-    stage("models and tuning");
+        .collect()
+}
 
-    // 3. Residual features for every (source, recording), in parallel, collected in order.
-    let mut sources: Vec<Option<Method>> = methods.iter().copied().map(Some).collect();
-    sources.push(None);
+/// Step 3: window energies, residual trace and RMS ratio of every (source, recording), in
+/// parallel, collected in order (each computed once: a later chapter reuses the cache's).
+fn residual_features(
+    cfg: &Config,
+    ch: u8,
+    cache: &mut Cache,
+    keys: &[RecKey],
+    sources: &[Option<Method>],
+    prepared: &Models,
+    tunings: &Tunings,
+) -> anyhow::Result<Features> {
     let jobs: Vec<(Option<Method>, RecKey)> = sources
         .iter()
         .flat_map(|s| keys.iter().map(move |k| (*s, *k)))
         .collect();
-    for k in &keys {
+    for k in keys {
         cache.machine_inputs.entry(*k).or_default();
     }
     let pb = progress(cfg, jobs.len() as u64, format!("chapter {ch}: observers"));
+    let cache_ref: &Cache = cache;
     let results: Vec<anyhow::Result<SourceOut>> = jobs
         .par_iter()
         .map(|(src, key)| {
-            if let Some(done) = cache.features.get(&(*src, *key)) {
-                pb.inc(1);
-                return Ok(done.clone());
-            }
-            let rec = cache.get(key)?;
-            let hk = inputs::healthy_key(key);
-            let prep = prepared
-                .get(&hk)
-                .ok_or_else(|| anyhow::anyhow!("no model for {}", rec.id))?;
-            let method = match src {
-                Some(m) => {
-                    let t = tunings
-                        .get(&(*m, hk))
-                        .ok_or_else(|| anyhow::anyhow!("no tuning for {}", rec.id))?;
-                    Some((*m, prep.as_ref(), t))
-                }
-                None => None,
-            };
-            let input = match method {
-                Some((m, p, _)) if p.takes_input(m) => {
-                    let cell = cache
-                        .machine_inputs
-                        .get(key)
-                        .ok_or_else(|| anyhow::anyhow!("no input cell for {}", rec.id))?;
-                    let made = cell.get_or_init(|| {
-                        p.machine_input(&rec.signal)
-                            .map(|u| u.map(std::sync::Arc::new))
-                            .map_err(|e| e.to_string())
-                    });
-                    match made {
-                        Ok(u) => u.clone(),
-                        Err(e) => anyhow::bail!("the machine model's input on {}: {e}", rec.id),
-                    }
-                }
-                _ => None,
-            };
-            let f = pl::recordings::source_features(
-                method,
-                rec,
-                input.as_deref().map(|u| u.as_slice()),
-            )
-            .with_context(|| format!("{} on recording {}", source_name(*src), rec.id))?;
+            let out = source_features(cache_ref, prepared, tunings, *src, key);
             pb.inc(1);
-            Ok((f.energies, f.trace, f.rms_ratio))
+            out
         })
         .collect();
     for (job, r) in jobs.iter().zip(&results) {
@@ -373,32 +463,85 @@ pub fn run_chapter(
         }
     }
     pb.finish_and_clear();
-    stage("observers");
-    let mut feats = FeatMap::new();
-    let mut traces: BTreeMap<(String, RecKey), Vec<f64>> = BTreeMap::new();
-    let mut ratios: BTreeMap<(String, RecKey), f64> = BTreeMap::new();
+    let mut features = Features {
+        feats: FeatMap::new(),
+        traces: BTreeMap::new(),
+        ratios: BTreeMap::new(),
+    };
     for ((src, key), r) in jobs.iter().zip(results) {
         let (e, tr, ratio) = r?;
-        feats.insert((source_name(*src), *key), e);
-        traces.insert((source_name(*src), *key), tr);
+        features.feats.insert((source_name(*src), *key), e);
+        features.traces.insert((source_name(*src), *key), tr);
         if src.is_some() {
-            ratios.insert((source_name(*src), *key), ratio);
+            features.ratios.insert((source_name(*src), *key), ratio);
         }
     }
+    Ok(features)
+}
 
-    // 3. Tables.
-    let mut report_tables = Vec::new();
-    let mut data_notes = Vec::new();
-    let mut figures = Vec::new();
-    let (tuning_extra, residual_rms_ratio) = tuning_section(&methods, &tunings, &ratios, cache)?;
-    let mut extras = vec![tuning_extra];
-    let pb = progress(cfg, 1, format!("chapter {ch}: classifiers"));
-    for d in &diss {
-        data_notes.push(data_note(cfg, cache, d, &feats, &methods)?);
+/// One (source, recording) of step 3: the cache's when computed before, else the observer (or
+/// the raw signal) on the recording with its healthy model's gains, the machine model's input
+/// computed once per recording.
+fn source_features(
+    cache: &Cache,
+    prepared: &Models,
+    tunings: &Tunings,
+    src: Option<Method>,
+    key: &RecKey,
+) -> anyhow::Result<SourceOut> {
+    if let Some(done) = cache.features.get(&(src, *key)) {
+        return Ok(done.clone());
     }
-    // Every (table, protocol, source, crack) cell is independent: run them in parallel and
-    // collect in order.
-    // The SVM chapters classify the energy as printed and, beside it on the CWRU tables, in dB.
+    let rec = cache.get(key)?;
+    let hk = inputs::healthy_key(key);
+    let prep = prepared
+        .get(&hk)
+        .ok_or_else(|| anyhow::anyhow!("no model for {}", rec.id))?;
+    let method = match src {
+        Some(m) => {
+            let t = tunings
+                .get(&(m, hk))
+                .ok_or_else(|| anyhow::anyhow!("no tuning for {}", rec.id))?;
+            Some((m, prep.as_ref(), t))
+        }
+        None => None,
+    };
+    let input = match method {
+        Some((m, p, _)) if p.takes_input(m) => {
+            let cell = cache
+                .machine_inputs
+                .get(key)
+                .ok_or_else(|| anyhow::anyhow!("no input cell for {}", rec.id))?;
+            let made = cell.get_or_init(|| {
+                p.machine_input(&rec.signal)
+                    .map(|u| u.map(std::sync::Arc::new))
+                    .map_err(|e| e.to_string())
+            });
+            match made {
+                Ok(u) => u.clone(),
+                Err(e) => anyhow::bail!("the machine model's input on {}: {e}", rec.id),
+            }
+        }
+        _ => None,
+    };
+    let f = pl::recordings::source_features(method, rec, input.as_deref().map(|u| u.as_slice()))
+        .with_context(|| format!("{} on recording {}", source_name(src), rec.id))?;
+    Ok((f.energies, f.trace, f.rms_ratio))
+}
+
+/// Step 4: every (table, protocol, source, crack) cell, classified in parallel and collected in
+/// the tables' order. The SVM chapters classify the energy as printed and, beside it on the
+/// CWRU tables, in dB.
+fn classify_tables(
+    cfg: &Config,
+    ch: u8,
+    cache: &Cache,
+    diss: &[&DissTable],
+    sources: &[Option<Method>],
+    clf: ClassifierKind,
+    feats: &FeatMap,
+) -> anyhow::Result<Vec<OurTable>> {
+    let pb = progress(cfg, 1, format!("chapter {ch}: classifiers"));
     let kinds = |d: &DissTable| -> Vec<ClassifierKind> {
         match clf {
             ClassifierKind::Svm if d.dataset == "cwru" => vec![clf, ClassifierKind::SvmLogEnergy],
@@ -425,7 +568,7 @@ pub fn run_chapter(
             let name = source_name(sources[si]);
             let src = Src {
                 cache,
-                feats: &feats,
+                feats,
                 source: &name,
             };
             let r = pl::cells::evaluate_table_cell(
@@ -443,10 +586,11 @@ pub fn run_chapter(
         })
         .collect();
     let mut it = cell_jobs.iter().zip(cells);
-    for d in &diss {
+    let mut report_tables = Vec::new();
+    for d in diss {
         for protocol in d.protocols() {
             let mut cols = Vec::new();
-            for src in &sources {
+            for src in sources {
                 let (mut cs, mut cs_db) = (Vec::new(), Vec::new());
                 for _ in 0..d.cracks.len() {
                     for _ in kinds(d) {
@@ -476,79 +620,56 @@ pub fn run_chapter(
         }
     }
     pb.finish_and_clear();
-    stage("classifiers");
+    Ok(report_tables)
+}
 
-    // 4. Chapter 5: the learned rules (eqs 5.35–5.36, Fig. 5.8) for 0.021 in at 3 hp (or the
-    // quick configuration's load).
-    if clf == ClassifierKind::Tree {
-        if let Some(d) = diss.iter().find(|d| {
-            d.dataset == "cwru"
-                && matches!(d.condition, Condition::FixedLoad { load_hp } if load_hp == *cfg.loads.last().unwrap_or(&3))
-        }) {
-            let ci = d.cracks.len() - 1;
-            let data = cell_dataset(cfg, cache, d, &feats, methods[0].name(), Some(ci))?;
-            let labels = data.class_names().to_vec();
-            let (rules, tree) = pl::tree_rules(&data)?;
-            let load = match d.condition {
-                Condition::FixedLoad { load_hp } => load_hp,
-                _ => 0,
-            };
-            extras.push((
-                format!(
-                    "Learned decision rules (eqs 5.35–5.36, Fig. 5.8): {} residual energy, {} in, {} hp, all windows",
-                    methods[0].name(),
-                    d.cracks[ci],
-                    load
-                ),
-                rules,
-            ));
-            if cfg.figures {
-                figures.push((
-                    "figures/fig5_8_decision_tree.png".to_string(),
-                    super::figures::decision_tree(&tree, &labels)?,
-                ));
-            }
-        }
-    }
+/// A chapter's extra section: a title and its text.
+type Extra = (String, String);
+/// A figure: its path under the chapter's results and its PNG bytes.
+type Figure = (String, Vec<u8>);
 
-    // 5. Figures.
-    if cfg.figures {
-        figures.extend(super::figures::chapter_figures(
-            ch,
-            cache,
-            &diss,
-            &report_tables,
-            &feats,
-            &traces,
-            &methods,
-        )?);
-    }
-    let figure_names: Vec<String> = figures.iter().map(|(n, _)| n.clone()).collect();
-
-    // 6. Headline.
-    let headline = headline(ch, &diss, &report_tables, &methods);
-    notes.push(format!(
-        "Headline (average of the per-cell average accuracies, proposed method {}):\n{}",
-        methods[0].name(),
-        indent(&headline)
-    ));
-
-    Ok(ChapterOutput {
-        report: ChapterReport {
-            generated_by: format!("cargo xtask chapter{ch}"),
-            chapter: ch,
-            title: title.to_string(),
-            cwru_simulated: cwru_sim,
-            notes,
-            data: data_notes,
-            tables: report_tables,
-            extras,
-            figures: figure_names,
-            residual_rms_ratio,
-        },
-        figures,
-        headline: format!("chapter {ch} ({}):\n{headline}", methods[0].name()),
-    })
+/// Step 5 (chapter 5): the rules the tree learned (eqs 5.35–5.36, Fig. 5.8) for the largest
+/// crack at the last load run (3 hp, or the quick configuration's load), and the tree's figure
+/// when figures are drawn; `None` when no CWRU table runs at that load.
+fn learned_rules(
+    cfg: &Config,
+    cache: &Cache,
+    diss: &[&DissTable],
+    feats: &FeatMap,
+    methods: &[Method],
+) -> anyhow::Result<Option<(Extra, Option<Figure>)>> {
+    let Some(d) = diss.iter().find(|d| {
+        d.dataset == "cwru"
+            && matches!(d.condition, Condition::FixedLoad { load_hp } if load_hp == *cfg.loads.last().unwrap_or(&3))
+    }) else {
+        return Ok(None);
+    };
+    let ci = d.cracks.len() - 1;
+    let data = cell_dataset(cfg, cache, d, feats, methods[0].name(), Some(ci))?;
+    let labels = data.class_names().to_vec();
+    let (rules, tree) = pl::tree_rules(&data)?;
+    let load = match d.condition {
+        Condition::FixedLoad { load_hp } => load_hp,
+        _ => 0,
+    };
+    let extra = (
+        format!(
+            "Learned decision rules (eqs 5.35–5.36, Fig. 5.8): {} residual energy, {} in, {} hp, all windows",
+            methods[0].name(),
+            d.cracks[ci],
+            load
+        ),
+        rules,
+    );
+    let figure = if cfg.figures {
+        Some((
+            "figures/fig5_8_decision_tree.png".to_string(),
+            super::figures::decision_tree(&tree, &labels)?,
+        ))
+    } else {
+        None
+    };
+    Ok(Some((extra, figure)))
 }
 
 fn indent(s: &str) -> String {

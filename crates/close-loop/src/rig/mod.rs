@@ -48,6 +48,7 @@ use std::f64::consts::PI;
 
 mod calibrate;
 mod fault_excitation;
+pub mod life;
 mod lookup;
 mod model;
 mod stats;

@@ -253,6 +253,32 @@ impl RigModel {
         self.synthesize_with(s, Some(cache))
     }
 
+    /// [`RigModel::synthesize`] in its two parts, each through the measurement chain: the
+    /// healthy machine (bit-identical to the synthesis of [`FaultClass::None`] with the same
+    /// seed) and the fault's contribution (zeros for [`FaultClass::None`]). The chain is
+    /// linear, so their sum is [`RigModel::synthesize`]'s recording up to rounding. What a
+    /// degradation run needs to scale and report the two apart.
+    ///
+    /// # Errors
+    /// As [`RigModel::synthesize`].
+    pub fn synthesize_parts(&self, s: &Synthesis) -> Result<(Vec<f64>, Vec<f64>), CloseLoopError> {
+        let none = Synthesis {
+            class: FaultClass::None,
+            ..*s
+        };
+        let healthy = self.synthesize_with(&none, None)?;
+        let fault = if s.class == FaultClass::None {
+            vec![0.0; healthy.len()]
+        } else {
+            let f = apply_fir(&self.chain_fir, &self.fault_signal_with(s, None)?);
+            if let Some(i) = f.iter().position(|v| !v.is_finite()) {
+                return Err(CloseLoopError::NonFinite { index: i });
+            }
+            f
+        };
+        Ok((healthy, fault))
+    }
+
     fn synthesize_with(
         &self,
         s: &Synthesis,

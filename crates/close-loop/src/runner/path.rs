@@ -151,7 +151,7 @@ const HIGHPASS_REFINE: usize = 8;
 /// extrapolation, and the physics' low BPFO harmonics (14–21 dB combs at 200–1100 Hz on 130.mat)
 /// stand over a measured spectrum that shows none. Without this candidate a random slip at the
 /// model's bound smeared them away, and the comb the measurement keeps at the resonance with it
-/// (`docs/equations/close-loop.md`, "What the slip at the model's bound does not mean"). Only
+/// (`docs/journal/close-loop.md`, "What the slip at the model's bound does not mean"). Only
 /// with impacts behind a path; the corner on a log grid, each calibrated warm and cold, the best
 /// refined by golden section between its neighbours. Nothing is re-simulated.
 pub(super) fn highpass_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> {

@@ -155,7 +155,7 @@ pub(super) fn declared_first(cands: Vec<Evaluated>) -> Vec<Evaluated> {
 /// measurement keeps at the resonance; a high-pass removes the low comb only and cannot stand
 /// in for slip, which smears the comb at the resonance too. Judged by the fitting error alone
 /// the slip came first on 29 measured records and ended at the model's 10 % bound
-/// (`docs/equations/close-loop.md`, "What the slip at the model's bound does not mean").
+/// (`docs/journal/close-loop.md`, "What the slip at the model's bound does not mean").
 pub(super) fn before_slip(cands: Vec<Evaluated>) -> Vec<Evaluated> {
     let Some(first_slip) = cands
         .iter()
