@@ -9,6 +9,10 @@
 use crate::error::{ModelError, Result, check_positive, check_range};
 use std::f64::consts::PI;
 
+/// Largest number of balls a geometry may have: the 5-DOF model keeps fixed-size per-ball
+/// buffers of this length (`state_space`).
+pub const MAX_BALLS: usize = 32;
+
 const INCH: f64 = 0.0254;
 
 /// Geometry of a deep-groove ball bearing (the quantities of eq. (2.8)).
@@ -127,7 +131,7 @@ impl BearingGeometry {
             "n_balls",
             self.n_balls as f64,
             3.0,
-            crate::state_space::MAX_BALLS as f64,
+            MAX_BALLS as f64,
             "3 ..= 32",
         )?;
         check_positive("ball_diameter_m", self.ball_diameter_m)?;

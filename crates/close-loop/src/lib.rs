@@ -53,9 +53,9 @@ pub use declared::{
 pub use effect::{Effect, EffectKind, Placement};
 pub use error::CloseLoopError;
 pub use report::{
-    AcceptedOn, EffectEntry, KINEMATIC_LINE_TOLERANCE, Ledger, Outcome, Spectra, VerificationPass,
+    AcceptedOn, EffectEntry, KINEMATIC_LINE_TOLERANCE, Ledger, Spectra, VerificationPass,
 };
-pub use runner::{MIN_NPERSEG, close_loop, close_loop_from, fit_len, min_samples};
+pub use runner::{MIN_NPERSEG, Outcome, close_loop, close_loop_from, fit_len, min_samples};
 
 /// The README's examples, compiled as doctests.
 #[doc = include_str!("../README.md")]

@@ -203,17 +203,6 @@ pub struct Spectra {
     pub model_after: Vec<f64>,
 }
 
-/// Ledger plus the spectra behind it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Outcome {
-    /// The report.
-    pub ledger: Ledger,
-    /// Held-out spectra.
-    pub spectra: Spectra,
-    /// The augmented model as a reloadable machine model (declared model + everything added).
-    pub machine: crate::machine::MachineModel,
-}
-
 impl Ledger {
     /// The ledger as Markdown.
     pub fn to_markdown(&self, title: &str) -> String {

@@ -9,8 +9,7 @@ use crate::detect::linetest::BandReading;
 use crate::detect::template::{Sidebands, Template, Term, Window};
 use crate::detect::view::BandView;
 pub use crate::lines::{EnvelopeSpectrum, Line, PassedOver};
-use crate::{Hypothesis, LINE_THRESHOLD_DB, SLIP_MAX, SPEED_OFFSET, SPEED_TOL};
-use bearing_model::FaultOrders;
+use crate::{Hypothesis, LINE_THRESHOLD_DB};
 
 /// The evidence for one fault hypothesis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -40,22 +39,6 @@ pub struct HypothesisEvidence {
     /// The detector's reading: statistic, probability under "healthy", band, masks.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub significance: Option<Significance>,
-}
-
-/// Search window ratios `[lo, hi]` (found / kinematic) for a hypothesis: slip of up to
-/// [`SLIP_MAX`] lowers the cage, outer-race and ball rates and raises BPFI by
-/// `SLIP_MAX · BPFO/BPFI`; the ~[`SPEED_OFFSET`] speed-reference offset raises all; ± [`SPEED_TOL`]
-/// for speed measurement.
-pub(crate) fn window_ratio(h: Hypothesis, o: &FaultOrders) -> (f64, f64) {
-    match h {
-        Hypothesis::Inner => (
-            1.0 - SPEED_TOL,
-            1.0 + SLIP_MAX * o.bpfo / o.bpfi + SPEED_OFFSET + SPEED_TOL,
-        ),
-        Hypothesis::Outer | Hypothesis::Ball => {
-            (1.0 - SLIP_MAX - SPEED_TOL, 1.0 + SPEED_OFFSET + SPEED_TOL)
-        }
-    }
 }
 
 /// The evidence of one hypothesis as the detector read it: its template's lines where the line

@@ -2,7 +2,7 @@
 //! the dataset of one cell ([`cell_dataset`]).
 
 use super::inputs::{Cache, RecKey};
-use super::pipeline::{Config, FeatMap};
+use super::run::{Config, FeatMap};
 use ::pipeline as pl;
 use ::pipeline::dissertation::DissTable;
 

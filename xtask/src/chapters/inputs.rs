@@ -4,7 +4,7 @@
 //! Records are loaded (or simulated) once per run and shared by every chapter ([`Cache`]); which
 //! record backs which cell is `pipeline::recordings`'.
 
-use super::pipeline::Config;
+use super::run::Config;
 use crate::common::Context;
 pub use ::pipeline::recordings::{
     CWRU_FS, FIT_SECONDS, MULTI_FS, MULTI_WINDOW, MULTI_WINDOWS, Rec, RecKey, RecordingPlan,

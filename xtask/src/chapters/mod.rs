@@ -21,8 +21,8 @@ mod cells;
 pub(crate) mod figures;
 mod inputs;
 mod notes;
-mod pipeline;
 mod report;
+mod run;
 
 use crate::common::Context;
 use anyhow::Context as _;
@@ -120,15 +120,15 @@ pub type Generated = (Files, Vec<(u8, f64)>, String);
 /// Generate every file of the given chapters in memory; returns the files, the wall time per
 /// chapter and a headline summary for the terminal.
 pub fn generate(ctx: &Context, chapters: &[u8], args: &Args) -> anyhow::Result<Generated> {
-    let cfg = pipeline::Config::new(args.quick, !(args.no_figures || args.quick), !args.quiet);
+    let cfg = run::Config::new(args.quick, !(args.no_figures || args.quick), !args.quiet);
     let mut files = Files::new();
     let mut timings = Vec::new();
     let mut headline = String::new();
     let mut cache = inputs::Cache::default();
     for &ch in chapters {
         let t0 = Instant::now();
-        let out = pipeline::run_chapter(ctx, &cfg, ch, &mut cache)
-            .with_context(|| format!("chapter {ch}"))?;
+        let out =
+            run::run_chapter(ctx, &cfg, ch, &mut cache).with_context(|| format!("chapter {ch}"))?;
         let diss = ::pipeline::dissertation::chapter_tables(ch);
         let dir = PathBuf::from(format!("chapter{ch}"));
         files.insert(

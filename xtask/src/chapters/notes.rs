@@ -3,8 +3,8 @@
 
 use super::cells::cell_dataset;
 use super::inputs::{self, Cache, RecKey};
-use super::pipeline::{Config, FeatMap};
 use super::report::{Cell, DataNote, OurTable, ResidualRatios, class_label, pct, protocol_key};
+use super::run::{Config, FeatMap};
 use ::pipeline::dissertation::{self as tables, Condition, DissTable};
 use ::pipeline::{self as pl, ClassifierKind, Method, Protocol};
 use std::collections::BTreeMap;

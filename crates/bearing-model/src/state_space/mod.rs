@@ -97,8 +97,7 @@ const SLIP_REVS: usize = 1024;
 /// Source of [`BearingModel`] ids (0 is "no model").
 static NEXT_MODEL_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
-/// Largest number of balls the model supports (fixed-size per-ball buffers).
-pub const MAX_BALLS: usize = 32;
+pub use crate::geometry::MAX_BALLS;
 
 /// Everything about the balls that depends on time only (not on the state): their directions
 /// (the cage angle `θ_c` and each ball's offset `a_j` in the cage), their gaps (clearance +

@@ -393,3 +393,46 @@ fn dominant(modes: &[crate::path::PathMode]) -> Option<&crate::path::PathMode> {
         .filter(|m| m.frequency_hz > 0.0)
         .max_by(|a, b| a.peak_psd.total_cmp(&b.peak_psd))
 }
+
+/// The multiple m·lf (m ≥ 1) of the declared mains frequency nearest `f`; `None` without a
+/// declared mains frequency or when `f` is below half of it.
+pub(crate) fn nearest_mains(f: f64, c: &crate::LoopConfig) -> Option<f64> {
+    c.line_frequency_hz.and_then(|lf| {
+        let m = (f / lf).round();
+        (m >= 1.0).then_some(m * lf)
+    })
+}
+
+/// Highest half order (k + ½) named a shaft harmonic (looseness shows half orders).
+pub(crate) const MAX_HALF_ORDER: f64 = 5.5;
+
+/// Name a line: a shaft harmonic when it sits within `harmonic_tolerance` of an order k·fr
+/// (k = 1 … `max_harmonic_order`) or a half order (½ … 5½) and nearer to it than to a multiple of
+/// the declared line frequency; a tone otherwise.
+pub(crate) fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effect {
+    let f = line.frequency_hz;
+    let k2 = (2.0 * f / fr).round();
+    let order = k2 / 2.0;
+    let is_half = k2 % 2.0 != 0.0;
+    let rel_h = if k2 >= 1.0 {
+        (f / (order * fr) - 1.0).abs()
+    } else {
+        f64::INFINITY
+    };
+    let rel_l = nearest_mains(f, c).map_or(f64::INFINITY, |g| (f / g - 1.0).abs());
+    let in_range = if is_half {
+        order <= MAX_HALF_ORDER
+    } else {
+        order >= 1.0 && order <= f64::from(c.max_harmonic_order)
+    };
+    if in_range && rel_h <= c.harmonic_tolerance && rel_h <= rel_l {
+        Effect::ShaftHarmonic {
+            order,
+            line,
+            shaft_hz: fr,
+            force: None,
+        }
+    } else {
+        Effect::Tone { line }
+    }
+}

@@ -188,7 +188,7 @@ impl MachineModel {
         // half order up to 5½, within the harmonic tolerance) moves with the speed; any other
         // line — CWRU's ~4.2 kHz interference comb among them — is a tone fixed in Hz
         for l in &st.lines {
-            lines.push(match crate::runner::classify_line(*l, fr, ctx.cfg.get()) {
+            lines.push(match crate::effect::classify_line(*l, fr, ctx.cfg.get()) {
                 crate::Effect::ShaftHarmonic { order, .. } => MachineLine::ShaftHarmonic {
                     order,
                     amplitude: l.amplitude(),

@@ -1,7 +1,9 @@
 //! The fault's excitation: the 5-DOF model's housing and pedestal accelerations under the
 //! contact forces of the spalls ([`excitation`], [`Excitation`]) and the constants it is run at.
 
-use super::*;
+use super::{
+    Bearing, CloseLoopError, FaultClass, FaultSet, Housing, ParamSet, Scenario, Slip, Spall, bad,
+};
 
 /// Sprung-mass resonance of the excitation model a calibration writes, Hz (ζ 0.7): above the
 /// output band (12 kHz records: 6 kHz), so that the housing acceleration is the pedestal's

@@ -1,7 +1,10 @@
 //! The rig's lookups: the calibrated severity, strike fraction and impact path for a fault
 //! location, spall size and outer-race position, and the fault rates.
 
-use super::*;
+use super::{
+    CloseLoopError, ImpactPath, Location, MachineModel, RigModel, Severity, StructuralPath,
+    same_position,
+};
 
 /// The path of `location` for a spall of `size_mm` among `paths`: the one fitted on the nearest
 /// size (in log size; a pooled path matches every size) among the reference paths, else the

@@ -1,7 +1,10 @@
 //! The rig model: its types ([`RigModel`], [`ImpactPath`], [`Severity`], [`RigProvenance`]),
 //! their (de)serialisation and validation, and the committed CWRU rig.
 
-use super::*;
+use super::{
+    CloseLoopError, Deserialize, LEGACY_EXCITATION_HOUSING_HZ, Location, MachineLine, MachineModel,
+    PI, Serialize, StructuralPath,
+};
 
 /// The `format` string of a rig model file.
 pub const FORMAT: &str = "hybrid-fdd/rig-model";

@@ -2,7 +2,10 @@
 //! machine's background, the fault signal behind the strike gate, the random part and the impact
 //! path, and the filters and lines they are made with.
 
-use super::*;
+use super::{
+    Bearing, CloseLoopError, FaultClass, Gaussian, Location, MachineLine, MachineModel, PI,
+    RigModel, bad, excitation,
+};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -505,6 +508,7 @@ const FFT_FIR_MIN_TAPS: usize = 33;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rig::mean_square;
 
     fn kurt(x: &[f64]) -> f64 {
         let n = x.len() as f64;

@@ -1,6 +1,6 @@
 //! A fault nobody declared: a spall at a location the declared model leaves healthy.
 
-use super::*;
+use super::{Evaluated, has_impacts, speed, with_impacts_path};
 use crate::DeclaredModel;
 use crate::effect::Effect;
 use crate::engine::{Ctx, State};

@@ -5,13 +5,24 @@ use crate::effect::Effect;
 use crate::engine::{Ctx, Scores, State};
 use crate::machine::MachineModel;
 use crate::report::{
-    AcceptedOn, Declared, EffectEntry, Ledger, Outcome, PRIMARY_METRIC, Protocol,
-    RejectedCandidate, SECONDARY_METRIC,
+    AcceptedOn, Declared, EffectEntry, Ledger, PRIMARY_METRIC, Protocol, RejectedCandidate,
+    SECONDARY_METRIC, Spectra,
 };
 use crate::spectrum::Welch;
 use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
 use bearing_model::FaultLocation;
 use rayon::prelude::*;
+
+/// Ledger plus the spectra behind it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// The report.
+    pub ledger: Ledger,
+    /// Held-out spectra.
+    pub spectra: Spectra,
+    /// The augmented model as a reloadable machine model (declared model + everything added).
+    pub machine: MachineModel,
+}
 
 /// Smallest Welch segment the loop accepts.
 pub const MIN_NPERSEG: usize = 256;
@@ -875,7 +886,6 @@ mod spectra;
 mod speed;
 mod start;
 
-pub(crate) use lines::classify_line;
 use lines::{fit_line, line_candidates, shaft_force_candidate};
 
 use fault::added_fault_candidates;

@@ -1,6 +1,6 @@
 //! Modulation candidates: amplitude modulation of the physics at shaft or cage rate.
 
-use super::*;
+use super::Evaluated;
 use crate::effect::{Effect, Modulation};
 use crate::engine::{Ctx, State};
 use crate::spectrum::{

@@ -1,7 +1,7 @@
 //! What is taken and how it is named: an accepted candidate recorded in the ledger, the
 //! kinematic rate a line sits on, and whether a tone is a line of the declared fault.
 
-use super::*;
+use super::{Evaluated, observer_rms};
 use crate::effect::Effect;
 use crate::engine::{Ctx, Scores, State};
 use crate::report::{AcceptedOn, EffectEntry};

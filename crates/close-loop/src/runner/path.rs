@@ -1,7 +1,7 @@
 //! The structural path candidates: the broadband path of the machine and the path the fault's
 //! impacts ring, identified on the fitting segment's line-free PSD.
 
-use super::*;
+use super::{Evaluated, refine_between};
 use crate::effect::Effect;
 use crate::engine::{Ctx, PathPsd, State};
 use std::sync::Arc;

@@ -2,7 +2,7 @@
 //! the fitting-error ranking (strong coherent lines, the declared model's own corrections, a
 //! speed or an impacts' high-pass before slip).
 
-use super::*;
+use super::{Evaluated, is_declared_fault_line};
 use crate::effect::Effect;
 use crate::engine::{Ctx, State};
 

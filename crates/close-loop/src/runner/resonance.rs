@@ -1,6 +1,6 @@
 //! Resonance candidates: channel modes and the housing mode of the physics.
 
-use super::*;
+use super::Evaluated;
 use crate::DeclaredModel;
 use crate::effect::{Effect, Mode};
 use crate::engine::{Base, Ctx, ModelRef, State};

@@ -1,6 +1,6 @@
 //! Speed candidates: a speed offset (envelope and spectral steps) and slip.
 
-use super::*;
+use super::{Evaluated, refine_parabolic};
 use crate::effect::Effect;
 use crate::engine::{Base, Ctx, ModelRef, State};
 use crate::spectrum::{envelope_periodogram, running_median};

@@ -1,7 +1,7 @@
 //! The start from a calibrated machine model: its final state rebuilt on this recording, and
 //! the calibrated start the run keeps.
 
-use super::*;
+use super::fit_line;
 use crate::effect::Line;
 use crate::engine::{Ctx, PathPsd, State};
 use crate::machine::MachineModel;

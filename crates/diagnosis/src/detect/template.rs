@@ -2,7 +2,6 @@
 //! distinguishing sidebands at a speed, the lattice of lines the fault puts in the envelope
 //! spectrum (kept out of its own null), and the family a confirmed fault explains in others.
 
-use crate::evidence::window_ratio;
 use crate::{Hypothesis, SLIP_MAX, SPEED_OFFSET, SPEED_TOL};
 use bearing_model::FaultOrders;
 
@@ -240,5 +239,21 @@ impl Template {
         }
         v.retain(|(f, _)| *f > 0.0);
         v
+    }
+}
+
+/// Search window ratios `[lo, hi]` (found / kinematic) for a hypothesis: slip of up to
+/// [`SLIP_MAX`] lowers the cage, outer-race and ball rates and raises BPFI by
+/// `SLIP_MAX · BPFO/BPFI`; the ~[`SPEED_OFFSET`] speed-reference offset raises all; ± [`SPEED_TOL`]
+/// for speed measurement.
+pub(crate) fn window_ratio(h: Hypothesis, o: &FaultOrders) -> (f64, f64) {
+    match h {
+        Hypothesis::Inner => (
+            1.0 - SPEED_TOL,
+            1.0 + SLIP_MAX * o.bpfo / o.bpfi + SPEED_OFFSET + SPEED_TOL,
+        ),
+        Hypothesis::Outer | Hypothesis::Ball => {
+            (1.0 - SLIP_MAX - SPEED_TOL, 1.0 + SPEED_OFFSET + SPEED_TOL)
+        }
     }
 }

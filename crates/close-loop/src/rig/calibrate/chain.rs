@@ -1,7 +1,10 @@
 //! The measurement chains and the healthy background: the chain's tones, its roll-off on the
 //! fault records and on the background, and the healthy recording's broadband remainder.
 
-use super::*;
+use super::{
+    CloseLoopError, MachineLine, MachineModel, PI, RigModel, Synthesis, TrainingRecord, Welch,
+    background_of, smooth,
+};
 
 /// The tones of the healthy machine (lines fixed in Hz: the measurement chain's interference,
 /// e.g. CWRU's ~4.2 kHz comb) belong to the recording chain, not to the machine, and differ
@@ -218,6 +221,7 @@ pub(super) fn background_remainder(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rig::calibrate::SMOOTH_HZ;
     use crate::scenario::Gaussian;
     use crate::spectrum::{bandpass_coefficients, biquad_filter};
 

@@ -1,7 +1,11 @@
 //! The radial load on the shaft and the sensor's horizontal sensitivity, from the outer-race
 //! records with the spall off 6 o'clock.
 
-use super::*;
+use super::{
+    BURST_PERIODS, Bearing, CloseLoopError, EXCITATION_HOUSING_HZ, FaultClass, Location,
+    MachineModel, PathFit, RADIAL_LOADS_N, RigModel, TrainingRecord, WARMUP, background_of,
+    excitation, gated, mean_square, mix, variance,
+};
 
 /// The radial load on the shaft from the outer-race records with the spall at the top
 /// (`top`), opposite the load zone: each is paired with the on-axis (6 o'clock) training record

@@ -2,7 +2,11 @@
 //! training records' excess spectra with each record's gain, and the rounds that close the loop
 //! on them.
 
-use super::*;
+use super::{
+    Bearing, CloseLoopError, EXCITATION_HOUSING_HZ, Excitation, ImpactPath, Location, MachineModel,
+    RigModel, StructuralPath, Synthesis, TrainingRecord, WARMUP, Welch, apply_fir, excitation,
+    mean_square,
+};
 
 /// Half width of the smoothing applied to the PSDs the impact path is fitted on, Hz.
 pub(super) const SMOOTH_HZ: f64 = 150.0;

@@ -1,7 +1,15 @@
 //! [`calibrate_rig`]: the calibration's stages in order, with the search of the contact preload
 //! and the fit of the severities (gain, random fraction, strike fraction) of every record.
 
-use super::*;
+use super::{
+    BURST_PERIODS, Bearing, CloseLoopError, DEPTH_M, EXCITATION_HOUSING_HZ, Excitation, FORMAT,
+    FaultClass, ImpactPath, Location, MachineLine, MachineModel, PRELOADS_M, PathFit, RigModel,
+    RigProvenance, SLIP_FRACTION, SMOOTH_HZ, STRIKE_FRACTIONS, Severity, TrainingRecord, VERSION,
+    WARMUP, Welch, apply_fir, background_chain, background_of, background_remainder,
+    chain_response, chain_tones, excess_log_ratio, excitation, fault_rate_of, fit_horizontal,
+    fit_paths, fit_radial_load, gated, impact_path_of, kurtosis, line_prominence_db, mean_square,
+    measured_excess, mix, refine_paths, smooth, variance,
+};
 
 /// What the stages of a rig calibration share: the healthy machine and its background, the
 /// reference training records (outer-race spalls at 6 o'clock, inner races, balls) with their
