@@ -105,9 +105,11 @@ pub struct Declared {
     pub fs: f64,
 }
 
-/// How the recording was split and scored.
+/// How the recording was split and scored (the ledger's `protocol`: fitting and held-out
+/// samples, the spectral estimator, the acceptance margin). Not an evaluation protocol
+/// (`classify::Protocol`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Protocol {
+pub struct HeldOutSplit {
     /// Fitting samples `[start, end)`.
     pub fit_samples: [usize; 2],
     /// Held-out samples `[start, end)`.
@@ -166,7 +168,7 @@ pub struct Ledger {
     /// What the model was told.
     pub declared: Declared,
     /// Split and scoring.
-    pub protocol: Protocol,
+    pub protocol: HeldOutSplit,
     /// Modes of the structural path in the final model (empty without one).
     #[serde(default)]
     pub structural_modes: Vec<crate::path::PathMode>,
@@ -356,7 +358,7 @@ mod tests {
                 fault: "outer".into(),
                 fs: 12_000.0,
             },
-            protocol: Protocol {
+            protocol: HeldOutSplit {
                 fit_samples: [0, 100],
                 held_out_samples: [100, 200],
                 nperseg: 64,

@@ -5,7 +5,7 @@ use crate::effect::Effect;
 use crate::engine::{Ctx, Scores, State};
 use crate::machine::MachineModel;
 use crate::report::{
-    AcceptedOn, Declared, EffectEntry, Ledger, PRIMARY_METRIC, Protocol, RejectedCandidate,
+    AcceptedOn, Declared, EffectEntry, HeldOutSplit, Ledger, PRIMARY_METRIC, RejectedCandidate,
     SECONDARY_METRIC, Spectra,
 };
 use crate::spectrum::Welch;
@@ -619,7 +619,7 @@ fn outcome(ctx: &Ctx<'_>, start: &Start<'_>, run: Running, stop_reason: String) 
             fault: ctx.op.fault.name().to_string(),
             fs: ctx.fs,
         },
-        protocol: Protocol {
+        protocol: HeldOutSplit {
             fit_samples: [0, ctx.n_fit],
             held_out_samples: [ctx.n_fit, ctx.y.len()],
             nperseg: ctx.welch.nperseg(),
