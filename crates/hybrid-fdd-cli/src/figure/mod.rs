@@ -1,12 +1,17 @@
-//! The report figure: the residual's squared envelope spectrum in the chosen band, with the
-//! BPFO, BPFI, BSF (ball-defect rate), FTF and fr harmonics and the distinguishing sidebands
-//! (BPFI ± fr, BSF ± FTF) overlaid and labelled. Used by `hybrid-fdd diagnose` and
-//! `cargo xtask diagnose`.
+//! The workspace's figures and what they share (the font, label placement, PNG rendering):
+//! here the diagnosis report's figure — the residual's squared envelope spectrum in the chosen
+//! band, with the BPFO, BPFI, BSF (ball-defect rate), FTF and fr harmonics and the
+//! distinguishing sidebands (BPFI ± fr, BSF ± FTF) overlaid and labelled, used by
+//! `hybrid-fdd diagnose` and `cargo xtask diagnose` — and in [`close_loop`] the closed loop's.
+//! The chapters' figures (`cargo xtask chapterN`) draw through [`font_available`] and
+//! [`render_png`] too.
 
 use std::path::Path;
 
 use diagnosis::Diagnosis;
 use plotters::prelude::*;
+
+pub mod close_loop;
 
 /// Figure size, pixels.
 const W: u32 = 900;
