@@ -10,7 +10,7 @@
 //! * the **schedule** ([`Schedule`], [`plan_schedule`]): what happens when — the onset index,
 //!   the speed, load and gain of every recording, the growth fraction of the spall after the
 //!   onset. It knows nothing of the signal, so the calibrated CWRU rig
-//!   (`close_loop::rig::life`) uses the very same schedule with its own renderer;
+//!   (`calibrated_rig::life`) uses the very same schedule with its own renderer;
 //! * the **renderer**: here the phenomenological machine of [`crate::machine`] (m/s²), one
 //!   machine drawn once from the run's seed (structure, modes, lines and the fault's impact
 //!   parameters), each recording rendered with its own noise, its speed, load, gain and
@@ -659,7 +659,7 @@ impl LifeMachine {
     /// The presets, by bearing designation (case-insensitive, the catalogue's spelling):
     ///
     /// * `6205`: the SKF 6205 (CWRU drive end) at 1797 rpm, 12 kHz, RMS 2 m/s² — the
-    ///   phenomenological machine, **not** the calibrated rig (that is `close_loop::rig::life`);
+    ///   phenomenological machine, **not** the calibrated rig (that is `calibrated_rig::life`);
     /// * `UC204`: a UC204-class insert at 2100 rpm (XJTU-SY's first condition), 25.6 kHz,
     ///   RMS 1.5 m/s²;
     /// * `6308`: a 6308-class bearing at 1480 rpm (a 4-pole motor), 20 kHz, RMS 3 m/s².

@@ -165,7 +165,7 @@ impl SimConfig {
         }
         // A resonant housing must lie in the output band. A heavily damped one (ζ ≥ 0.5) above
         // the band is a stiff mount that only low-passes the pedestal motion (the excitation
-        // model of `close_loop::rig`), so it may sit anywhere.
+        // model of `calibrated_rig`), so it may sit anywhere.
         let housing = model.spec().housing;
         let f_res = housing.resonance_hz;
         let required = 2.2 * f_res;

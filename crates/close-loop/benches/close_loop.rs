@@ -104,24 +104,6 @@ fn bench(c: &mut Criterion) {
         _ => eprintln!("measured-record case skipped: no shared data"),
     }
     g.finish();
-    // the calibrated rig: 10 s at 12 kHz (simulated seconds per wall second = 10 / time)
-    let rig = close_loop::rig::cwru_rig().unwrap();
-    let mut g = c.benchmark_group("rig");
-    g.sample_size(10);
-    for (name, class) in [
-        ("healthy", bearing_model::FaultClass::None),
-        ("inner", bearing_model::FaultClass::Inner),
-        (
-            "inner+outer+ball",
-            bearing_model::FaultClass::InnerOuterBall,
-        ),
-    ] {
-        let s = close_loop::rig::Synthesis::new(class, 0.356, 1797.0, 120_000, 1);
-        g.bench_function(format!("synthesize 10 s at 12 kHz, {name}"), |b| {
-            b.iter(|| rig.synthesize(&s).unwrap())
-        });
-    }
-    g.finish();
 }
 
 criterion_group!(benches, bench);

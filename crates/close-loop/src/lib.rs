@@ -39,7 +39,6 @@ mod optimize;
 pub mod path;
 pub mod physics;
 pub mod report;
-pub mod rig;
 mod runner;
 pub mod scenario;
 pub mod spectrum;
@@ -61,3 +60,7 @@ pub use runner::{MIN_NPERSEG, Outcome, close_loop, close_loop_from, fit_len, min
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// Contact preloads of the balls the loop's preload candidate tries, m (a negative clearance:
+/// every ball loaded), and the calibrated rig's calibration too (`calibrated-rig`).
+pub const PRELOADS_M: &[f64] = &[0.0, 0.5e-6, 1e-6, 2e-6, 4e-6, 8e-6];

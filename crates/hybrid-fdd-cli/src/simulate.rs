@@ -6,7 +6,7 @@
 //! (`accel_unit`).
 //!
 //! At CWRU conditions (6205, 12 kHz) the default is the **calibrated rig**
-//! (`close_loop::rig::cwru_rig`, made by `cargo xtask calibrate-rig`): the 5-DOF model behind the
+//! (`calibrated_rig::cwru_rig`, made by `cargo xtask calibrate-rig`): the 5-DOF model behind the
 //! measured paths of the CWRU rig, in g like the CWRU data. `--params cwru` (the physically
 //! consistent, uncalibrated 5-DOF set) and `--params table2.1` (the dissertation's) give the bare
 //! 5-DOF housing acceleration in m/s².
@@ -180,7 +180,7 @@ fn outer_angle(clock: u8) -> anyhow::Result<f64> {
 ///
 /// # Errors
 /// `--params calibrated` away from the rig's conditions (bearing, sampling rate).
-pub fn wants_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<bool> {
+pub fn wants_rig(args: &Args, rig: &calibrated_rig::RigModel) -> anyhow::Result<bool> {
     let p = args.params.to_ascii_lowercase();
     let at = rig.check_compatible(args.fs, args.bearing.trim()).is_ok();
     match p.as_str() {
@@ -235,7 +235,7 @@ fn bare_only_flags(args: &Args) -> Vec<&'static str> {
 /// Flags the rig does not take, and the rig's typed errors.
 pub fn simulate_rig(
     args: &Args,
-    rig: &close_loop::rig::RigModel,
+    rig: &calibrated_rig::RigModel,
 ) -> anyhow::Result<(Vec<f64>, serde_json::Value)> {
     let bare = bare_only_flags(args);
     anyhow::ensure!(
@@ -259,13 +259,13 @@ pub fn simulate_rig(
         args.fs,
         1024.0 / args.fs
     );
-    let mut syn = close_loop::rig::Synthesis::new(class, args.fault_size, args.rpm, n, args.seed);
+    let mut syn = calibrated_rig::Synthesis::new(class, args.fault_size, args.rpm, n, args.seed);
     syn.outer_angle_rad = outer_angle(args.outer_clock)?;
     let y = rig
         .synthesize(&syn)
         .context("the calibrated rig cannot simulate this")?;
     let mut used = serde_json::Map::new();
-    for loc in close_loop::rig::Location::ALL
+    for loc in calibrated_rig::Location::ALL
         .into_iter()
         .filter(|l| l.in_class(class))
     {
@@ -338,7 +338,7 @@ fn warn_limits(
     shaft_hz: f64,
     rig_info: Option<&serde_json::Value>,
 ) {
-    for loc in close_loop::rig::Location::ALL
+    for loc in calibrated_rig::Location::ALL
         .into_iter()
         .filter(|l| l.in_class(class))
     {
@@ -375,7 +375,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "--out {} would be overwritten by its own JSON sidecar (written beside the CSV with the extension .json): name the recording .csv",
         args.out.display()
     );
-    let rig = close_loop::rig::cwru_rig().context("loading the calibrated CWRU rig")?;
+    let rig = calibrated_rig::cwru_rig().context("loading the calibrated CWRU rig")?;
     if wants_rig(&args, &rig)? {
         return run_rig(&args, &rig);
     }
@@ -452,7 +452,7 @@ fn print_lines(fr: f64, o: &bearing_model::FaultOrders, side: &Path) {
 }
 
 /// The calibrated rig's branch of [`run`].
-fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
+fn run_rig(args: &Args, rig: &calibrated_rig::RigModel) -> anyhow::Result<()> {
     let t = std::time::Instant::now();
     let (y, info) = simulate_rig(args, rig)?;
     let wall = t.elapsed().as_secs_f64();
@@ -471,7 +471,7 @@ fn run_rig(args: &Args, rig: &close_loop::rig::RigModel) -> anyhow::Result<()> {
     let geometry = args.bearing.parse::<Bearing>()?.geometry();
     let shaft_hz = args.rpm / 60.0 * rig.healthy.speed_ratio;
     let meta = serde_json::json!({
-        "generator": "hybrid-fdd simulate / cargo xtask simulate (calibrated CWRU rig, close_loop::rig)",
+        "generator": "hybrid-fdd simulate / cargo xtask simulate (calibrated CWRU rig, calibrated_rig)",
         "rpm": args.rpm,
         "bearing": args.bearing.trim(),
         "columns": { "time_s": "s", "accel": format!("acceleration at the drive-end sensor, {} (calibrated CWRU rig; the CWRU data read as g)", rig.units) },
@@ -561,7 +561,7 @@ mod tests {
 
     #[test]
     fn the_calibrated_rig_is_the_default_at_cwru_conditions() {
-        let rig = close_loop::rig::cwru_rig().unwrap();
+        let rig = calibrated_rig::cwru_rig().unwrap();
         let args = parse(&[
             "--fault",
             "outer",

@@ -4,7 +4,7 @@
 //! sensor-gain steps before the onset too (`bearing_model::life`, `docs/equations/life.md`).
 //!
 //! * `--bearing 6205` (default `--model auto`): the **calibrated CWRU rig**
-//!   (`close_loop::rig::life`), 12 kHz, in **g**, the spall's width growing;
+//!   (`calibrated_rig::life`), 12 kHz, in **g**, the spall's width growing;
 //!   `--model machine` gives the phenomenological machine with the 6205 instead (m/s²).
 //! * `--bearing UC204` (25.6 kHz) or `--bearing 6308` (20 kHz): the phenomenological machine
 //!   (`bearing_model::machine`), in **m/s²**, the spall's severity (dB) growing.
@@ -25,7 +25,7 @@
 use anyhow::Context as _;
 use bearing_model::FaultLocation;
 use bearing_model::life::{self, LifeConfig, LifeMachine, LifeRecording, LifeTruth, Schedule};
-use close_loop::rig::life::{self as rig_life, RigLifeConfig};
+use calibrated_rig::life::{self as rig_life, RigLifeConfig};
 use rayon::prelude::*;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -101,7 +101,7 @@ pub struct Args {
 #[derive(Debug, Clone)]
 pub enum Run {
     /// The calibrated CWRU rig.
-    Rig(Box<close_loop::rig::RigModel>, RigLifeConfig),
+    Rig(Box<calibrated_rig::RigModel>, RigLifeConfig),
     /// The phenomenological machine.
     Machine(LifeConfig),
 }
@@ -175,7 +175,7 @@ pub fn run_of(args: &Args) -> anyhow::Result<Run> {
                 f.0
             );
         }
-        let model = close_loop::rig::cwru_rig().context("loading the calibrated CWRU rig")?;
+        let model = calibrated_rig::cwru_rig().context("loading the calibrated CWRU rig")?;
         let mut cfg = RigLifeConfig::new(loc);
         cfg.schedule = schedule;
         if let Some(r) = args.rpm {

@@ -765,10 +765,10 @@ pub enum SimKind {
 }
 
 /// The calibrated CWRU rig, parsed once.
-fn rig() -> Result<&'static close_loop::rig::RigModel> {
-    static RIG: std::sync::OnceLock<std::result::Result<close_loop::rig::RigModel, String>> =
+fn rig() -> Result<&'static calibrated_rig::RigModel> {
+    static RIG: std::sync::OnceLock<std::result::Result<calibrated_rig::RigModel, String>> =
         std::sync::OnceLock::new();
-    RIG.get_or_init(|| close_loop::rig::cwru_rig().map_err(|e| e.to_string()))
+    RIG.get_or_init(|| calibrated_rig::cwru_rig().map_err(|e| e.to_string()))
         .as_ref()
         .map_err(|e| {
             PipelineError::Calibration(close_loop::CloseLoopError::MachineModelFormat {
@@ -802,7 +802,7 @@ pub fn simulate(
     };
     let rig = rig()?;
     rig.check_compatible(fs, &rig.bearing)?;
-    let y = rig.synthesize(&close_loop::rig::Synthesis::new(
+    let y = rig.synthesize(&calibrated_rig::Synthesis::new(
         class, size_mm, rpm, n, seed,
     ))?;
     take(y, n)
@@ -810,11 +810,11 @@ pub fn simulate(
 
 /// A recording of the multi-fault substitute ([`SimKind::Shse`]): the calibrated rig (g) with
 /// spalls of `size_mm` whose 5-DOF excitations are drawn from `excitation_seed` and shared
-/// through `cache` ([`close_loop::rig::Synthesis::excitation_seed`]); background, strike gate
+/// through `cache` ([`calibrated_rig::Synthesis::excitation_seed`]); background, strike gate
 /// and random part from `seed`.
 ///
 /// # Errors
-/// The rig's errors ([`close_loop::rig::RigModel::synthesize_cached`]), a sampling rate the rig
+/// The rig's errors ([`calibrated_rig::RigModel::synthesize_cached`]), a sampling rate the rig
 /// was not calibrated at.
 #[allow(clippy::too_many_arguments)] // simulate's arguments and the shared excitation
 pub fn simulate_substitute(
@@ -825,11 +825,11 @@ pub fn simulate_substitute(
     n: usize,
     seed: u64,
     excitation_seed: u64,
-    cache: &close_loop::rig::ExcitationCache,
+    cache: &calibrated_rig::ExcitationCache,
 ) -> Result<Vec<f64>> {
     let rig = rig()?;
     rig.check_compatible(fs, &rig.bearing)?;
-    let s = close_loop::rig::Synthesis::new(class, size_mm, rpm, n, seed)
+    let s = calibrated_rig::Synthesis::new(class, size_mm, rpm, n, seed)
         .with_excitation_seed(excitation_seed);
     take(rig.synthesize_cached(&s, cache)?, n)
 }

@@ -8,7 +8,7 @@
 use crate::{PipelineError, Result, SimKind};
 use bearing_data::{FaultLocation, LoadOptions, OuterPosition, Query};
 use bearing_model::FaultClass;
-use close_loop::rig::ExcitationCache;
+use calibrated_rig::ExcitationCache;
 use std::path::Path;
 
 /// Sampling rate of the CWRU tables (12 kHz drive end).

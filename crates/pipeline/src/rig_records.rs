@@ -1,12 +1,12 @@
 //! CWRU catalog records as the rig calibration sees them (`cargo xtask calibrate-rig`,
-//! `close_loop::rig`): a record's fault location, outer-race spall position and size as a
+//! `calibrated_rig`): a record's fault location, outer-race spall position and size as a
 //! training record or a synthesis request, and the simulated-versus-measured comparison of one
 //! record. Decisions: `docs/equations/close-loop.md`, "Calibrated rig simulator".
 
 use std::f64::consts::PI;
 
 use bearing_data::{CatalogEntry, FaultLocation as CatalogFault, OuterPosition};
-use close_loop::rig::{Comparison, Location, RigModel, Synthesis, TrainingRecord, signal_stats};
+use calibrated_rig::{Comparison, Location, RigModel, Synthesis, TrainingRecord, signal_stats};
 
 use crate::{PipelineError, Result};
 

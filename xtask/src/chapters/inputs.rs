@@ -90,7 +90,7 @@ impl Cache {
         }
         // the substitute's spalls simulated once per speed and size, for every class (dropped
         // once loaded)
-        let excitations = close_loop::rig::ExcitationCache::default();
+        let excitations = calibrated_rig::ExcitationCache::default();
         let loaded: Vec<anyhow::Result<(RecKey, Rec)>> = todo
             .par_iter()
             .map(|k| {

@@ -4,8 +4,9 @@
 use super::MachineModel;
 use crate::CloseLoopError;
 
-/// Parse one of this crate's versioned JSON files and check its `format` and `version`.
-pub(crate) fn parse_versioned<T: serde::de::DeserializeOwned>(
+/// Parse one of the versioned JSON files of this crate and `calibrated-rig` (machine and rig
+/// models) and check its `format` and `version`.
+pub fn parse_versioned<T: serde::de::DeserializeOwned>(
     text: &str,
     format: &str,
     version: u32,
@@ -159,12 +160,8 @@ mod tests {
             }) => assert_eq!(found, "hybrid-fdd/rig-model"),
             other => panic!("{other:?}"),
         }
-        // and the other way round
+        // (and the other way round: `calibrated-rig`'s test of `RigModel::from_json`)
         let machine = r#"{"format": "hybrid-fdd/machine-model", "version": 1}"#;
-        assert!(matches!(
-            crate::rig::RigModel::from_json(machine),
-            Err(CloseLoopError::MachineModelMismatch { what: "format", .. })
-        ));
         // a later version whose fields differ
         let later = r#"{"format": "hybrid-fdd/machine-model", "version": 2, "new": []}"#;
         assert!(matches!(

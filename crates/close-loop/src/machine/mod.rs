@@ -23,7 +23,7 @@ mod predictor;
 mod synthesis;
 
 pub use calibration::{CALIBRATE_MAX_EFFECTS, MAX_VERIFICATION_PASSES, calibrate, calibrate_with};
-pub(crate) use json::parse_versioned;
+pub use json::parse_versioned;
 pub use json::{FORMAT, VERSION};
 
 /// A line of the machine model: a shaft order (moves with the speed) or a tone (fixed in Hz).

@@ -391,7 +391,7 @@ pub(super) fn spectral_speed_step(ctx: &Ctx<'_>, st: &State) -> Option<f64> {
 
 /// The balls' radial preload (a negative clearance: every ball loaded, the load zone spanning
 /// the whole circumference): the model re-simulated at each of the calibrated rig's preloads
-/// ([`crate::rig::PRELOADS_M`]) but its current
+/// ([`crate::PRELOADS_M`]) but its current
 /// one, the best on the fitting segment kept. It sets how strongly the shaft (inner race) or
 /// the cage (ball) modulates the fault's impacts — a 5-DOF model without preload modulates an
 /// inner-race fault by the load zone far more than CWRU's records show (107: the BPFI ± fr
@@ -414,7 +414,7 @@ pub(super) fn preload_candidate(ctx: &Ctx<'_>, st: &State) -> Option<Evaluated> 
                 .is_some_and(|m| (m / st.shaft_ratio() - 1.0).abs() <= SHAFT_AGREE)
     });
     let mut best: Option<Evaluated> = None;
-    for &p in crate::rig::PRELOADS_M {
+    for &p in crate::PRELOADS_M {
         if (p - current).abs() <= 1e-12 {
             continue;
         }

@@ -8,11 +8,11 @@ use super::{
     background_of, excitation, fault_rate_of, gated, line_prominence_db, mean_square, mix,
 };
 use super::{nearest_path, nearest_path_at};
-use crate::CloseLoopError;
-use crate::machine::{MachineLine, MachineModel};
-use crate::path::StructuralPath;
-use crate::spectrum::Welch;
 use bearing_model::{Bearing, FaultClass};
+use close_loop::CloseLoopError;
+use close_loop::machine::{MachineLine, MachineModel};
+use close_loop::path::StructuralPath;
+use close_loop::spectrum::Welch;
 use std::f64::consts::PI;
 
 mod chain;
@@ -30,8 +30,8 @@ use paths::{
     smooth,
 };
 
-/// Preloads the calibration tries, m.
-pub const PRELOADS_M: &[f64] = &[0.0, 0.5e-6, 1e-6, 2e-6, 4e-6, 8e-6];
+/// Preloads the calibration tries, m (the same the loop's preload candidate tries).
+pub use close_loop::PRELOADS_M;
 
 /// Radial loads on the shaft the calibration tries, N (0 up to about the static rating of a
 /// 6205's most loaded ball at the calibrated preloads).

@@ -508,7 +508,7 @@ const FFT_FIR_MIN_TAPS: usize = 33;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rig::mean_square;
+    use crate::mean_square;
 
     fn kurt(x: &[f64]) -> f64 {
         let n = x.len() as f64;

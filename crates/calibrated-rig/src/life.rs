@@ -14,11 +14,11 @@
 
 use super::RigModel;
 use super::synthesis::Synthesis;
-use crate::CloseLoopError;
 use bearing_model::FaultLocation;
 use bearing_model::life::{
     LifeError, LifeRecording, LifeTruth, Plan, Schedule, plan_schedule, recording_rng,
 };
+use close_loop::CloseLoopError;
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -151,7 +151,7 @@ pub fn plan_rig_run(
         &cfg.schedule,
         seed,
         &format!(
-            "close_loop::rig::life (calibrated CWRU rig, {} at {} Hz; {})",
+            "calibrated_rig::life (calibrated CWRU rig, {} at {} Hz; {})",
             rig.bearing, rig.fs_hz, rig.units
         ),
         &rig.bearing,
@@ -284,7 +284,7 @@ pub fn simulate_rig_run(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rig::cwru_rig;
+    use crate::cwru_rig;
 
     fn small(location: FaultLocation) -> RigLifeConfig {
         let mut c = RigLifeConfig::new(location);

@@ -27,7 +27,7 @@ pub(super) fn chain_tones(
             return None;
         }
         let peak = p[k - 2..=k + 2].iter().copied().fold(0.0, f64::max);
-        let med = crate::spectrum::median(&p[k - w..=k + w]);
+        let med = close_loop::spectrum::median(&p[k - w..=k + w]);
         Some((peak - med).max(0.0))
     };
     let p_h = welch.try_psd(healthy)?;
@@ -221,9 +221,9 @@ pub(super) fn background_remainder(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rig::calibrate::SMOOTH_HZ;
-    use crate::scenario::Gaussian;
-    use crate::spectrum::{bandpass_coefficients, biquad_filter};
+    use crate::calibrate::SMOOTH_HZ;
+    use close_loop::scenario::Gaussian;
+    use close_loop::spectrum::{bandpass_coefficients, biquad_filter};
 
     fn band_power(psd: &[f64], welch: &Welch, lo: f64, hi: f64) -> f64 {
         (0..psd.len())
@@ -237,7 +237,7 @@ mod tests {
     /// and leaves the other bands alone; with nothing missing there is no remainder to speak of.
     #[test]
     fn the_remainder_restores_what_the_machine_model_leaves() {
-        let rig = crate::rig::cwru_rig().unwrap();
+        let rig = crate::cwru_rig().unwrap();
         let m = &rig.healthy;
         let (fs, rpm, n) = (rig.fs_hz, 1797.0, 96_000);
         let welch = Welch::new(fs, 1024).unwrap();

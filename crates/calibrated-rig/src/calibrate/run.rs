@@ -43,7 +43,7 @@ type Rec<'r, 'a> = (usize, TrainingRecord<'a>, &'r Excitation, &'r ImpactPath);
 /// loop.
 ///
 /// # Errors
-/// The errors of [`crate::machine::calibrate`], of the Welch PSD and of [`excitation`];
+/// The errors of [`close_loop::machine::calibrate`], of the Welch PSD and of [`excitation`];
 /// [`CloseLoopError::Model`] when no training record carries more power than the healthy
 /// machine.
 pub fn calibrate_rig(
@@ -52,13 +52,13 @@ pub fn calibrate_rig(
     rpm: f64,
     bearing: Bearing,
     training: &[TrainingRecord<'_>],
-    cfg: &crate::CheckedConfig,
+    cfg: &close_loop::CheckedConfig,
     rule: &str,
 ) -> Result<RigModel, CloseLoopError> {
-    let machine = crate::machine::calibrate(healthy, fs, rpm, bearing, cfg)?;
+    let machine = close_loop::machine::calibrate(healthy, fs, rpm, bearing, cfg)?;
     let (training, cross, top) = split_records(training)?;
     let training = training.as_slice();
-    let nperseg = ((fs / 12.0).log2().round().exp2() as usize).max(crate::MIN_NPERSEG);
+    let nperseg = ((fs / 12.0).log2().round().exp2() as usize).max(close_loop::MIN_NPERSEG);
     let welch = Welch::new(fs, nperseg)?;
     let half = ((SMOOTH_HZ / welch.df()).round() as usize).max(1);
     let measured: Vec<(Vec<f64>, f64)> = training

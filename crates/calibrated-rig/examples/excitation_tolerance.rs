@@ -1,12 +1,12 @@
 //! Accuracy and wall time of the rig's excitation model at integration tolerances from the
 //! bearing model's default (2e-6) to 1e-3, against the same model integrated at 1e-8:
 //! relative RMS difference of the vertical output, 1 s at 12 kHz, inner / outer / ball spall
-//! of 0.5 mm at 300 and 1797 rpm. Backs [`close_loop::rig::EXCITATION_RTOL`].
+//! of 0.5 mm at 300 and 1797 rpm. Backs [`calibrated_rig::EXCITATION_RTOL`].
 //!
 //! `cargo run --release -p close-loop --example excitation_tolerance`
 
 use bearing_model::{Bearing, FaultClass};
-use close_loop::rig::{RigModel, cwru_rig, excitation_with};
+use calibrated_rig::{RigModel, cwru_rig, excitation_with};
 
 fn run(rig: &RigModel, class: FaultClass, rpm: f64, rtol: f64) -> (Vec<f64>, f64) {
     let t = std::time::Instant::now();

@@ -17,7 +17,7 @@ fn legacy_housing_hz() -> f64 {
 
 /// The committed calibration of the CWRU rig (`cargo xtask calibrate-rig`): 6205 drive end,
 /// 12 kHz, units g.
-pub const CWRU_RIG_JSON: &str = include_str!("../../rig/cwru-12k.json");
+pub const CWRU_RIG_JSON: &str = include_str!("../rig/cwru-12k.json");
 
 /// The calibrated CWRU rig ([`CWRU_RIG_JSON`], validated).
 ///
@@ -43,8 +43,8 @@ pub struct Severity {
     /// enough).
     #[serde(default)]
     pub random_fraction: f64,
-    /// Fraction of the time the defect strikes ([`strike_gate`]; 1 = every impact, the rig files
-    /// written before the gate existed). Chosen from [`STRIKE_FRACTIONS`] so that the record's
+    /// Fraction of the time the defect strikes ([`crate::strike_gate`]; 1 = every impact, the rig files
+    /// written before the gate existed). Chosen from [`crate::STRIKE_FRACTIONS`] so that the record's
     /// fault-line prominence in the envelope spectrum is matched.
     #[serde(default = "every_impact")]
     pub strike_fraction: f64,
@@ -145,7 +145,7 @@ pub struct RigModel {
     pub sensor_horizontal: f64,
     /// The fault records' measurement chain (their anti-alias roll-off): a zero-phase FIR
     /// applied to every synthesized recording (empty = none). Identified from the training
-    /// records (see [`calibrate_rig`]).
+    /// records (see [`crate::calibrate_rig`]).
     #[serde(default)]
     pub chain_fir: Vec<f64>,
     /// The healthy recording's broadband remainder — the power of the healthy PSD (smoothed
@@ -159,10 +159,10 @@ pub struct RigModel {
     /// records' levels): a zero-phase FIR applied to that part of every background but the
     /// healthy recording's own (empty = none; rig files written before it have none). The
     /// healthy recording (97, 48 kHz decimated) carries 20–30 times the 4–6 kHz power of the
-    /// 12 kHz fault records whose faults are weak; see [`calibrate_rig`].
+    /// 12 kHz fault records whose faults are weak; see [`crate::calibrate_rig`].
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub background_chain_fir: Vec<f64>,
-    /// Sprung-mass resonance of the excitation model, Hz (ζ 0.7; [`EXCITATION_HOUSING_HZ`] when
+    /// Sprung-mass resonance of the excitation model, Hz (ζ 0.7; [`crate::EXCITATION_HOUSING_HZ`] when
     /// calibrated now, [`LEGACY_EXCITATION_HOUSING_HZ`] in rig files written before it was
     /// stored): the paths and severities were fitted behind it, so a rig keeps its own.
     #[serde(default = "legacy_housing_hz")]
@@ -194,7 +194,7 @@ impl RigModel {
     /// [`CloseLoopError::MachineModelFormat`] for malformed JSON or values,
     /// [`CloseLoopError::MachineModelMismatch`] for another format or version.
     pub fn from_json(text: &str) -> Result<Self, CloseLoopError> {
-        let m: Self = crate::machine::parse_versioned(text, FORMAT, VERSION)?;
+        let m: Self = close_loop::machine::parse_versioned(text, FORMAT, VERSION)?;
         let fmt = |reason: String| CloseLoopError::MachineModelFormat { reason };
         if !(m.fs_hz.is_finite() && m.fs_hz > 0.0) {
             return Err(fmt(format!("`fs_hz` must be > 0, got {}", m.fs_hz)));
@@ -278,4 +278,18 @@ impl RigModel {
 /// Serde default of [`Severity::strike_fraction`]: every impact strikes.
 fn every_impact() -> f64 {
     1.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_machine_model_file_is_refused_as_a_rig_model() {
+        let machine = r#"{"format": "hybrid-fdd/machine-model", "version": 1}"#;
+        assert!(matches!(
+            RigModel::from_json(machine),
+            Err(CloseLoopError::MachineModelMismatch { what: "format", .. })
+        ));
+    }
 }

@@ -20,7 +20,7 @@
 //!    envelope-spectrum neighbours where a perfectly periodic train stands 30–60 dB.
 //!
 //! [`calibrate_rig`] fits the free quantities on measured records: the healthy machine on a
-//! healthy recording (the loop, [`crate::machine::calibrate`]); one impact path per fault
+//! healthy recording (the loop, [`close_loop::machine::calibrate`]); one impact path per fault
 //! location and spall size as the AR model (Levinson) of the mean ratio of that location's and
 //! size's training records' excess PSD (measured minus healthy) to the simulated excitation's
 //! PSD, both smoothed over ±150 Hz (each CWRU fault size is a separate bearing, seeded and
@@ -37,12 +37,21 @@
 //! [`signal_stats`] gives what a simulated and a measured recording are compared on: RMS,
 //! kurtosis, crest factor, band energies and the prominence of the fault line in the envelope
 //! spectrum.
+//!
+//! # Dependencies and why
+//! - `close-loop`: the healthy machine model a rig stands on (its calibration, structural path,
+//!   lines), Welch and envelope spectra, and the one error enum the rig's functions return.
+//! - `bearing-model`: the 5-DOF model whose contact forces excite the impact paths.
+//! - `residual-features`: kurtosis (one implementation in the workspace).
+//! - `rustfft`: phase randomisation of the random fraction; `rand` + `rand_xoshiro`: the seeded
+//!   noise (SplitMix64, as the loop's); `rayon`: excitations simulated in parallel.
+//! - `serde` / `serde_json`: the rig model's versioned JSON; `thiserror`: [`life::RigLifeError`].
 
-use crate::CloseLoopError;
-use crate::machine::{MachineLine, MachineModel};
-use crate::path::StructuralPath;
-use crate::scenario::Gaussian;
 use bearing_model::{Bearing, FaultClass, FaultSet, Housing, ParamSet, Scenario, Slip, Spall};
+use close_loop::CloseLoopError;
+use close_loop::machine::{MachineLine, MachineModel};
+use close_loop::path::StructuralPath;
+use close_loop::scenario::Gaussian;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -86,4 +95,9 @@ fn bad(name: &'static str, value: f64, min: f64, max: f64) -> CloseLoopError {
     }
 }
 
-pub(crate) use crate::metric::mean_square;
+pub(crate) use close_loop::metric::mean_square;
+
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

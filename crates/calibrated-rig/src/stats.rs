@@ -1,7 +1,7 @@
 //! What simulated and measured recordings are compared on, and the calibration targets.
 
-use crate::CloseLoopError;
-use crate::spectrum::Welch;
+use close_loop::CloseLoopError;
+use close_loop::spectrum::Welch;
 use serde::{Deserialize, Serialize};
 
 /// Band edges of [`SignalStats::band_energy`], Hz (the last band ends at fs/2).
@@ -85,14 +85,14 @@ pub fn line_prominence_db(y: &[f64], fs: f64, f0: f64) -> Result<Option<f64>, Cl
     if !(f0 > 0.0 && 1.2 * f0 < 0.5 * fs) {
         return Ok(None);
     }
-    let (e, de) = crate::spectrum::envelope_periodogram(y, fs)?;
+    let (e, de) = close_loop::spectrum::envelope_periodogram(y, fs)?;
     let idx = |f: f64| ((f / de).round() as usize).min(e.len() - 1);
     let peak = e[idx(0.985 * f0)..=idx(1.015 * f0)]
         .iter()
         .copied()
         .fold(0.0, f64::max);
     let around: Vec<f64> = e[idx(0.8 * f0)..=idx(1.2 * f0)].to_vec();
-    let med = crate::spectrum::median(&around);
+    let med = close_loop::spectrum::median(&around);
     Ok(Some(10.0 * (peak / med.max(1e-300)).log10()))
 }
 

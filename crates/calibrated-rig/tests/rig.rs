@@ -3,7 +3,7 @@
 //! simulated records as the "measured" data: the gains, preload and predicted levels come back).
 
 use bearing_model::{Bearing, FaultClass};
-use close_loop::rig::{self, Location, RigModel, Synthesis, TrainingRecord};
+use calibrated_rig::{self as rig, Location, RigModel, Synthesis, TrainingRecord};
 use close_loop::{CloseLoopError, LoopConfig};
 
 fn rms(y: &[f64]) -> f64 {

@@ -15,7 +15,7 @@ use super::{
 /// paths fitted afterwards hold whatever shape the excitation has: recalibrated at 12 and
 /// 14 kHz the rig's held-out statistics equal those at 20 kHz (mean |ln| band-energy error per
 /// band within 0.001; docs/equations/close-loop.md). Rig files store theirs
-/// ([`RigModel::excitation_housing_hz`]); those written before hold
+/// ([`crate::RigModel::excitation_housing_hz`]); those written before hold
 /// [`LEGACY_EXCITATION_HOUSING_HZ`].
 pub const EXCITATION_HOUSING_HZ: f64 = 12_000.0;
 /// The excitation model's sprung-mass resonance of rig files written before it was stored, Hz.
@@ -43,7 +43,7 @@ const MIN_SIZE_MM: f64 = 1e-6;
 /// `outer_angle_rad`, slip [`SLIP_FRACTION`], every ball preloaded by `preload_m`, the shaft
 /// loaded by `radial_load_n` downwards): `n` samples of the housing acceleration (m/s²)
 /// with the sprung-mass resonance moved to `housing_hz` (ζ 0.7; [`EXCITATION_HOUSING_HZ`] for a
-/// new calibration, [`RigModel::excitation_housing_hz`] for a rig's), and of the horizontal
+/// new calibration, [`crate::RigModel::excitation_housing_hz`] for a rig's), and of the horizontal
 /// pedestal acceleration, means removed. Zeros for
 /// [`FaultClass::None`] (a healthy bearing's own response is part of the healthy machine).
 ///
