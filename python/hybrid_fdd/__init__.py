@@ -10,6 +10,8 @@ command runs); this module is a thin layer over its native part ``hybrid_fdd._na
     d.evidence["outer"].p_healthy                       # the detector's probability under healthy
     d.to_dict()                                         # the command's JSON report, key for key
     hf.diagnose_many("cwru/12k_drive_end/")             # a directory, in parallel, input order
+    t = hf.trend("ims/1st_test", bearing="ZA-2115", rpm=2000)   # a machine over time
+    t.alarm, t.thresholds, t.to_pandas(), t.plot()      # the onset alarm, fault named, severity
 
 Errors are :class:`InputError` (a ``ValueError``: input the diagnosis refuses),
 :class:`DataError` (an ``OSError``: a file that cannot be read) and :class:`InternalError` (a
@@ -49,6 +51,11 @@ __all__ = [
     "read",
     "recordings_in",
     "simulate",
+    "Threshold",
+    "Trend",
+    "TrendAlarm",
+    "TrendRow",
+    "trend",
 ]
 
 __version__ = "0.1.0"
@@ -927,3 +934,7 @@ def simulate(out: Optional[PathLike] = None, **flags: Any) -> Tuple[Recording, D
     finally:
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)
+
+
+# hybrid_fdd.trend (issue 57): imported last, it uses Recording and the helpers above
+from ._trend import Threshold, Trend, TrendAlarm, TrendRow, trend  # noqa: E402

@@ -5,7 +5,7 @@ result is ``("ok", {"json": str, "baseline_note": str | None, "unit": str,
 "unit_statement": str, "notes": list[str]})`` or ``(error class name, message)``.
 """
 
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -104,3 +104,64 @@ def close_loop_file(
 ) -> Tuple[str, str]: ...
 def machine_model(text: str) -> str: ...
 def simulate_to(flags: Sequence[str], out: str) -> None: ...
+
+TREND_DEFAULT_K: float
+TREND_DEFAULT_SPEED_EXPONENT: float
+
+class TrendResult:
+    """``hybrid-fdd trend``'s result, kept in Rust (``hybrid_fdd_cli::trend::Trend``)."""
+
+    def json(self) -> str:
+        """``trend.json``'s text, as the command writes it."""
+    def csv(self) -> str:
+        """``trend.csv``'s text."""
+    def summary(self) -> str:
+        """``summary.md``'s text."""
+    def time_texts(self) -> List[str]:
+        """Each row's time as the outputs print it."""
+    def write(self, dir: str) -> None:
+        """Write trend.csv, trend.json, summary.md and trend.png into ``dir`` (created)."""
+
+def trend_files(
+    input: Optional[str],
+    index: Optional[str],
+    bearing: str,
+    rpm: Optional[float],
+    fs: Optional[float],
+    channel: Optional[str],
+    baseline_count: int,
+    unit: Optional[str],
+    machine_group: Optional[str],
+    alarm: str,
+    k: float,
+    alarm_on: Optional[Sequence[str]],
+    speed_exponent: float,
+    observers: bool,
+    decimate_to: Optional[float],
+    report: Optional[str],
+    progress: bool,
+) -> TrendResult:
+    """``hybrid-fdd trend --input DIR | --index FILE``: the command's reading and analysis."""
+def trend_arrays(
+    names: Sequence[str],
+    times: Sequence[Union[float, str]],
+    signals: Sequence[npt.NDArray[np.float64]],
+    fs: Sequence[float],
+    rpm: Sequence[Optional[float]],
+    units: Sequence[Optional[str]],
+    bearing: str,
+    baseline_count: int,
+    unit: Optional[str],
+    machine_group: Optional[str],
+    alarm: str,
+    k: float,
+    alarm_on: Optional[Sequence[str]],
+    speed_exponent: float,
+    observers: bool,
+    decimate_to: Optional[float],
+    report: Optional[str],
+    progress: bool,
+    default_rpm: Optional[float],
+) -> TrendResult:
+    """The command's analysis on recordings in memory (times: numbers = positions, strings =
+    calendar times)."""

@@ -866,6 +866,351 @@ fn simulate_to(py: Python<'_>, flags: Vec<String>, out: PathBuf) -> PyResult<()>
     .map_err(Failure::into_py)
 }
 
+/// A trend computed by [`trend_files`] or [`trend_arrays`]: `hybrid-fdd trend`'s result, kept
+/// in Rust so that `write` produces the command's four files.
+#[pyclass(frozen, name = "TrendResult", module = "hybrid_fdd._native")]
+struct TrendResult {
+    t: Arc<hybrid_fdd_cli::trend::Trend>,
+}
+
+#[pymethods]
+impl TrendResult {
+    /// `trend.json`'s text, as the command writes it.
+    fn json(&self) -> PyResult<String> {
+        guarded(|| {
+            self.t.json_text().map_err(|e| Failure {
+                kind: Kind::Internal,
+                message: format!("serialising the trend: {e:#}"),
+            })
+        })
+        .map_err(Failure::into_py)
+    }
+
+    /// `trend.csv`'s text.
+    fn csv(&self) -> String {
+        hybrid_fdd_cli::trend::csv(&self.t.report)
+    }
+
+    /// `summary.md`'s text.
+    fn summary(&self) -> String {
+        let t = &self.t;
+        hybrid_fdd_cli::trend::summary(&t.report, &t.source, &t.layout, &t.channel, &t.run_notes)
+    }
+
+    /// Each row's time as the outputs print it (`2004-02-12T10:32:39`, or the number).
+    fn time_texts(&self) -> Vec<String> {
+        let r = &self.t.report;
+        r.rows.iter().map(|row| r.axis.format(row.time)).collect()
+    }
+
+    /// Write `trend.csv`, `trend.json`, `summary.md` and `trend.png` into `dir` (created).
+    fn write(&self, py: Python<'_>, dir: PathBuf) -> PyResult<()> {
+        let t = self.t.clone();
+        py.detach(move || {
+            guarded(|| {
+                std::fs::create_dir_all(&dir)
+                    .map_err(|e| Failure {
+                        kind: Kind::Data,
+                        message: format!("creating {}: {e}", dir.display()),
+                    })
+                    .and_then(|()| t.write(&dir).map_err(|e| Failure::new(Kind::Data, &e)))
+            })
+        })
+        .map_err(Failure::into_py)
+    }
+}
+
+/// The options of `hybrid-fdd trend` as the Python layer passes them.
+#[derive(Clone)]
+struct TrendOptions {
+    bearing: String,
+    rpm: Option<f64>,
+    fs: Option<f64>,
+    channel: Option<String>,
+    baseline_count: usize,
+    unit: Option<String>,
+    machine_group: Option<String>,
+    alarm: String,
+    k: f64,
+    alarm_on: Option<Vec<String>>,
+    speed_exponent: f64,
+    observers: bool,
+    decimate_to: Option<f64>,
+}
+
+/// `hybrid-fdd trend`'s flags, parsed by the command's own definition.
+#[derive(clap::Parser)]
+#[command(name = "trend")]
+struct TrendCli {
+    #[command(flatten)]
+    a: hybrid_fdd_cli::trend::Args,
+}
+
+/// The command's [`hybrid_fdd_cli::trend::Args`] from the options, through its own flag parser
+/// (so defaults and value checks are the command's); `report` is not used by the callers (they
+/// pass it to `compute` themselves).
+fn trend_args(
+    o: &TrendOptions,
+    input: Option<&Path>,
+    index: Option<&Path>,
+) -> Result<hybrid_fdd_cli::trend::Args, Failure> {
+    use clap::Parser as _;
+    let mut argv: Vec<std::ffi::OsString> = vec!["trend".into()];
+    let mut flag = |f: &str, v: std::ffi::OsString| {
+        argv.push(format!("--{f}").into());
+        argv.push(v);
+    };
+    if let Some(p) = input {
+        flag("input", p.into());
+    }
+    if let Some(p) = index {
+        flag("index", p.into());
+    }
+    flag("bearing", o.bearing.clone().into());
+    let num = |v: f64| std::ffi::OsString::from(format!("{v}"));
+    if let Some(v) = o.rpm {
+        flag("rpm", num(v));
+    }
+    if let Some(v) = o.fs {
+        flag("fs", num(v));
+    }
+    if let Some(c) = &o.channel {
+        flag("channel", c.clone().into());
+    }
+    flag("baseline-count", o.baseline_count.to_string().into());
+    if let Some(g) = &o.machine_group {
+        flag("machine-group", g.clone().into());
+    }
+    if let Some(u) = &o.unit {
+        flag("unit", u.clone().into());
+    }
+    flag("k", num(o.k));
+    flag("alarm", o.alarm.clone().into());
+    if let Some(a) = &o.alarm_on {
+        flag("alarm-on", a.join(",").into());
+    }
+    flag("speed-exponent", num(o.speed_exponent));
+    if let Some(v) = o.decimate_to {
+        flag("decimate-to", num(v));
+    }
+    flag("report", "<unused>".into());
+    if !o.observers {
+        argv.push("--no-observers".into());
+    }
+    TrendCli::try_parse_from(argv)
+        .map(|c| c.a)
+        .map_err(|e| Failure {
+            kind: Kind::Input,
+            message: one_line(
+                e.to_string()
+                    .split("\n\n")
+                    .next()
+                    .unwrap_or_default()
+                    .trim_start_matches("error: "),
+            ),
+        })
+}
+
+/// [`Kind::Data`] for a trend error about the files (unreadable, named without a time,
+/// duplicate or mixed times, a bad index, mixed rates, layouts or channel counts, a bad
+/// recording), else [`Kind::Input`] (the options: bearing, alarm rule, k, too few recordings
+/// for the baseline asked for).
+fn trend_kind(e: &anyhow::Error) -> Kind {
+    use trend::TrendError as T;
+    let files = e.chain().any(|c| {
+        matches!(
+            c.downcast_ref::<T>(),
+            Some(
+                T::Timestamp { .. }
+                    | T::DuplicateTime { .. }
+                    | T::MixedNaming { .. }
+                    | T::IndexCsv { .. }
+                    | T::MixedRates { .. }
+                    | T::BadRecording { .. }
+                    | T::NotOrdered { .. }
+            )
+        )
+    });
+    if files {
+        Kind::Data
+    } else {
+        kind_of(e, Kind::Input)
+    }
+}
+
+/// Run `hybrid-fdd trend` on a directory (`input`) or an index CSV (`index`): the command's
+/// own reading, ordering and analysis (`hybrid_fdd_cli::trend::compute`), with the interpreter
+/// released; with `report`, the command's four files are written there too.
+#[pyfunction]
+#[pyo3(signature = (input, index, bearing, rpm, fs, channel, baseline_count, unit,
+    machine_group, alarm, k, alarm_on, speed_exponent, observers, decimate_to, report, progress))]
+#[allow(clippy::too_many_arguments)]
+fn trend_files(
+    py: Python<'_>,
+    input: Option<PathBuf>,
+    index: Option<PathBuf>,
+    bearing: String,
+    rpm: Option<f64>,
+    fs: Option<f64>,
+    channel: Option<String>,
+    baseline_count: usize,
+    unit: Option<String>,
+    machine_group: Option<String>,
+    alarm: String,
+    k: f64,
+    alarm_on: Option<Vec<String>>,
+    speed_exponent: f64,
+    observers: bool,
+    decimate_to: Option<f64>,
+    report: Option<PathBuf>,
+    progress: bool,
+) -> PyResult<TrendResult> {
+    let o = TrendOptions {
+        bearing,
+        rpm,
+        fs,
+        channel,
+        baseline_count,
+        unit,
+        machine_group,
+        alarm,
+        k,
+        alarm_on,
+        speed_exponent,
+        observers,
+        decimate_to,
+    };
+    let t = py
+        .detach(move || {
+            guarded(|| {
+                let args = trend_args(&o, input.as_deref(), index.as_deref())?;
+                let t = hybrid_fdd_cli::trend::compute(&args, report.as_deref(), progress)
+                    .map_err(|e| Failure::new(trend_kind(&e), &e))?;
+                if let Some(dir) = &report {
+                    t.write(dir).map_err(|e| Failure::new(Kind::Data, &e))?;
+                }
+                Ok(t)
+            })
+        })
+        .map_err(Failure::into_py)?;
+    Ok(TrendResult { t: Arc::new(t) })
+}
+
+/// A time given from Python: a number (a position: the recordings' order and spacing) or text
+/// (a calendar time `2024-03-01T12:00:00`, as a file name gives it; or a number).
+fn name_time(v: &Bound<'_, PyAny>, name: &str) -> Result<trend::NameTime, Failure> {
+    if let Ok(s) = v.extract::<String>() {
+        return trend::order::parse_time(&s).map_err(|e| Failure {
+            kind: Kind::Input,
+            message: format!("{name}: time {s:?}: {e}"),
+        });
+    }
+    match v.extract::<f64>() {
+        Ok(t) if t.is_finite() => Ok(trend::NameTime {
+            time: t,
+            axis: trend::TimeAxis::Index,
+        }),
+        _ => Err(Failure {
+            kind: Kind::Input,
+            message: format!(
+                "{name}: a time must be a finite number, a datetime or an ISO date-time string"
+            ),
+        }),
+    }
+}
+
+/// Run `hybrid-fdd trend`'s analysis on recordings in memory (`hybrid_fdd_cli::trend::
+/// compute_in_memory`: ordered by their times, `decimate_to`, `rpm`, `unit` applied as for
+/// files), with the interpreter released; with `report`, the four files are written there.
+#[pyfunction]
+#[pyo3(signature = (names, times, signals, fs, rpm, units, bearing, baseline_count, unit,
+    machine_group, alarm, k, alarm_on, speed_exponent, observers, decimate_to, report, progress,
+    default_rpm))]
+#[allow(clippy::too_many_arguments)]
+fn trend_arrays(
+    py: Python<'_>,
+    names: Vec<String>,
+    times: Vec<Bound<'_, PyAny>>,
+    signals: Vec<PyReadonlyArray1<'_, f64>>,
+    fs: Vec<f64>,
+    rpm: Vec<Option<f64>>,
+    units: Vec<Option<String>>,
+    bearing: String,
+    baseline_count: usize,
+    unit: Option<String>,
+    machine_group: Option<String>,
+    alarm: String,
+    k: f64,
+    alarm_on: Option<Vec<String>>,
+    speed_exponent: f64,
+    observers: bool,
+    decimate_to: Option<f64>,
+    report: Option<PathBuf>,
+    progress: bool,
+    default_rpm: Option<f64>,
+) -> PyResult<TrendResult> {
+    let n = names.len();
+    if [times.len(), signals.len(), fs.len(), rpm.len(), units.len()]
+        .iter()
+        .any(|&l| l != n)
+    {
+        return Err(InternalError::new_err(
+            "trend_arrays: names, times, signals, fs, rpm and units differ in length",
+        ));
+    }
+    let times: Vec<trend::NameTime> = times
+        .iter()
+        .zip(&names)
+        .map(|(t, name)| name_time(t, name))
+        .collect::<Result<_, _>>()
+        .map_err(Failure::into_py)?;
+    let recs: Vec<hybrid_fdd_cli::trend::InMemory> = (0..n)
+        .map(|i| hybrid_fdd_cli::trend::InMemory {
+            name: names[i].clone(),
+            time: times[i],
+            samples: samples_of(&signals[i]),
+            fs_hz: fs[i],
+            rpm: rpm[i],
+            unit: units[i].clone(),
+        })
+        .collect();
+    let o = TrendOptions {
+        bearing,
+        rpm: default_rpm,
+        fs: None,
+        channel: None,
+        baseline_count,
+        unit,
+        machine_group,
+        alarm,
+        k,
+        alarm_on,
+        speed_exponent,
+        observers,
+        decimate_to,
+    };
+    let t = py
+        .detach(move || {
+            guarded(|| {
+                let args = trend_args(&o, None, None)?;
+                if let Some(dir) = &report {
+                    std::fs::create_dir_all(dir).map_err(|e| Failure {
+                        kind: Kind::Data,
+                        message: format!("creating {}: {e}", dir.display()),
+                    })?;
+                }
+                let t = hybrid_fdd_cli::trend::compute_in_memory(&args, recs, progress)
+                    .map_err(|e| Failure::new(kind_of(&e, Kind::Input), &e))?;
+                if let Some(dir) = &report {
+                    t.write(dir).map_err(|e| Failure::new(Kind::Data, &e))?;
+                }
+                Ok(t)
+            })
+        })
+        .map_err(Failure::into_py)?;
+    Ok(TrendResult { t: Arc::new(t) })
+}
+
 /// The native module: `read`, `diagnose_arrays`, `diagnose_files`, `recordings_in`, `bearing`
 /// and the exception classes; `hybrid_fdd/__init__.py` is the API over it.
 #[pymodule]
@@ -880,6 +1225,14 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(close_loop_file, m)?)?;
     m.add_function(wrap_pyfunction!(machine_model, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_to, m)?)?;
+    m.add_class::<TrendResult>()?;
+    m.add_function(wrap_pyfunction!(trend_files, m)?)?;
+    m.add_function(wrap_pyfunction!(trend_arrays, m)?)?;
+    m.add("TREND_DEFAULT_K", trend::DEFAULT_K)?;
+    m.add(
+        "TREND_DEFAULT_SPEED_EXPONENT",
+        trend::DEFAULT_SPEED_EXPONENT,
+    )?;
     m.add("InputError", m.py().get_type::<InputError>())?;
     m.add("DataError", m.py().get_type::<DataError>())?;
     m.add("InternalError", m.py().get_type::<InternalError>())?;

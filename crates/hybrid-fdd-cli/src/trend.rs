@@ -231,7 +231,12 @@ fn files_in_order(args: &Args) -> anyhow::Result<(Vec<Entry>, trend::TimeAxis)> 
         .as_deref()
         .context("--input DIR or --index FILE is required")?;
     if !input.is_dir() {
-        bail!("--input {} is not a directory", input.display());
+        // an I/O error (the Python package's DataError); the message is the same
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            format!("--input {} is not a directory", input.display()),
+        )
+        .into());
     }
     let files = crate::diagnose::expand(input)?;
     let names: Vec<String> = files
@@ -252,12 +257,73 @@ fn files_in_order(args: &Args) -> anyhow::Result<(Vec<Entry>, trend::TimeAxis)> 
     ))
 }
 
-/// Run `trend`.
-///
-/// # Errors
-/// Bad flags, unreadable or mixed files (one line naming the file), the `trend` crate's typed
-/// errors, output errors.
-pub fn run(args: &Args) -> anyhow::Result<()> {
+/// A trend computed: the report and what the command's outputs say beside it.
+#[derive(Debug, Clone)]
+pub struct Trend {
+    /// The `trend` crate's report.
+    pub report: trend::TrendReport,
+    /// Where the recordings came from (`directory DIR`, `index FILE`, or arrays in memory).
+    pub source: String,
+    /// The files' layout, as named in the outputs.
+    pub layout: String,
+    /// The channel read.
+    pub channel: String,
+    /// Notes on the run (decimation, a speed from a sidecar, units that disagree).
+    pub run_notes: Vec<String>,
+}
+
+impl Trend {
+    /// `trend.json` as a JSON value: the report plus `source`, `layout`, `channel`, `run_notes`.
+    ///
+    /// # Errors
+    /// Serialisation errors.
+    pub fn json(&self) -> anyhow::Result<serde_json::Value> {
+        let mut json = serde_json::to_value(&self.report)?;
+        json["source"] = serde_json::Value::String(self.source.clone());
+        json["layout"] = serde_json::Value::String(self.layout.clone());
+        json["channel"] = serde_json::Value::String(self.channel.clone());
+        json["run_notes"] = serde_json::to_value(&self.run_notes)?;
+        Ok(json)
+    }
+
+    /// `trend.json`'s text, as the command writes it.
+    ///
+    /// # Errors
+    /// Serialisation errors.
+    pub fn json_text(&self) -> anyhow::Result<String> {
+        Ok(serde_json::to_string_pretty(&self.json()?)? + "\n")
+    }
+
+    /// Write `trend.csv`, `trend.json`, `summary.md` and `trend.png` into `out` (which exists).
+    ///
+    /// # Errors
+    /// Output errors.
+    pub fn write(&self, out: &Path) -> anyhow::Result<()> {
+        std::fs::write(out.join("trend.csv"), csv(&self.report))?;
+        std::fs::write(out.join("trend.json"), self.json_text()?)?;
+        std::fs::write(
+            out.join("summary.md"),
+            summary(
+                &self.report,
+                &self.source,
+                &self.layout,
+                &self.channel,
+                &self.run_notes,
+            ),
+        )?;
+        figure(&self.report, &out.join("trend.png"))
+    }
+}
+
+/// The flags every run parses before reading anything: the bearing, and the configuration
+/// (checked) with the unit declared, if any.
+struct Parsed {
+    bearing: diagnosis::BearingSpec,
+    cfg: trend::TrendConfig,
+    declared_unit: Option<trend::Unit>,
+}
+
+fn parse_flags(args: &Args) -> anyhow::Result<Parsed> {
     let bearing = if args
         .bearing
         .trim()
@@ -301,21 +367,129 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         ..Default::default()
     };
     cfg.clone().check()?;
-    // outputs never go into the input directory
-    std::fs::create_dir_all(&args.report)
-        .with_context(|| format!("creating {}", args.report.display()))?;
-    if let Some(input) = &args.input {
-        let (a, b) = (
-            std::fs::canonicalize(input),
-            std::fs::canonicalize(&args.report),
-        );
-        if let (Ok(a), Ok(b)) = (a, b)
-            && a == b
-        {
-            bail!(
-                "--report {} is the input directory: choose another",
-                args.report.display()
+    Ok(Parsed {
+        bearing,
+        cfg,
+        declared_unit,
+    })
+}
+
+/// The progress bar of a run of `len` steps (hidden when `show` is false).
+fn progress_bar(len: usize, show: bool) -> indicatif::ProgressBar {
+    if !show {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// One recording as read, before the run's checks: samples, rate, the speed given with it (the
+/// file's own) and the unit it states.
+struct Raw {
+    name: String,
+    time: f64,
+    samples: Vec<f64>,
+    fs_hz: f64,
+    rpm: Option<f64>,
+    unit: String,
+}
+
+/// `--decimate-to` and the speed (`--rpm`, else the recording's own, else `fallback`'s) applied
+/// to a recording read: the `trend` crate's recording, its unit and notes.
+fn finish_recording(
+    args: &Args,
+    mut r: Raw,
+    fallback: impl FnOnce() -> (Option<f64>, Option<String>),
+) -> anyhow::Result<(trend::Recording, String, Vec<String>)> {
+    let name = r.name;
+    let mut notes = Vec::new();
+    if let Some(to) = args.decimate_to
+        && let Some((x, q)) =
+            crate::diagnose::decimated_to(&r.samples, r.fs_hz, to).with_context(|| name.clone())?
+    {
+        notes.push(format!(
+            "{name}: decimated by {q} from {} Hz to {to} Hz",
+            r.fs_hz
+        ));
+        r.samples = x;
+        r.fs_hz = to;
+    }
+    let rpm = match args.rpm.or(r.rpm) {
+        Some(v) => v,
+        None => {
+            let (v, note) = fallback();
+            notes.extend(note);
+            v.with_context(|| format!("{name}: no speed stored in the file; give --rpm"))?
+        }
+    };
+    Ok((
+        trend::Recording {
+            name,
+            time: r.time,
+            samples: r.samples,
+            fs_hz: r.fs_hz,
+            rpm,
+        },
+        r.unit,
+        notes,
+    ))
+}
+
+/// The run's unit, the configuration checked with it, and [`trend::analyse_with_progress`].
+fn analyse_read(
+    parsed: Parsed,
+    read: Vec<(trend::Recording, String, Vec<String>)>,
+    axis: trend::TimeAxis,
+    bar: &indicatif::ProgressBar,
+) -> anyhow::Result<(trend::TrendReport, Vec<String>)> {
+    let file_units: Vec<&str> = read.iter().map(|r| r.1.as_str()).collect();
+    let mut run_notes: Vec<String> = read.iter().flat_map(|r| r.2.clone()).collect();
+    let unit = match parsed.declared_unit {
+        Some(u) => u,
+        None if file_units.iter().all(|u| *u == file_units[0]) => {
+            trend::Unit::parse(file_units[0]).unwrap_or(trend::Unit::Unknown)
+        }
+        None => {
+            run_notes.push(
+                "the files state different units: unit taken as unknown (give --unit)".into(),
             );
+            trend::Unit::Unknown
+        }
+    };
+    let cfg = trend::TrendConfig { unit, ..parsed.cfg }.check()?;
+    let recs: Vec<trend::Recording> = read.into_iter().map(|r| r.0).collect();
+    bar.set_message("analysing");
+    let report = trend::analyse_with_progress(&recs, axis, &parsed.bearing, &cfg, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    Ok((report, run_notes))
+}
+
+/// Read and analyse the run `args` names (`--input` or `--index`), without writing anything
+/// but `report` (created, and refused when it is the input directory), with a progress bar on
+/// standard error when `progress`. [`run`] is this, [`Trend::write`] and its lines.
+///
+/// # Errors
+/// As [`run`].
+pub fn compute(args: &Args, report: Option<&Path>, progress: bool) -> anyhow::Result<Trend> {
+    let parsed = parse_flags(args)?;
+    // outputs never go into the input directory
+    if let Some(report) = report {
+        std::fs::create_dir_all(report)
+            .with_context(|| format!("creating {}", report.display()))?;
+        if let Some(input) = &args.input {
+            let (a, b) = (std::fs::canonicalize(input), std::fs::canonicalize(report));
+            if let (Ok(a), Ok(b)) = (a, b)
+                && a == b
+            {
+                bail!(
+                    "--report {} is the input directory: choose another",
+                    report.display()
+                );
+            }
         }
     }
     let (files, axis) = files_in_order(args)?;
@@ -333,19 +507,24 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .collect::<anyhow::Result<_>>()?;
     let (layout, cols) = layouts[0];
     for ((l, c), (_, name, _, _)) in layouts.iter().zip(&files) {
+        // an I/O error of kind InvalidData: a file's problem, not a flag's (the Python
+        // package's DataError); the message is the same
+        let mixed = |m: String| std::io::Error::new(std::io::ErrorKind::InvalidData, m);
         if *l != layout {
-            bail!(
+            return Err(mixed(format!(
                 "{name}: laid out as {}, but {} as {}: one layout per run",
                 l.name(),
                 files[0].1,
                 layout.name()
-            );
+            ))
+            .into());
         }
         if *c != cols {
-            bail!(
+            return Err(mixed(format!(
                 "{name}: {c} columns, but {} has {cols}: one channel count per run",
                 files[0].1
-            );
+            ))
+            .into());
         }
     }
     let channel = args.channel.clone().unwrap_or_else(|| match layout {
@@ -358,11 +537,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Layout::Xjtu => Some(XJTU_FS_HZ),
         Layout::Other => None,
     });
-    let bar = indicatif::ProgressBar::new(2 * files.len() as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
+    let bar = progress_bar(2 * files.len(), progress);
     bar.set_message("reading");
     type Read = (trend::Recording, String, Vec<String>);
     let read: Vec<Read> = files
@@ -370,7 +545,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .map(|(path, name, time, (start, duration))| {
             let mut l =
                 load_with(path, &channel, fs, FsFlag::ForUnstated).with_context(|| name.clone())?;
-            let mut notes = Vec::new();
             if start.is_some() || duration.is_some() {
                 let a = (start.unwrap_or(0.0) * l.fs_hz).round() as usize;
                 let b = duration.map_or(l.samples.len(), |d| a + (d * l.fs_hz).round() as usize);
@@ -382,87 +556,126 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 }
                 l.samples = l.samples[a..b].to_vec();
             }
-            if let Some(to) = args.decimate_to
-                && let Some((x, q)) = crate::diagnose::decimated_to(&l.samples, l.fs_hz, to)
-                    .with_context(|| name.clone())?
-            {
-                notes.push(format!(
-                    "{name}: decimated by {q} from {} Hz to {to} Hz",
-                    l.fs_hz
-                ));
-                l.samples = x;
-                l.fs_hz = to;
-            }
-            let rpm = match args.rpm.or(l.rpm) {
-                Some(r) => r,
-                None => {
-                    let (r, note) = rpm_or_sidecar(path, None);
-                    notes.extend(note);
-                    r.with_context(|| format!("{name}: no speed stored in the file; give --rpm"))?
-                }
+            let raw = Raw {
+                name: name.clone(),
+                time: *time,
+                samples: l.samples,
+                fs_hz: l.fs_hz,
+                rpm: l.rpm,
+                unit: l.unit.code.clone(),
             };
+            let r = finish_recording(args, raw, || rpm_or_sidecar(path, None))?;
             bar.inc(1);
-            Ok((
-                trend::Recording {
-                    name: name.clone(),
-                    time: *time,
-                    samples: l.samples,
-                    fs_hz: l.fs_hz,
-                    rpm,
-                },
-                l.unit.code.clone(),
-                notes,
-            ))
+            Ok(r)
         })
         .collect::<anyhow::Result<_>>()?;
-    let file_units: Vec<&str> = read.iter().map(|r| r.1.as_str()).collect();
-    let mut run_notes: Vec<String> = read.iter().flat_map(|r| r.2.clone()).collect();
-    let unit = match declared_unit {
-        Some(u) => u,
-        None if file_units.iter().all(|u| *u == file_units[0]) => {
-            trend::Unit::parse(file_units[0]).unwrap_or(trend::Unit::Unknown)
-        }
-        None => {
-            run_notes.push(
-                "the files state different units: unit taken as unknown (give --unit)".into(),
-            );
-            trend::Unit::Unknown
-        }
-    };
-    let cfg = trend::TrendConfig { unit, ..cfg }.check()?;
-    let recs: Vec<trend::Recording> = read.into_iter().map(|r| r.0).collect();
-    bar.set_message("analysing");
-    let report = trend::analyse_with_progress(&recs, axis, &bearing, &cfg, &|| bar.inc(1))?;
-    bar.finish_and_clear();
-    let out = &args.report;
+    let (report, run_notes) = analyse_read(parsed, read, axis, &bar)?;
     let source = match (&args.index, &args.input) {
         (Some(i), _) => format!("index {}", i.display()),
         (None, Some(d)) => format!("directory {}", d.display()),
         (None, None) => String::new(),
     };
-    std::fs::write(out.join("trend.csv"), csv(&report))?;
-    let mut json = serde_json::to_value(&report)?;
-    json["source"] = serde_json::Value::String(source.clone());
-    json["layout"] = serde_json::Value::String(layout.name().into());
-    json["channel"] = serde_json::Value::String(channel.clone());
-    json["run_notes"] = serde_json::to_value(&run_notes)?;
-    std::fs::write(
-        out.join("trend.json"),
-        serde_json::to_string_pretty(&json)? + "\n",
-    )?;
-    std::fs::write(
-        out.join("summary.md"),
-        summary(&report, &source, layout, &channel, &run_notes),
-    )?;
-    figure(&report, &out.join("trend.png"))?;
-    let t = report.timing;
+    Ok(Trend {
+        report,
+        source,
+        layout: layout.name().into(),
+        channel,
+        run_notes,
+    })
+}
+
+/// A recording held in memory (from the Python package): its name, time, samples, rate, speed
+/// (else `--rpm`) and unit (`g`, `m/s2`; else `--unit` or unknown).
+#[derive(Debug, Clone)]
+pub struct InMemory {
+    /// Shown in the outputs and errors.
+    pub name: String,
+    /// Its time: a number (a position) or a calendar time.
+    pub time: trend::NameTime,
+    /// The samples of its one channel.
+    pub samples: Vec<f64>,
+    /// Sampling rate, Hz.
+    pub fs_hz: f64,
+    /// Its shaft speed, rpm (else `--rpm`).
+    pub rpm: Option<f64>,
+    /// The unit its samples are in.
+    pub unit: Option<String>,
+}
+
+/// What [`compute`] does with recordings in memory instead of files: ordered by their times
+/// (one kind of time, no duplicates), `--decimate-to`, `--rpm`, `--unit` and the configuration
+/// applied as for files; `--input`, `--index`, `--fs` and `--channel` are not used.
+///
+/// # Errors
+/// As [`compute`]: duplicate or mixed times, too few recordings, mixed rates, bad flags.
+pub fn compute_in_memory(
+    args: &Args,
+    recordings: Vec<InMemory>,
+    progress: bool,
+) -> anyhow::Result<Trend> {
+    let parsed = parse_flags(args)?;
+    let names: Vec<String> = recordings.iter().map(|r| r.name.clone()).collect();
+    let times: Vec<(usize, trend::NameTime)> = recordings
+        .iter()
+        .enumerate()
+        .map(|(i, r)| (i, r.time))
+        .collect();
+    let (order, axis) = trend::order::order_times(&names, &times)?;
+    if recordings.len() < args.baseline_count {
+        return Err(trend::TrendError::TooFewRecordings {
+            needed: args.baseline_count,
+            found: recordings.len(),
+        }
+        .into());
+    }
+    let bar = progress_bar(2 * recordings.len(), progress);
+    bar.set_message("reading");
+    let mut slots: Vec<Option<InMemory>> = recordings.into_iter().map(Some).collect();
+    let ordered: Vec<(InMemory, f64)> = order
+        .into_iter()
+        .filter_map(|(i, t)| slots[i].take().map(|r| (r, t)))
+        .collect();
+    let read: Vec<(trend::Recording, String, Vec<String>)> = ordered
+        .into_par_iter()
+        .map(|(r, t)| {
+            let raw = Raw {
+                name: r.name,
+                time: t,
+                samples: r.samples,
+                fs_hz: r.fs_hz,
+                rpm: r.rpm,
+                unit: r.unit.unwrap_or_else(|| "unknown".into()),
+            };
+            let out = finish_recording(args, raw, || (None, None))?;
+            bar.inc(1);
+            Ok(out)
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let (report, run_notes) = analyse_read(parsed, read, axis, &bar)?;
+    Ok(Trend {
+        report,
+        source: "recordings in memory".into(),
+        layout: "arrays in memory".into(),
+        channel: "as given".into(),
+        run_notes,
+    })
+}
+
+/// Run `trend`.
+///
+/// # Errors
+/// Bad flags, unreadable or mixed files (one line naming the file), the `trend` crate's typed
+/// errors, output errors.
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let t = compute(args, Some(&args.report), true)?;
+    let out = &args.report;
+    t.write(out)?;
+    let report = &t.report;
+    let n = report.rows.len();
+    let tm = report.timing;
     eprintln!(
-        "{} recordings; prepare {:.2} s; per recording: signal indicators {:.4} s, diagnosis {:.3} s, observers {:.3} s (CPU on one thread)",
-        recs.len(),
-        t.prepare_s,
-        t.signal_s,
-        t.diagnosis_s,
-        t.observers_s
+        "{n} recordings; prepare {:.2} s; per recording: signal indicators {:.4} s, diagnosis {:.3} s, observers {:.3} s (CPU on one thread)",
+        tm.prepare_s, tm.signal_s, tm.diagnosis_s, tm.observers_s
     );
     match &report.alarm {
         Some(a) => crate::say!(
@@ -472,7 +685,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             a.indicators.join(", "),
             a.fault
         ),
-        None => crate::say!("no alarm over {} recordings", recs.len()),
+        None => crate::say!("no alarm over {n} recordings"),
     }
     crate::say!("report in {}", out.display());
     Ok(())
@@ -537,7 +750,7 @@ pub fn csv(r: &trend::TrendReport) -> String {
 pub fn summary(
     r: &trend::TrendReport,
     source: &str,
-    layout: Layout,
+    layout: &str,
     channel: &str,
     run_notes: &[String],
 ) -> String {
@@ -546,7 +759,7 @@ pub fn summary(
     let mut s = format!(
         "# Trend of {} recordings\n\nSource: {source} ({}; channel `{channel}`; {} Hz). Bearing {}. Samples in {}. Time axis: {}.\n\n",
         r.rows.len(),
-        layout.name(),
+        layout,
         r.fs_hz,
         r.bearing,
         r.unit.code(),
