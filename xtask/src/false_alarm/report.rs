@@ -327,15 +327,88 @@ fn write_json(rows: &[Row], out: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The rows of each kind.
+struct Sets<'r> {
+    healthy: Vec<&'r Row>,
+    noise: Vec<&'r Row>,
+    real: Vec<&'r Row>,
+    faulty: Vec<&'r Row>,
+}
+
+/// Each factor's levels as the tables label them, in the design's order.
+struct Levels {
+    geoms: Vec<String>,
+    speeds: Vec<String>,
+    rates: Vec<String>,
+    snrs: Vec<String>,
+    mixes: Vec<String>,
+    errs: Vec<String>,
+}
+
+impl Levels {
+    fn of_design() -> anyhow::Result<Self> {
+        Ok(Self {
+            geoms: corpus::geometries()?
+                .iter()
+                .map(|g| g.0.to_string())
+                .collect(),
+            speeds: corpus::SPEEDS_RPM
+                .iter()
+                .map(|s| format!("{s} rpm"))
+                .collect(),
+            rates: corpus::RATES_HZ
+                .iter()
+                .map(|f| format!("{} kHz", f / 1000.0))
+                .collect(),
+            snrs: corpus::SNRS_DB.iter().map(|s| format!("{s} dB")).collect(),
+            mixes: corpus::MIXES.iter().map(|m| m.label()).collect(),
+            errs: {
+                let mut v: Vec<f64> = corpus::SPEED_ERRORS.iter().map(|e| e.0).collect();
+                v.sort_by(f64::total_cmp);
+                v.into_iter().map(speed_error_label).collect()
+            },
+        })
+    }
+}
+
+/// `false_alarm.md`: the summary, the false alarms per factor, per hypothesis by its distance to
+/// a shaft order, the noise-only and real recordings, the faulty machines, the method and the
+/// design.
 fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow::Result<()> {
-    let of = |k: Kind| rows.iter().filter(move |r| r.entry.kind == k);
-    let healthy: Vec<&Row> = of(Kind::Healthy).collect();
-    let noise: Vec<&Row> = of(Kind::NoiseOnly).collect();
-    let real: Vec<&Row> = of(Kind::Real).collect();
-    let faulty: Vec<&Row> = of(Kind::Faulty).collect();
+    let of = |k: Kind| rows.iter().filter(move |r| r.entry.kind == k).collect();
+    let sets = Sets {
+        healthy: of(Kind::Healthy),
+        noise: of(Kind::NoiseOnly),
+        real: of(Kind::Real),
+        faulty: of(Kind::Faulty),
+    };
+    let levels = Levels::of_design()?;
+    let mut md = String::new();
+    summary_section(&mut md, &sets, rows, wall_s, cpu_s);
+    factor_sections(&mut md, &sets.healthy, &levels);
+    order_distance_section(&mut md, &sets.healthy);
+    noise_only_section(&mut md, &sets.noise, &levels);
+    real_section(&mut md, &sets.real);
+    faulty_section(&mut md, &sets.faulty);
+    method_section(&mut md);
+    design_section(&mut md, &sets, &levels);
+    std::fs::write(out.join("false_alarm.md"), md)?;
+    Ok(())
+}
+
+/// The header, the run line (the only one that changes from run to run), the summary table and
+/// the verdicts' distribution.
+fn summary_section(
+    md: &mut String,
+    sets: &Sets<'_>,
+    rows: &[Row],
+    wall_s: f64,
+    cpu_s: Option<f64>,
+) {
+    let (healthy, noise, real) = (&sets.healthy, &sets.noise, &sets.real);
     let make_s: f64 = rows.iter().map(|r| r.make_s).sum();
     let diag_s: f64 = rows.iter().map(|r| r.diagnose_s).sum();
-    let mut md = format!(
+    *md += &format!(
         "# False alarms of the training-free diagnosis on healthy machines\n\n{HEADER}\n\n\
          `diagnosis::diagnose` (self-referenced: no baseline) on a deterministic corpus of \
          simulated healthy machines (`bearing_model::machine`), low-level noise-only recordings, \
@@ -365,15 +438,11 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
         let (k, n, e) = count(set.iter().copied(), alarm);
         let _ = writeln!(md, "| {name} | {} | {e} |", rate_cells(k, n));
     };
-    line(&mut md, "simulated healthy machines", &healthy);
-    line(
-        &mut md,
-        "simulated noise-only (low level, quantised)",
-        &noise,
-    );
-    let all_sim: Vec<&Row> = healthy.iter().chain(&noise).copied().collect();
-    line(&mut md, "all simulated healthy", &all_sim);
-    line(&mut md, "real healthy recordings", &real);
+    line(md, "simulated healthy machines", healthy);
+    line(md, "simulated noise-only (low level, quantised)", noise);
+    let all_sim: Vec<&Row> = healthy.iter().chain(noise.iter()).copied().collect();
+    line(md, "all simulated healthy", &all_sim);
+    line(md, "real healthy recordings", real);
     // verdict distribution
     let dist = |set: &[&Row]| {
         let mut counts: std::collections::BTreeMap<&str, usize> = Default::default();
@@ -390,88 +459,74 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
     let _ = write!(
         md,
         "\nVerdicts, simulated healthy machines: {}. Noise-only: {}. Real: {}.\n",
-        dist(&healthy),
-        dist(&noise),
-        dist(&real)
+        dist(healthy),
+        dist(noise),
+        dist(real)
     );
+}
 
+/// False alarms per level of every factor of the healthy machines, the speed the diagnosis used
+/// per declared-speed error, and the highest and lowest levels.
+fn factor_sections(md: &mut String, healthy: &[&Row], levels: &Levels) {
+    let mut worst = Vec::new();
+    let worst = &mut worst;
     // per factor
     let _ = write!(
         md,
         "\n## False alarms per factor level (simulated healthy machines, {})\n",
         healthy.len()
     );
-    let mut worst = Vec::new();
-    let geoms: Vec<String> = corpus::geometries()?
-        .iter()
-        .map(|g| g.0.to_string())
-        .collect();
     factor_table(
-        &mut md,
+        md,
         "Bearing",
-        &healthy,
-        &geoms,
+        healthy,
+        &levels.geoms,
         |r| r.entry.geometry.to_string(),
-        &mut worst,
+        worst,
     );
-    let speeds: Vec<String> = corpus::SPEEDS_RPM
-        .iter()
-        .map(|s| format!("{s} rpm"))
-        .collect();
     factor_table(
-        &mut md,
+        md,
         "Shaft speed",
-        &healthy,
-        &speeds,
+        healthy,
+        &levels.speeds,
         |r| format!("{} rpm", r.entry.rpm_true),
-        &mut worst,
+        worst,
     );
-    let rates: Vec<String> = corpus::RATES_HZ
-        .iter()
-        .map(|f| format!("{} kHz", f / 1000.0))
-        .collect();
     factor_table(
-        &mut md,
+        md,
         "Sampling rate",
-        &healthy,
-        &rates,
+        healthy,
+        &levels.rates,
         |r| format!("{} kHz", r.entry.fs_hz / 1000.0),
-        &mut worst,
+        worst,
     );
-    let snrs: Vec<String> = corpus::SNRS_DB.iter().map(|s| format!("{s} dB")).collect();
     factor_table(
-        &mut md,
+        md,
         "SNR",
-        &healthy,
-        &snrs,
+        healthy,
+        &levels.snrs,
         |r| format!("{} dB", snr(r).unwrap_or(f64::NAN)),
-        &mut worst,
+        worst,
     );
-    let mixes: Vec<String> = corpus::MIXES.iter().map(|m| m.label()).collect();
     factor_table(
-        &mut md,
+        md,
         "Nuisance mix",
-        &healthy,
-        &mixes,
+        healthy,
+        &levels.mixes,
         |r| r.entry.nuisances.clone(),
-        &mut worst,
+        worst,
     );
-    let errs: Vec<String> = {
-        let mut v: Vec<f64> = corpus::SPEED_ERRORS.iter().map(|e| e.0).collect();
-        v.sort_by(f64::total_cmp);
-        v.into_iter().map(speed_error_label).collect()
-    };
     factor_table(
-        &mut md,
+        md,
         "Declared-speed error",
-        &healthy,
-        &errs,
+        healthy,
+        &levels.errs,
         |r| speed_error_label(r.entry.speed_error),
-        &mut worst,
+        worst,
     );
     // the speed the diagnosis used, per declared error
-    md += "\nSpeed the diagnosis used (`operating_point.rpm_used`) against the true mean speed, per declared-speed error:\n\n| declared error | within 0.5 % of the true speed | median |error| of the speed used |\n|---|---:|---:|\n";
-    for l in &errs {
+    *md += "\nSpeed the diagnosis used (`operating_point.rpm_used`) against the true mean speed, per declared-speed error:\n\n| declared error | within 0.5 % of the true speed | median |error| of the speed used |\n|---|---:|---:|\n";
+    for l in &levels.errs {
         let used: Vec<f64> = healthy
             .iter()
             .filter(|r| speed_error_label(r.entry.speed_error) == *l)
@@ -494,26 +549,30 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
         );
     }
     worst.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    md += "\nHighest false-alarm levels: ";
-    md += &worst
+    *md += "\nHighest false-alarm levels: ";
+    *md += &worst
         .iter()
         .take(5)
         .map(|w| format!("{} {:.0} %", w.1, 100.0 * w.0))
         .collect::<Vec<_>>()
         .join("; ");
-    md += ". Lowest: ";
-    md += &worst
+    *md += ". Lowest: ";
+    *md += &worst
         .iter()
         .rev()
         .take(3)
         .map(|w| format!("{} {:.0} %", w.1, 100.0 * w.0))
         .collect::<Vec<_>>()
         .join("; ");
-    md += ".\n";
+    *md += ".\n";
+}
 
+/// Alarms per hypothesis by how far its fault order lies from the nearest integer shaft order
+/// (the lines a once-per-rev comb puts in the envelope sit on integer orders).
+fn order_distance_section(md: &mut String, healthy: &[&Row]) {
     // which hypotheses alarm: by the distance of their fault order to the nearest integer
     // shaft order (the lines a once-per-rev comb puts in the envelope sit on integer orders)
-    md += "\nAlarms per hypothesis (inner, outer, ball) of each healthy machine, by how far the hypothesis's fault order lies from the nearest integer shaft order, with and without once-per-rev impacts (mixes `once-per-rev` and `all`):\n\n| \\|order/round(order) − 1\\| | with impacts: alarms naming it / pairs | rate | 95 % CI | without impacts | rate | 95 % CI |\n|---|---:|---:|---:|---:|---:|---:|\n";
+    *md += "\nAlarms per hypothesis (inner, outer, ball) of each healthy machine, by how far the hypothesis's fault order lies from the nearest integer shaft order, with and without once-per-rev impacts (mixes `once-per-rev` and `all`):\n\n| \\|order/round(order) − 1\\| | with impacts: alarms naming it / pairs | rate | 95 % CI | without impacts | rate | 95 % CI |\n|---|---:|---:|---:|---:|---:|---:|\n";
     let bins = [
         (0.0, 0.005),
         (0.005, 0.015),
@@ -545,7 +604,10 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
         }
         let _ = writeln!(md, "| {:.1}–{:.1} % |{cells}", 100.0 * lo, 100.0 * hi);
     }
+}
 
+/// False alarms of the noise-only recordings per ADC resolution and rate.
+fn noise_only_section(md: &mut String, noise: &[&Row], levels: &Levels) {
     // noise-only
     let _ = write!(
         md,
@@ -558,9 +620,9 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
         .collect();
     let mut ignore = Vec::new();
     factor_table(
-        &mut md,
+        md,
         "ADC resolution",
-        &noise,
+        noise,
         &bits,
         |r| {
             r.entry
@@ -571,20 +633,23 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
         &mut ignore,
     );
     factor_table(
-        &mut md,
+        md,
         "Sampling rate (noise-only)",
-        &noise,
-        &rates,
+        noise,
+        &levels.rates,
         |r| format!("{} kHz", r.entry.fs_hz / 1000.0),
         &mut ignore,
     );
+}
 
+/// The real healthy recordings, one by one.
+fn real_section(md: &mut String, real: &[&Row]) {
     // real
-    md += "\n## Real healthy recordings, one by one\n\nCWRU 97.mat: drive end, 0 hp, as stored (48 kHz) and decimated by 4 with `bearing-data`'s anti-aliasing FIR (12 kHz), SKF 6205, the speed stored in the file. UESTC `N_*`: `Data` at 20 kHz, UC204-class insert (8 × 7.938 mm on 33.5 mm, 0°; an assumption, the source gives none), declared speed the set speed in the name (the source says the running speed can be several per cent off).\n\n| recording | bearing | fs (kHz) | duration (s) | rpm declared | rpm used | verdict | scores inner/outer/ball (dB) | band (Hz) |\n|---|---|---:|---:|---:|---:|---|---|---|\n";
+    *md += "\n## Real healthy recordings, one by one\n\nCWRU 97.mat: drive end, 0 hp, as stored (48 kHz) and decimated by 4 with `bearing-data`'s anti-aliasing FIR (12 kHz), SKF 6205, the speed stored in the file. UESTC `N_*`: `Data` at 20 kHz, UC204-class insert (8 × 7.938 mm on 33.5 mm, 0°; an assumption, the source gives none), declared speed the set speed in the name (the source says the running speed can be several per cent off).\n\n| recording | bearing | fs (kHz) | duration (s) | rpm declared | rpm used | verdict | scores inner/outer/ball (dB) | band (Hz) |\n|---|---|---:|---:|---:|---:|---|---|---|\n";
     if real.is_empty() {
-        md += "| (no data directory: skipped) | | | | | | | | |\n";
+        *md += "| (no data directory: skipped) | | | | | | | | |\n";
     }
-    for r in &real {
+    for r in real {
         let (used, sc, band) = match &r.outcome {
             Ok(o) => (
                 format!("{:.1}", o.rpm_used),
@@ -612,7 +677,11 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
             r.entry.rpm_declared
         );
     }
+}
 
+/// Detection and fault typing of the faulty machines, per fault and severity, and per severity
+/// and SNR.
+fn faulty_section(md: &mut String, faulty: &[&Row]) {
     // faulty
     let _ = write!(
         md,
@@ -671,7 +740,10 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
             let _ = writeln!(md, "| {sev:.0} | {s:.0} | {} |", rate_cells(k, n));
         }
     }
+}
 
+/// How the synthetic recordings are made and how the diagnosis is run.
+fn method_section(md: &mut String) {
     // method
     let _ = write!(
         md,
@@ -748,7 +820,12 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
             .collect::<Vec<_>>()
             .join(", "),
     );
+}
 
+/// The design's seed and counts, the healthy machines per factor level, and where the per-recording
+/// tables are.
+fn design_section(md: &mut String, sets: &Sets<'_>, levels: &Levels) {
+    let (healthy, noise, real, faulty) = (&sets.healthy, &sets.noise, &sets.real, &sets.faulty);
     // design counts
     let _ = write!(
         md,
@@ -765,7 +842,7 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
         corpus::FAULTY_PER_CELL,
         real.len()
     );
-    let levels = |f: &dyn Fn(&Row) -> String, order: &[String]| {
+    let per_level = |f: &dyn Fn(&Row) -> String, order: &[String]| {
         order
             .iter()
             .map(|l| format!("{l} ({})", healthy.iter().filter(|r| f(r) == *l).count()))
@@ -775,36 +852,40 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
     let _ = writeln!(
         md,
         "| bearing | {} |",
-        levels(&|r| r.entry.geometry.to_string(), &geoms)
+        per_level(&|r| r.entry.geometry.to_string(), &levels.geoms)
     );
     let _ = writeln!(
         md,
         "| speed | {} |",
-        levels(&|r| format!("{} rpm", r.entry.rpm_true), &speeds)
+        per_level(&|r| format!("{} rpm", r.entry.rpm_true), &levels.speeds)
     );
     let _ = writeln!(
         md,
         "| rate | {} |",
-        levels(&|r| format!("{} kHz", r.entry.fs_hz / 1000.0), &rates)
+        per_level(
+            &|r| format!("{} kHz", r.entry.fs_hz / 1000.0),
+            &levels.rates
+        )
     );
     let _ = writeln!(
         md,
         "| SNR | {} |",
-        levels(&|r| format!("{} dB", snr(r).unwrap_or(f64::NAN)), &snrs)
+        per_level(
+            &|r| format!("{} dB", snr(r).unwrap_or(f64::NAN)),
+            &levels.snrs
+        )
     );
     let _ = writeln!(
         md,
         "| nuisances | {} |",
-        levels(&|r| r.entry.nuisances.clone(), &mixes)
+        per_level(&|r| r.entry.nuisances.clone(), &levels.mixes)
     );
     let _ = writeln!(
         md,
         "| declared-speed error | {} |",
-        levels(&|r| speed_error_label(r.entry.speed_error), &errs)
+        per_level(&|r| speed_error_label(r.entry.speed_error), &levels.errs)
     );
-    md += "\nPer recording: `false_alarm.csv` (one row each; columns named `…p_…` are every probability-like field the diagnosis's JSON holds, read by name, so new ones appear without a code change) and `false_alarm.json` (the same with the drawn parameters that matter: modes, gear teeth, mains frequency, the fault's mode and slip).\n";
-    std::fs::write(out.join("false_alarm.md"), md)?;
-    Ok(())
+    *md += "\nPer recording: `false_alarm.csv` (one row each; columns named `…p_…` are every probability-like field the diagnosis's JSON holds, read by name, so new ones appear without a code change) and `false_alarm.json` (the same with the drawn parameters that matter: modes, gear teeth, mains frequency, the fault's mode and slip).\n";
 }
 
 #[cfg(test)]
