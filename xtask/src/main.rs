@@ -11,6 +11,7 @@ mod data;
 mod diagnose;
 mod false_alarm;
 mod identify;
+mod trend;
 
 use clap::{Parser, Subcommand};
 
@@ -53,6 +54,9 @@ enum Task {
     /// recording, or with --false-alarm a corpus of simulated and real healthy machines): normal,
     /// inner, outer, ball, a combination or uncertain, training-free.
     Diagnose(diagnose::Args),
+    /// Issue 57's validation: simulated degradation runs with known truth (--validate) and the
+    /// staged real sequences (--staged) through the trend, into `results/trend/`.
+    Trend(trend::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -81,5 +85,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Task::Calibrate(a) => hybrid_fdd_cli::close_loop::calibrate(a),
         Task::CalibrateRig(a) => calibration::run(&ctx, a),
         Task::Diagnose(a) => diagnose::run(&ctx, a),
+        Task::Trend(a) => trend::run(&ctx, a),
     }
 }

@@ -896,6 +896,19 @@ pub fn summary(
 /// # Errors
 /// Drawing or file errors.
 pub fn figure(r: &trend::TrendReport, path: &Path) -> anyhow::Result<()> {
+    figure_marked(r, path, None)
+}
+
+/// [`figure`] with an optional marker: a vertical green line at a time on the run's axis (e.g.
+/// the true onset of a simulated run, whose truth is known).
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn figure_marked(
+    r: &trend::TrendReport,
+    path: &Path,
+    marker: Option<f64>,
+) -> anyhow::Result<()> {
     use plotters::prelude::*;
     let text = crate::figure::font_available();
     let k = r.indicators.len().max(1);
@@ -958,6 +971,13 @@ pub fn figure(r: &trend::TrendReport, path: &Path) -> anyhow::Result<()> {
                 c.draw_series(LineSeries::new(
                     vec![(0.0, 1.0), (xmax * 1.02, 1.0)],
                     RGBColor(214, 39, 40).stroke_width(1),
+                ))?;
+            }
+            if let Some(t) = marker {
+                let xm = x(t);
+                c.draw_series(LineSeries::new(
+                    vec![(xm, ymin), (xm, ymax)],
+                    RGBColor(44, 160, 44).stroke_width(2),
                 ))?;
             }
             if let Some(a) = &r.alarm {

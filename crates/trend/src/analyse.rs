@@ -230,10 +230,59 @@ pub struct TrendReport {
     pub timing: Timing,
 }
 
+/// Where the m-of-n rule is first met on a set of indicators, from a given recording on
+/// ([`TrendReport::rule_met_from`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RuleMet {
+    /// Row where the rule was first met (the earliest over the indicators).
+    pub index: usize,
+    /// The indicators whose rule is met at that row.
+    pub indicators: Vec<String>,
+    /// The fault named over the window's recordings where one of them was above (as the
+    /// report's [`Alarm::fault`]).
+    pub fault: String,
+}
+
 impl TrendReport {
     /// Index of the indicator named `name`.
     pub fn indicator(&self, name: &str) -> Option<usize> {
         self.indicators.iter().position(|i| i.name == name)
+    }
+
+    /// The m-of-n rule on the indicators `columns` (taken together: the earliest of them)
+    /// with every window starting no earlier than row `start` (and never in the baseline), on
+    /// the rows' `above` flags: the report's own onsets and alarm are this with `start` =
+    /// `baseline_count` (one column: [`Onset::index`] and [`Onset::fault`]; the `alarm_on`
+    /// columns: [`Alarm`]). With `start` at a known fault onset it is the first alarm whose
+    /// window holds only recordings from that onset on (validation with known truth). `None`:
+    /// the rule is never met, or no column is valid.
+    pub fn rule_met_from(&self, columns: &[usize], start: usize) -> Option<RuleMet> {
+        let c = self.config.get();
+        let start = start.max(c.baseline_count);
+        let ncol = self.indicators.len();
+        let met: Vec<(usize, usize)> = columns
+            .iter()
+            .filter(|&&j| j < ncol)
+            .filter_map(|&j| {
+                let a: Vec<bool> = self.rows.iter().map(|r| r.above[j]).collect();
+                alarm::m_of_n(&a, start, c.m, c.n).map(|(idx, _)| (j, idx))
+            })
+            .collect();
+        let idx = met.iter().map(|m| m.1).min()?;
+        let firing: Vec<usize> = met.iter().filter(|m| m.1 == idx).map(|m| m.0).collect();
+        let lo = start.max((idx + 1).saturating_sub(c.n));
+        let fired: Vec<Option<&str>> = (lo..=idx)
+            .filter(|&k| firing.iter().any(|&j| self.rows[k].above[j]))
+            .map(|k| self.rows[k].verdict.as_deref())
+            .collect();
+        Some(RuleMet {
+            index: idx,
+            indicators: firing
+                .iter()
+                .map(|&j| self.indicators[j].name.clone())
+                .collect(),
+            fault: alarm::fault_named(&fired),
+        })
     }
 }
 

@@ -194,6 +194,22 @@ fn a_growing_outer_race_fault_raises_the_alarm_and_is_named() {
         .as_ref()
         .expect("kurtosis alarms");
     assert!(k.severity.slope.unwrap() > 0.0);
+    // the rule from the baseline's end is the report's own onsets and alarm
+    let nb = r.config.get().baseline_count;
+    for (j, o) in r.onsets.iter().enumerate() {
+        let m = r.rule_met_from(&[j], nb);
+        assert_eq!(m.as_ref().map(|m| m.index), o.as_ref().map(|o| o.index));
+        assert_eq!(m.map(|m| m.fault), o.as_ref().map(|o| o.fault.clone()));
+    }
+    let all: Vec<usize> = (0..r.indicators.len()).collect();
+    let m = r.rule_met_from(&all, 0).expect("the alarm");
+    assert_eq!(
+        (m.index, &m.indicators, &m.fault),
+        (a.index, &a.indicators, &a.fault)
+    );
+    // from a later start, windows hold only rows from there on
+    let later = r.rule_met_from(&all, a.index + 1);
+    assert!(later.is_none_or(|l| l.index >= a.index + 1 + r.config.get().m - 1));
 }
 
 #[test]

@@ -10,7 +10,7 @@
 //! `diagnosis`'s, loading and decimation `bearing-data`'s and `hybrid-fdd-cli`'s.
 
 pub mod corpus;
-mod report;
+pub(crate) mod report;
 
 use std::collections::BTreeMap;
 use std::path::Path;
