@@ -400,7 +400,9 @@ def trend(
         machine_group: ISO 20816-3 group for the velocity's zone (``--machine-group``).
         alarm: the rule ``"M/N"`` (``--alarm``).
         k: k of the thresholds (``--k``).
-        alarm_on: the indicators whose onset makes the alarm (``--alarm-on``; default: all).
+        alarm_on: the indicators whose onset makes the alarm (``--alarm-on``; default: the
+            gain-immune ones, crest, kurtosis, the evidence and the observers' ``*_ratio``;
+            ``"all"`` for every indicator).
         speed_exponent: exponent of the speed normalisation (``--speed-exponent``).
         observers: run the dissertation's observers (``False`` = ``--no-observers``).
         decimate_to: decimate recordings at an integer multiple of this rate to it

@@ -67,8 +67,11 @@ pub struct Args {
     /// Alarm rule: above the threshold in M of N consecutive recordings, as `M/N`.
     #[arg(long, default_value = "3/4")]
     pub alarm: String,
-    /// The indicators whose onset makes the run's alarm, comma-separated (default: all), e.g.
-    /// `kurtosis,evidence_outer,hostsmo_ratio`.
+    /// The indicators whose onset makes the run's alarm, comma-separated, e.g.
+    /// `kurtosis,evidence_outer,hostsmo_ratio`; `all` for every indicator. Default: the
+    /// gain-immune ones (crest, kurtosis, the evidence, the observers' `*_ratio`): an amplitude
+    /// or an energy rises with a load step or a sensor's gain as with a fault, so it is trended
+    /// and thresholded but does not raise the alarm unless named here.
     #[arg(long, value_delimiter = ',')]
     pub alarm_on: Option<Vec<String>>,
     /// Exponent p of the speed normalisation of amplitudes (energies take 2p; fitted per
@@ -679,11 +682,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     );
     match &report.alarm {
         Some(a) => crate::say!(
-            "alarm at {} ({}) on {}: fault named {}",
+            "alarm at {} ({}) on {}: fault named {} (by the {})",
             a.name,
             report.axis.format(a.time),
             a.indicators.join(", "),
-            a.fault
+            a.fault,
+            a.fault_basis
         ),
         None => crate::say!("no alarm over {n} recordings"),
     }
@@ -778,15 +782,22 @@ pub fn summary(
                 c.m,
                 c.n
             ));
-            s.push_str(&format!(
-                "Fault named by the diagnosis at the alarm: **{}** (the most frequent verdict other than normal among the recordings of the alarm window where these indicators were above; their verdicts: {}).\n\n",
-                a.fault,
-                if a.verdicts.is_empty() {
-                    "none diagnosed".to_string()
-                } else {
-                    a.verdicts.join(", ")
-                }
-            ));
+            let verdicts = if a.verdicts.is_empty() {
+                "none diagnosed".to_string()
+            } else {
+                a.verdicts.join(", ")
+            };
+            if a.fault_basis == trend::alarm::BASIS_EVIDENCE_TREND {
+                s.push_str(&format!(
+                    "Fault named at the alarm: **{}**, from the trend of the diagnosis' evidence: no recording of the alarm window had a verdict other than normal or uncertain ({verdicts}), and this fault's evidence stood above its own baseline threshold on the most of them. A fault seen against this machine's baseline, not yet at the diagnosis' false-alarm level.\n\n",
+                    a.fault
+                ));
+            } else {
+                s.push_str(&format!(
+                    "Fault named by the diagnosis at the alarm: **{}** (the most frequent verdict other than normal among the recordings of the alarm window where these indicators were above; their verdicts: {verdicts}).\n\n",
+                    a.fault
+                ));
+            }
             s.push_str("Severity after the alarm (least squares from the alarm on):\n\n| indicator | slope | points | level | level reached / projected |\n|---|---|---|---|---|\n");
             for (name, sv) in a.indicators.iter().zip(&a.severity) {
                 let unit = r
@@ -868,7 +879,7 @@ pub fn summary(
         )),
         None => s.push_str("Not run.\n\n"),
     }
-    s.push_str("## What is not seen\n\n- The baseline is assumed healthy; a machine already faulty in it raises the thresholds and hides the fault.\n- Load is not measured: a load step moves the amplitude indicators (RMS, peak, velocity, energies); only speed is normalised.\n- A sensor-gain change moves the amplitude indicators too; the dimensionless ones are immune.\n- The severity level and its projection are a straight line through the indicator after the alarm, not a remaining-life model.\n- The velocity zone (ISO 20816-3) needs the unit and a machine group; on a bearing housing at high frequency it is a machine-condition measure, not a bearing-fault measure.\n");
+    s.push_str("## What is not seen\n\n- The baseline is assumed healthy; a machine already faulty in it raises the thresholds and hides the fault.\n- Load is not measured: a load step moves the amplitude indicators (RMS, peak, velocity, energies); only speed is normalised.\n- A sensor-gain change moves the amplitude indicators too; the dimensionless ones are immune. By default only the gain-immune indicators (crest, kurtosis, the evidence, the observers' residual share) raise the alarm (`--alarm-on all` for every indicator).\n- The severity level and its projection are a straight line through the indicator after the alarm, not a remaining-life model.\n- The velocity zone (ISO 20816-3) needs the unit and a machine group; on a bearing housing at high frequency it is a machine-condition measure, not a bearing-fault measure.\n");
     let notes: Vec<&String> = run_notes.iter().chain(&r.notes).collect();
     if !notes.is_empty() {
         s.push_str("\n## Notes\n\n");

@@ -131,6 +131,47 @@ pub fn fault_named(verdicts: &[Option<&str>]) -> String {
     }
 }
 
+/// How the fault at an onset or alarm was named.
+pub const BASIS_DIAGNOSIS: &str = "diagnosis";
+/// See [`BASIS_DIAGNOSIS`]: the evidence's own trend named it (the diagnosis said `normal` or
+/// `uncertain` on every recording of the window).
+pub const BASIS_EVIDENCE_TREND: &str = "evidence trend";
+
+/// The fault named over an onset's window: the diagnosis' ([`fault_named`] over `verdicts`,
+/// those of the window's recordings that fired); when that is `normal` or `uncertain`, the
+/// hypothesis whose evidence indicator stands above its own baseline threshold on the most
+/// recordings of the window (`evidence`: per hypothesis, its above-threshold flags over the
+/// window and its value at the onset's recording; ties: the larger value), if any stands above
+/// at all. Returns the name and its basis ([`BASIS_DIAGNOSIS`] or [`BASIS_EVIDENCE_TREND`]).
+///
+/// The diagnosis tests each recording against a healthy machine in general (a false-alarm
+/// probability per recording); the trend compares each hypothesis' evidence with this machine's
+/// own baseline, which sees a fault's lines rising while they are still too weak for a verdict.
+pub fn fault_named_with_trend(
+    verdicts: &[Option<&str>],
+    evidence: &[(&str, Vec<bool>, Option<f64>)],
+) -> (String, &'static str) {
+    let named = fault_named(verdicts);
+    if named != "normal" && named != "uncertain" {
+        return (named, BASIS_DIAGNOSIS);
+    }
+    let mut best: Option<(&str, usize, f64)> = None;
+    for (h, flags, value) in evidence {
+        let count = flags.iter().filter(|&&a| a).count();
+        if count == 0 {
+            continue;
+        }
+        let v = value.unwrap_or(f64::NEG_INFINITY);
+        if best.is_none_or(|(_, bc, bv)| count > bc || (count == bc && v > bv)) {
+            best = Some((h, count, v));
+        }
+    }
+    match best {
+        Some((h, _, _)) => (h.to_string(), BASIS_EVIDENCE_TREND),
+        None => (named, BASIS_DIAGNOSIS),
+    }
+}
+
 /// An indicator's trend after its alarm.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Severity {
@@ -208,6 +249,40 @@ pub fn severity(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_evidence_trend_names_a_fault_only_when_the_diagnosis_does_not() {
+        let ev = vec![
+            ("inner", vec![false, true, false], Some(2.0)),
+            ("outer", vec![true, true, true], Some(1.5)),
+            ("ball", vec![false, false, false], Some(9.0)),
+        ];
+        // a verdict wins
+        assert_eq!(
+            fault_named_with_trend(&[Some("ball"), Some("normal")], &ev),
+            ("ball".to_string(), BASIS_DIAGNOSIS)
+        );
+        // normal: the hypothesis above its baseline on most recordings
+        assert_eq!(
+            fault_named_with_trend(&[Some("normal"), Some("normal")], &ev),
+            ("outer".to_string(), BASIS_EVIDENCE_TREND)
+        );
+        // ties: the larger evidence at the onset
+        let tie = vec![
+            ("inner", vec![true, false], Some(3.0)),
+            ("outer", vec![false, true], Some(1.0)),
+        ];
+        assert_eq!(
+            fault_named_with_trend(&[Some("uncertain")], &tie).0,
+            "inner"
+        );
+        // no evidence above: the diagnosis' word stands
+        let none = vec![("inner", vec![false], Some(5.0))];
+        assert_eq!(
+            fault_named_with_trend(&[Some("normal")], &none),
+            ("normal".to_string(), BASIS_DIAGNOSIS)
+        );
+    }
 
     #[test]
     fn mad_threshold() {

@@ -39,6 +39,10 @@ pub struct Recording {
     pub rpm: f64,
 }
 
+/// `alarm_on = ["all"]`: the run's alarm over every indicator (amplitudes and energies too), not
+/// only the gain-immune ones of the default.
+pub const ALARM_ON_ALL: &str = "all";
+
 /// What an indicator measures, which decides its threshold domain, its speed normalisation
 /// and whether a sensor-gain change moves it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -133,8 +137,11 @@ pub struct Onset {
     pub time: f64,
     /// Row of the first exceedance in that window.
     pub first_exceedance_index: usize,
-    /// The fault the diagnosis named over the window's exceeding recordings.
+    /// The fault the diagnosis named over the window's exceeding recordings (or, when it said
+    /// `normal`, the hypothesis whose evidence rose above this machine's baseline: `fault_basis`).
     pub fault: String,
+    /// How `fault` was named: `diagnosis` or `evidence trend` ([`alarm::fault_named_with_trend`]).
+    pub fault_basis: String,
     /// The severity trend of this indicator from the onset on.
     pub severity: Severity,
 }
@@ -151,8 +158,11 @@ pub struct Alarm {
     /// The indicators whose onset is at that row.
     pub indicators: Vec<String>,
     /// The fault named: the most frequent non-normal verdict among the recordings of the
-    /// m-of-n window where one of these indicators was above its threshold.
+    /// m-of-n window where one of these indicators was above its threshold; when there is none,
+    /// the hypothesis whose evidence rose above this machine's baseline (`fault_basis`).
     pub fault: String,
+    /// How `fault` was named: `diagnosis` or `evidence trend` ([`alarm::fault_named_with_trend`]).
+    pub fault_basis: String,
     /// The verdicts of those recordings.
     pub verdicts: Vec<String>,
     /// Severity after the alarm, per alarm indicator.
@@ -241,6 +251,8 @@ pub struct RuleMet {
     /// The fault named over the window's recordings where one of them was above (as the
     /// report's [`Alarm::fault`]).
     pub fault: String,
+    /// How `fault` was named (as [`Alarm::fault_basis`]).
+    pub fault_basis: String,
 }
 
 impl TrendReport {
@@ -275,15 +287,43 @@ impl TrendReport {
             .filter(|&k| firing.iter().any(|&j| self.rows[k].above[j]))
             .map(|k| self.rows[k].verdict.as_deref())
             .collect();
+        let evidence = evidence_window(
+            &self.indicators,
+            |k, j| self.rows[k].above[j],
+            |k, j| self.rows[k].values[j],
+            lo,
+            idx,
+        );
+        let (fault, basis) = alarm::fault_named_with_trend(&fired, &evidence);
         Some(RuleMet {
             index: idx,
             indicators: firing
                 .iter()
                 .map(|&j| self.indicators[j].name.clone())
                 .collect(),
-            fault: alarm::fault_named(&fired),
+            fault,
+            fault_basis: basis.to_string(),
         })
     }
+}
+
+/// Per hypothesis with an evidence column (`evidence_<h>`): its above-threshold flags over rows
+/// `lo..=idx` and its value at `idx` (for [`alarm::fault_named_with_trend`]).
+fn evidence_window<'a>(
+    indicators: &'a [IndicatorInfo],
+    above: impl Fn(usize, usize) -> bool,
+    value: impl Fn(usize, usize) -> Option<f64>,
+    lo: usize,
+    idx: usize,
+) -> Vec<(&'a str, Vec<bool>, Option<f64>)> {
+    indicators
+        .iter()
+        .enumerate()
+        .filter_map(|(j, i)| {
+            let h = i.name.strip_prefix("evidence_")?;
+            Some((h, (lo..=idx).map(|k| above(k, j)).collect(), value(idx, j)))
+        })
+        .collect()
 }
 
 fn info(name: &str, scale: Scale, unit: &str, description: &str) -> IndicatorInfo {
@@ -836,17 +876,29 @@ pub fn analyse_with_progress(
             let fired: Vec<Option<&str>> =
                 (lo..=idx).filter(|&k| a[k]).map(|k| verdicts[k]).collect();
             let (level, basis) = level_of(j)?;
+            let evidence = evidence_window(
+                &indicators,
+                |k, jj| above[k][jj],
+                |k, jj| measured[k].values[jj],
+                lo,
+                idx,
+            );
+            let (fault, fault_basis) = alarm::fault_named_with_trend(&fired, &evidence);
             Some(Onset {
                 indicator: indicators[j].name.clone(),
                 index: idx,
                 time: times[idx],
                 first_exceedance_index: first,
-                fault: alarm::fault_named(&fired),
+                fault,
+                fault_basis: fault_basis.to_string(),
                 severity: alarm::severity(&times, &col(j), idx, level, &basis, axis.rate_unit()),
             })
         })
         .collect();
     let alarm_on: Vec<String> = match &c.alarm_on {
+        Some(list) if list.len() == 1 && list[0] == ALARM_ON_ALL => {
+            indicators.iter().map(|i| i.name.clone()).collect()
+        }
         Some(list) => {
             for n in list {
                 if !indicators.iter().any(|i| &i.name == n) {
@@ -862,7 +914,13 @@ pub fn analyse_with_progress(
             }
             list.clone()
         }
-        None => indicators.iter().map(|i| i.name.clone()).collect(),
+        // the gain-immune indicators: an amplitude or an energy cannot tell a fault from a
+        // load step or a sensor's gain (docs/equations/trend.md, "Onset alarm")
+        None => indicators
+            .iter()
+            .filter(|i| i.scale.gain_immune())
+            .map(|i| i.name.clone())
+            .collect(),
     };
     let alarm_idx: Vec<usize> = (0..indicators.len())
         .filter(|&j| alarm_on.contains(&indicators[j].name))
@@ -882,12 +940,21 @@ pub fn analyse_with_progress(
                 .filter(|&k| firing.iter().any(|&j| above[k][j]))
                 .map(|k| verdicts[k])
                 .collect();
+            let evidence = evidence_window(
+                &indicators,
+                |k, jj| above[k][jj],
+                |k, jj| measured[k].values[jj],
+                lo,
+                idx,
+            );
+            let (fault, fault_basis) = alarm::fault_named_with_trend(&fired, &evidence);
             Alarm {
                 index: idx,
                 name: recs[idx].name.clone(),
                 time: times[idx],
                 indicators: firing.iter().map(|&j| indicators[j].name.clone()).collect(),
-                fault: alarm::fault_named(&fired),
+                fault,
+                fault_basis: fault_basis.to_string(),
                 verdicts: fired.iter().flatten().map(|v| v.to_string()).collect(),
                 severity: firing
                     .iter()

@@ -59,8 +59,9 @@ pub struct TrendConfig {
     pub fit_seconds: f64,
     /// The diagnosis' false-alarm probability per recording.
     pub false_alarm: f64,
-    /// The indicators whose alarms make the run's alarm (`None`: every indicator with a
-    /// threshold).
+    /// The indicators whose alarms make the run's alarm (`None`: the gain-immune ones — crest,
+    /// kurtosis, the evidence, the observers' residual share — which a load step or a sensor's
+    /// gain does not move; `["all"]`: every indicator with a threshold).
     pub alarm_on: Option<Vec<String>>,
 }
 

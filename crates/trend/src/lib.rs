@@ -35,8 +35,8 @@ pub mod order;
 
 pub use alarm::{Domain, Severity, Threshold};
 pub use analyse::{
-    Alarm, DIAGNOSIS_BASELINE_SECONDS, IndicatorInfo, OBSERVERS, ObserverSetup, Onset, Recording,
-    Row, RuleMet, Scale, Timing, TrendReport, analyse, analyse_with_progress,
+    ALARM_ON_ALL, Alarm, DIAGNOSIS_BASELINE_SECONDS, IndicatorInfo, OBSERVERS, ObserverSetup,
+    Onset, Recording, Row, RuleMet, Scale, Timing, TrendReport, analyse, analyse_with_progress,
 };
 pub use config::{
     CheckedTrendConfig, DEFAULT_K, DEFAULT_LEVEL_FACTOR, DEFAULT_M, DEFAULT_N,

@@ -131,6 +131,10 @@ fn a_speed_step_does_not_alarm_after_normalisation() {
     };
     let r = run_with(recs.clone(), cfg(trend::DEFAULT_SPEED_EXPONENT));
     assert!(r.alarm.is_none(), "{:?}", r.alarm);
+    // the amplitudes, which the default alarm leaves out, do not fire either
+    for name in ["rms", "peak", "signal_ms"] {
+        assert!(r.onsets[r.indicator(name).unwrap()].is_none(), "{name}");
+    }
     // without the normalisation the same step alarms the RMS (×1.31 against a ×1.26 threshold)
     let r = run_with(recs, cfg(0.0));
     assert!(r.onsets[r.indicator("rms").unwrap()].is_some());
@@ -201,7 +205,9 @@ fn a_growing_outer_race_fault_raises_the_alarm_and_is_named() {
         assert_eq!(m.as_ref().map(|m| m.index), o.as_ref().map(|o| o.index));
         assert_eq!(m.map(|m| m.fault), o.as_ref().map(|o| o.fault.clone()));
     }
-    let all: Vec<usize> = (0..r.indicators.len()).collect();
+    let all: Vec<usize> = (0..r.indicators.len())
+        .filter(|&j| r.alarm_on.contains(&r.indicators[j].name))
+        .collect();
     let m = r.rule_met_from(&all, 0).expect("the alarm");
     assert_eq!(
         (m.index, &m.indicators, &m.fault),
@@ -316,4 +322,32 @@ proptest::proptest! {
             proptest::prop_assert!(b.rows[7..].iter().all(|r| r.above[j]));
         }
     }
+}
+
+/// The default alarm is over the gain-immune indicators: a sensor-gain step after the baseline
+/// (×1.6, no fault) fires the amplitudes but not the alarm; `alarm_on = ["all"]` puts the
+/// amplitudes back and the same step raises it.
+#[test]
+fn a_gain_step_raises_no_default_alarm_but_does_over_every_indicator() {
+    let recs: Vec<trend::Recording> = (0..16)
+        .map(|k| {
+            let gain = if k >= 9 { 1.6 } else { 1.0 };
+            rec(k, recording(100 + k as u64, gain, 0.0))
+        })
+        .collect();
+    let cfg = |alarm_on: Option<Vec<String>>| trend::TrendConfig {
+        baseline_count: 6,
+        observers: false,
+        diagnosis: false,
+        alarm_on,
+        ..Default::default()
+    };
+    let r = run_with(recs.clone(), cfg(None));
+    assert!(r.onsets[r.indicator("rms").unwrap()].is_some());
+    assert!(r.alarm.is_none(), "{:?}", r.alarm);
+    assert!(r.alarm_on.contains(&"kurtosis".to_string()));
+    assert!(!r.alarm_on.iter().any(|n| n == "rms" || n == "signal_ms"));
+    let r = run_with(recs, cfg(Some(vec![trend::ALARM_ON_ALL.to_string()])));
+    let a = r.alarm.as_ref().expect("the amplitudes raise the alarm");
+    assert!(a.indicators.iter().any(|n| n == "rms"), "{a:?}");
 }

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::validate::{COMBINED, FaultStatus, GEOMETRIES, RunResult};
+use super::validate::{COMBINED, COMBINED_ALL, FaultStatus, GEOMETRIES, RunResult};
 use crate::false_alarm::report::clopper_pearson;
 
 /// Quantile `q` of sorted values by linear interpolation (`None` when empty).
@@ -126,12 +126,16 @@ pub fn indicator_names(runs: &[RunResult]) -> Vec<String> {
     let mut names: Vec<String> = Vec::new();
     for r in runs {
         for o in &r.outcomes {
-            if o.indicator != COMBINED && !names.contains(&o.indicator) {
+            if o.indicator != COMBINED
+                && o.indicator != COMBINED_ALL
+                && !names.contains(&o.indicator)
+            {
                 names.push(o.indicator.clone());
             }
         }
     }
     names.push(COMBINED.into());
+    names.push(COMBINED_ALL.into());
     names
 }
 
