@@ -309,13 +309,13 @@ impl TrendReport {
 
 /// Per hypothesis with an evidence column (`evidence_<h>`): its above-threshold flags over rows
 /// `lo..=idx` and its value at `idx` (for [`alarm::fault_named_with_trend`]).
-fn evidence_window<'a>(
-    indicators: &'a [IndicatorInfo],
+fn evidence_window(
+    indicators: &[IndicatorInfo],
     above: impl Fn(usize, usize) -> bool,
     value: impl Fn(usize, usize) -> Option<f64>,
     lo: usize,
     idx: usize,
-) -> Vec<(&'a str, Vec<bool>, Option<f64>)> {
+) -> Vec<(&str, Vec<bool>, Option<f64>)> {
     indicators
         .iter()
         .enumerate()

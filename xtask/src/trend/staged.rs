@@ -69,7 +69,7 @@ pub const UESTC_FAULTS: [(&str, &str); 3] = [("I", "inner"), ("O", "outer"), ("B
 /// CWRU: 97.mat (48 kHz, decimated to 12 kHz) in five 1 s segments (its 5.08 s) as the
 /// baseline — five, the trend crate's minimum — then per location the 0.007, 0.014, 0.021 in
 /// records, three 1 s segments each (the records' stored speeds declared). UESTC (bearing
-/// UC204-class, the set speed declared): per set speed, N_<rpm>_1 and _2 in six 2 s segments
+/// UC204-class, the set speed declared): per set speed, `N_<rpm>_1` and `_2` in six 2 s segments
 /// each (12, the baseline), then the inner, outer and ball faults in turn, _1 and _2 of each in
 /// two 2 s segments (one sequence per speed: the results stay small; the alarm and the fault
 /// named concern the first fault, inner).

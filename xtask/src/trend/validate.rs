@@ -416,6 +416,7 @@ mod tests {
             index,
             indicators: vec!["x".into()],
             fault: fault.into(),
+            fault_basis: trend::alarm::BASIS_DIAGNOSIS.into(),
         }
     }
 
