@@ -868,6 +868,17 @@ pub fn analyse_with_progress(
         })
     };
     let col = |j: usize| -> Vec<Option<f64>> { normalised.iter().map(|r| r[j]).collect() };
+    // each hypothesis' evidence over an onset's window (the fault named when the diagnosis
+    // says normal there)
+    let evidence_at = |lo: usize, idx: usize| {
+        evidence_window(
+            &indicators,
+            |k, jj| above[k][jj],
+            |k, jj| measured[k].values[jj],
+            lo,
+            idx,
+        )
+    };
     let onsets: Vec<Option<Onset>> = (0..indicators.len())
         .map(|j| {
             let a: Vec<bool> = above.iter().map(|r| r[j]).collect();
@@ -876,13 +887,7 @@ pub fn analyse_with_progress(
             let fired: Vec<Option<&str>> =
                 (lo..=idx).filter(|&k| a[k]).map(|k| verdicts[k]).collect();
             let (level, basis) = level_of(j)?;
-            let evidence = evidence_window(
-                &indicators,
-                |k, jj| above[k][jj],
-                |k, jj| measured[k].values[jj],
-                lo,
-                idx,
-            );
+            let evidence = evidence_at(lo, idx);
             let (fault, fault_basis) = alarm::fault_named_with_trend(&fired, &evidence);
             Some(Onset {
                 indicator: indicators[j].name.clone(),
@@ -940,13 +945,7 @@ pub fn analyse_with_progress(
                 .filter(|&k| firing.iter().any(|&j| above[k][j]))
                 .map(|k| verdicts[k])
                 .collect();
-            let evidence = evidence_window(
-                &indicators,
-                |k, jj| above[k][jj],
-                |k, jj| measured[k].values[jj],
-                lo,
-                idx,
-            );
+            let evidence = evidence_at(lo, idx);
             let (fault, fault_basis) = alarm::fault_named_with_trend(&fired, &evidence);
             Alarm {
                 index: idx,
