@@ -7,7 +7,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::alarm::{self, Domain, Severity, Threshold};
-use crate::config::{CheckedTrendConfig, MIN_BASELINES, SPEED_FIT_MIN_SPAN};
+use crate::config::{CheckedTrendConfig, MIN_BASELINES, SPEED_FIT_MIN_SPAN, TrendConfig};
 use crate::error::{Result, TrendError};
 use crate::indicators::{self, Unit, Zone};
 use crate::order::TimeAxis;
@@ -751,27 +751,9 @@ pub fn analyse_with_progress(
     check(recs, nb)?;
     let fs = recs[0].fs_hz;
     let mut notes = Vec::new();
+    // 1. the healthy references, on the baseline only
     let tp = Instant::now();
-    let reference = if c.diagnosis {
-        let cap = (DIAGNOSIS_BASELINE_SECONDS * fs) as usize;
-        let joined: Vec<f64> = recs[..nb]
-            .iter()
-            .flat_map(|r| r.samples.iter().copied())
-            .take(cap)
-            .collect();
-        match diagnosis::Baseline::prepare(&joined, fs) {
-            Ok(b) => Some(b),
-            Err(e) => {
-                notes.push(format!(
-                    "the diagnosis' healthy reference could not be fitted on the baseline ({e}); every recording is diagnosed self-referenced"
-                ));
-                None
-            }
-        }
-    } else {
-        notes.push("diagnosis not run: no evidence indicators, no fault named".into());
-        None
-    };
+    let reference = diagnosis_reference(&recs[..nb], fs, c.diagnosis, &mut notes);
     let obs = if c.observers {
         prepare_observers(&recs[..nb], c.fit_seconds, bearing, &mut notes)
     } else {
@@ -784,6 +766,7 @@ pub fn analyse_with_progress(
         .map(|(o, _)| o.tuned.iter().map(|t| t.0).collect())
         .unwrap_or_default();
     let indicators = columns(c.unit, c.diagnosis, &methods);
+    // 2. every recording's indicators, in parallel
     let measured: Vec<Measured> = recs
         .par_iter()
         .map(|r| {
@@ -806,188 +789,32 @@ pub fn analyse_with_progress(
         diagnosis_s: mean(1),
         observers_s: mean(2),
     };
-    // speed normalisation to the baseline's median speed
+    // 3. speed normalisation to the baseline's median speed, thresholds from the baseline
     let rpm_reference = alarm::median(&measured[..nb].iter().map(|m| m.rpm).collect::<Vec<_>>())
         .unwrap_or(recs[0].rpm);
     let speed_exponents = speed_exponents(&measured[..nb], &indicators, c, &mut notes);
-    let normalised: Vec<Vec<Option<f64>>> = measured
-        .iter()
-        .map(|m| {
-            let ratio = m.rpm / rpm_reference;
-            m.values
-                .iter()
-                .zip(&indicators)
-                .zip(&speed_exponents)
-                .map(|((v, i), p)| {
-                    v.map(|v| v / ratio.powf(p.unwrap_or(0.0) * i.scale.speed_power()))
-                        .filter(|v| v.is_finite())
-                })
-                .collect()
-        })
-        .collect();
-    let thresholds: Vec<Option<Threshold>> = (0..indicators.len())
-        .map(|j| {
-            let b: Vec<Option<f64>> = normalised[..nb].iter().map(|row| row[j]).collect();
-            alarm::threshold(&b, indicators[j].scale.domain(), c.k, MIN_BASELINES)
-        })
-        .collect();
-    for (i, t) in indicators.iter().zip(&thresholds) {
-        if t.is_none() {
-            notes.push(format!(
-                "{}: no threshold (fewer than {MIN_BASELINES} baseline values)",
-                i.name
-            ));
-        }
-    }
-    let above: Vec<Vec<bool>> = normalised
-        .iter()
-        .map(|row| {
-            row.iter()
-                .zip(&thresholds)
-                .map(|(v, t)| matches!((v, t), (Some(v), Some(t)) if *v > t.value))
-                .collect()
-        })
-        .collect();
-    let times: Vec<f64> = recs.iter().map(|r| r.time).collect();
-    let verdicts: Vec<Option<&str>> = measured.iter().map(|m| m.verdict.as_deref()).collect();
-    let zone_level = match (c.machine_group, c.unit.to_si()) {
-        (Some(g), Some(_)) => Some(g.boundaries_mm_s()[1]),
-        _ => None,
+    let normalised = normalise(&measured, &indicators, &speed_exponents, rpm_reference);
+    let thresholds = thresholds_of(&normalised, nb, &indicators, c.k, &mut notes);
+    let above = above_of(&normalised, &thresholds);
+    // 4. each indicator's onset, the alarm over the alarm indicators
+    let alarm_on = alarm_indicators(c.alarm_on.as_deref(), &indicators)?;
+    let (onsets, alarm) = {
+        let table = Table {
+            c,
+            axis,
+            recs,
+            indicators: &indicators,
+            measured: &measured,
+            normalised: &normalised,
+            thresholds: &thresholds,
+            above: &above,
+        };
+        let onsets: Vec<Option<Onset>> = (0..indicators.len()).map(|j| table.onset(j)).collect();
+        let alarm = table.alarm(&alarm_on, &onsets);
+        (onsets, alarm)
     };
-    let level_of = |j: usize| -> Option<(f64, String)> {
-        if indicators[j].name == "velocity_rms"
-            && let Some(l) = zone_level
-        {
-            return Some((l, format!("ISO 20816-3 zone B/C boundary ({l} mm/s)")));
-        }
-        thresholds[j].map(|t| {
-            (
-                c.level_factor * t.value,
-                format!("{} x threshold", c.level_factor),
-            )
-        })
-    };
-    let col = |j: usize| -> Vec<Option<f64>> { normalised.iter().map(|r| r[j]).collect() };
-    // each hypothesis' evidence over an onset's window (the fault named when the diagnosis
-    // says normal there)
-    let evidence_at = |lo: usize, idx: usize| {
-        evidence_window(
-            &indicators,
-            |k, jj| above[k][jj],
-            |k, jj| measured[k].values[jj],
-            lo,
-            idx,
-        )
-    };
-    let onsets: Vec<Option<Onset>> = (0..indicators.len())
-        .map(|j| {
-            let a: Vec<bool> = above.iter().map(|r| r[j]).collect();
-            let (idx, first) = alarm::m_of_n(&a, nb, c.m, c.n)?;
-            let lo = nb.max((idx + 1).saturating_sub(c.n));
-            let fired: Vec<Option<&str>> =
-                (lo..=idx).filter(|&k| a[k]).map(|k| verdicts[k]).collect();
-            let (level, basis) = level_of(j)?;
-            let evidence = evidence_at(lo, idx);
-            let (fault, fault_basis) = alarm::fault_named_with_trend(&fired, &evidence);
-            Some(Onset {
-                indicator: indicators[j].name.clone(),
-                index: idx,
-                time: times[idx],
-                first_exceedance_index: first,
-                fault,
-                fault_basis: fault_basis.to_string(),
-                severity: alarm::severity(&times, &col(j), idx, level, &basis, axis.rate_unit()),
-            })
-        })
-        .collect();
-    let alarm_on: Vec<String> = match &c.alarm_on {
-        Some(list) if list.len() == 1 && list[0] == ALARM_ON_ALL => {
-            indicators.iter().map(|i| i.name.clone()).collect()
-        }
-        Some(list) => {
-            for n in list {
-                if !indicators.iter().any(|i| &i.name == n) {
-                    return Err(TrendError::Config(format!(
-                        "alarm indicator `{n}` is not among this run's indicators ({})",
-                        indicators
-                            .iter()
-                            .map(|i| i.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    )));
-                }
-            }
-            list.clone()
-        }
-        // the gain-immune indicators: an amplitude or an energy cannot tell a fault from a
-        // load step or a sensor's gain (docs/equations/trend.md, "Onset alarm")
-        None => indicators
-            .iter()
-            .filter(|i| i.scale.gain_immune())
-            .map(|i| i.name.clone())
-            .collect(),
-    };
-    let alarm_idx: Vec<usize> = (0..indicators.len())
-        .filter(|&j| alarm_on.contains(&indicators[j].name))
-        .collect();
-    let alarm = alarm_idx
-        .iter()
-        .filter_map(|&j| onsets[j].as_ref().map(|o| o.index))
-        .min()
-        .map(|idx| {
-            let firing: Vec<usize> = alarm_idx
-                .iter()
-                .copied()
-                .filter(|&j| onsets[j].as_ref().is_some_and(|o| o.index == idx))
-                .collect();
-            let lo = nb.max((idx + 1).saturating_sub(c.n));
-            let fired: Vec<Option<&str>> = (lo..=idx)
-                .filter(|&k| firing.iter().any(|&j| above[k][j]))
-                .map(|k| verdicts[k])
-                .collect();
-            let evidence = evidence_at(lo, idx);
-            let (fault, fault_basis) = alarm::fault_named_with_trend(&fired, &evidence);
-            Alarm {
-                index: idx,
-                name: recs[idx].name.clone(),
-                time: times[idx],
-                indicators: firing.iter().map(|&j| indicators[j].name.clone()).collect(),
-                fault,
-                fault_basis: fault_basis.to_string(),
-                verdicts: fired.iter().flatten().map(|v| v.to_string()).collect(),
-                severity: firing
-                    .iter()
-                    .filter_map(|&j| onsets[j].as_ref().map(|o| o.severity.clone()))
-                    .collect(),
-            }
-        });
-    let rows: Vec<Row> = recs
-        .iter()
-        .zip(measured)
-        .zip(normalised)
-        .zip(above)
-        .enumerate()
-        .map(|(k, (((r, m), nv), ab))| {
-            let zone = match (c.machine_group, c.unit.to_si()) {
-                (Some(g), Some(_)) => m.values[4].map(|v| g.zone(v)),
-                _ => None,
-            };
-            Row {
-                name: r.name.clone(),
-                time: r.time,
-                baseline: k < nb,
-                rpm: m.rpm,
-                values: m.values,
-                normalised: nv,
-                above: ab,
-                verdict: m.verdict,
-                p_healthy: m.p_healthy,
-                modulation_depth: m.modulation_depth,
-                zone,
-                notes: m.notes,
-            }
-        })
-        .collect();
+    // 5. the rows
+    let rows = rows_of(recs, measured, normalised, above, c);
     Ok(TrendReport {
         axis,
         time_unit: axis.unit().to_string(),
@@ -1007,4 +834,285 @@ pub fn analyse_with_progress(
         notes,
         timing,
     })
+}
+
+/// The diagnosis' healthy reference, fitted on the baseline recordings joined (at most
+/// [`DIAGNOSIS_BASELINE_SECONDS`]); `None`, with a note, when the diagnosis is off or the fit
+/// fails (every recording is then diagnosed self-referenced).
+fn diagnosis_reference(
+    baseline: &[Recording],
+    fs: f64,
+    diagnose: bool,
+    notes: &mut Vec<String>,
+) -> Option<diagnosis::Baseline> {
+    if !diagnose {
+        notes.push("diagnosis not run: no evidence indicators, no fault named".into());
+        return None;
+    }
+    let cap = (DIAGNOSIS_BASELINE_SECONDS * fs) as usize;
+    let joined: Vec<f64> = baseline
+        .iter()
+        .flat_map(|r| r.samples.iter().copied())
+        .take(cap)
+        .collect();
+    match diagnosis::Baseline::prepare(&joined, fs) {
+        Ok(b) => Some(b),
+        Err(e) => {
+            notes.push(format!(
+                "the diagnosis' healthy reference could not be fitted on the baseline ({e}); every recording is diagnosed self-referenced"
+            ));
+            None
+        }
+    }
+}
+
+/// Each recording's indicators divided by (rpm / `rpm_reference`)^(p·power of its scale): the
+/// values the thresholds apply to (non-finite ones dropped).
+fn normalise(
+    measured: &[Measured],
+    indicators: &[IndicatorInfo],
+    speed_exponents: &[Option<f64>],
+    rpm_reference: f64,
+) -> Vec<Vec<Option<f64>>> {
+    measured
+        .iter()
+        .map(|m| {
+            let ratio = m.rpm / rpm_reference;
+            m.values
+                .iter()
+                .zip(indicators)
+                .zip(speed_exponents)
+                .map(|((v, i), p)| {
+                    v.map(|v| v / ratio.powf(p.unwrap_or(0.0) * i.scale.speed_power()))
+                        .filter(|v| v.is_finite())
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Each indicator's threshold from its first `nb` (baseline) normalised values; a note for each
+/// one without ([`MIN_BASELINES`]).
+fn thresholds_of(
+    normalised: &[Vec<Option<f64>>],
+    nb: usize,
+    indicators: &[IndicatorInfo],
+    k: f64,
+    notes: &mut Vec<String>,
+) -> Vec<Option<Threshold>> {
+    let thresholds: Vec<Option<Threshold>> = (0..indicators.len())
+        .map(|j| {
+            let b: Vec<Option<f64>> = normalised[..nb].iter().map(|row| row[j]).collect();
+            alarm::threshold(&b, indicators[j].scale.domain(), k, MIN_BASELINES)
+        })
+        .collect();
+    for (i, t) in indicators.iter().zip(&thresholds) {
+        if t.is_none() {
+            notes.push(format!(
+                "{}: no threshold (fewer than {MIN_BASELINES} baseline values)",
+                i.name
+            ));
+        }
+    }
+    thresholds
+}
+
+/// Per recording and indicator: above its threshold.
+fn above_of(normalised: &[Vec<Option<f64>>], thresholds: &[Option<Threshold>]) -> Vec<Vec<bool>> {
+    normalised
+        .iter()
+        .map(|row| {
+            row.iter()
+                .zip(thresholds)
+                .map(|(v, t)| matches!((v, t), (Some(v), Some(t)) if *v > t.value))
+                .collect()
+        })
+        .collect()
+}
+
+/// The indicators whose onsets make the run's alarm: those named (every one named must be a
+/// column of the run), every indicator for [`ALARM_ON_ALL`], by default the gain-immune ones —
+/// an amplitude or an energy cannot tell a fault from a load step or a sensor's gain
+/// (docs/equations/trend.md, "Onset alarm").
+fn alarm_indicators(named: Option<&[String]>, indicators: &[IndicatorInfo]) -> Result<Vec<String>> {
+    Ok(match named {
+        Some([all]) if all == ALARM_ON_ALL => indicators.iter().map(|i| i.name.clone()).collect(),
+        Some(list) => {
+            for n in list {
+                if !indicators.iter().any(|i| &i.name == n) {
+                    return Err(TrendError::Config(format!(
+                        "alarm indicator `{n}` is not among this run's indicators ({})",
+                        indicators
+                            .iter()
+                            .map(|i| i.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )));
+                }
+            }
+            list.to_vec()
+        }
+        None => indicators
+            .iter()
+            .filter(|i| i.scale.gain_immune())
+            .map(|i| i.name.clone())
+            .collect(),
+    })
+}
+
+/// What the onsets and the alarm are read from: the run's recordings, indicators, measured and
+/// normalised values, thresholds and exceedances.
+struct Table<'a> {
+    c: &'a TrendConfig,
+    axis: TimeAxis,
+    recs: &'a [Recording],
+    indicators: &'a [IndicatorInfo],
+    measured: &'a [Measured],
+    normalised: &'a [Vec<Option<f64>>],
+    thresholds: &'a [Option<Threshold>],
+    above: &'a [Vec<bool>],
+}
+
+impl Table<'_> {
+    /// The level the severity after an onset of indicator `j` is projected to: the ISO 20816-3
+    /// zone B/C boundary for the velocity when a machine group and the unit are given, else
+    /// `level_factor` × its threshold; `None` without a threshold.
+    fn level_of(&self, j: usize) -> Option<(f64, String)> {
+        let c = self.c;
+        if self.indicators[j].name == "velocity_rms"
+            && let (Some(g), Some(_)) = (c.machine_group, c.unit.to_si())
+        {
+            let l = g.boundaries_mm_s()[1];
+            return Some((l, format!("ISO 20816-3 zone B/C boundary ({l} mm/s)")));
+        }
+        self.thresholds[j].map(|t| {
+            (
+                c.level_factor * t.value,
+                format!("{} x threshold", c.level_factor),
+            )
+        })
+    }
+
+    /// The fault named over rows `lo..=idx` (the recordings in `fired` those that fired): the
+    /// diagnosis' verdicts, else the evidence's trend ([`alarm::fault_named_with_trend`]).
+    fn fault(&self, lo: usize, idx: usize, fired: &[usize]) -> (String, &'static str) {
+        let verdicts: Vec<Option<&str>> = fired
+            .iter()
+            .map(|&k| self.measured[k].verdict.as_deref())
+            .collect();
+        let evidence = evidence_window(
+            self.indicators,
+            |k, j| self.above[k][j],
+            |k, j| self.measured[k].values[j],
+            lo,
+            idx,
+        );
+        alarm::fault_named_with_trend(&verdicts, &evidence)
+    }
+
+    fn times(&self) -> Vec<f64> {
+        self.recs.iter().map(|r| r.time).collect()
+    }
+
+    /// Indicator `j`'s onset: the m-of-n rule from the end of the baseline, the fault named over
+    /// its window, its severity after.
+    fn onset(&self, j: usize) -> Option<Onset> {
+        let (c, nb) = (self.c, self.c.baseline_count);
+        let a: Vec<bool> = self.above.iter().map(|r| r[j]).collect();
+        let (idx, first) = alarm::m_of_n(&a, nb, c.m, c.n)?;
+        let lo = nb.max((idx + 1).saturating_sub(c.n));
+        let fired: Vec<usize> = (lo..=idx).filter(|&k| a[k]).collect();
+        let (level, basis) = self.level_of(j)?;
+        let (fault, fault_basis) = self.fault(lo, idx, &fired);
+        let times = self.times();
+        let col: Vec<Option<f64>> = self.normalised.iter().map(|r| r[j]).collect();
+        Some(Onset {
+            indicator: self.indicators[j].name.clone(),
+            index: idx,
+            time: times[idx],
+            first_exceedance_index: first,
+            fault,
+            fault_basis: fault_basis.to_string(),
+            severity: alarm::severity(&times, &col, idx, level, &basis, self.axis.rate_unit()),
+        })
+    }
+
+    /// The run's alarm: the earliest onset over the indicators named in `alarm_on`, with every
+    /// one whose onset is at that recording.
+    fn alarm(&self, alarm_on: &[String], onsets: &[Option<Onset>]) -> Option<Alarm> {
+        let (c, nb) = (self.c, self.c.baseline_count);
+        let alarm_idx: Vec<usize> = (0..self.indicators.len())
+            .filter(|&j| alarm_on.contains(&self.indicators[j].name))
+            .collect();
+        let idx = alarm_idx
+            .iter()
+            .filter_map(|&j| onsets[j].as_ref().map(|o| o.index))
+            .min()?;
+        let firing: Vec<usize> = alarm_idx
+            .iter()
+            .copied()
+            .filter(|&j| onsets[j].as_ref().is_some_and(|o| o.index == idx))
+            .collect();
+        let lo = nb.max((idx + 1).saturating_sub(c.n));
+        let fired: Vec<usize> = (lo..=idx)
+            .filter(|&k| firing.iter().any(|&j| self.above[k][j]))
+            .collect();
+        let (fault, fault_basis) = self.fault(lo, idx, &fired);
+        Some(Alarm {
+            index: idx,
+            name: self.recs[idx].name.clone(),
+            time: self.recs[idx].time,
+            indicators: firing
+                .iter()
+                .map(|&j| self.indicators[j].name.clone())
+                .collect(),
+            fault,
+            fault_basis: fault_basis.to_string(),
+            verdicts: fired
+                .iter()
+                .filter_map(|&k| self.measured[k].verdict.clone())
+                .collect(),
+            severity: firing
+                .iter()
+                .filter_map(|&j| onsets[j].as_ref().map(|o| o.severity.clone()))
+                .collect(),
+        })
+    }
+}
+
+/// The report's rows: each recording with its values, normalised values, exceedances, verdict
+/// and zone.
+fn rows_of(
+    recs: &[Recording],
+    measured: Vec<Measured>,
+    normalised: Vec<Vec<Option<f64>>>,
+    above: Vec<Vec<bool>>,
+    c: &TrendConfig,
+) -> Vec<Row> {
+    recs.iter()
+        .zip(measured)
+        .zip(normalised)
+        .zip(above)
+        .enumerate()
+        .map(|(k, (((r, m), nv), ab))| {
+            let zone = match (c.machine_group, c.unit.to_si()) {
+                (Some(g), Some(_)) => m.values[4].map(|v| g.zone(v)),
+                _ => None,
+            };
+            Row {
+                name: r.name.clone(),
+                time: r.time,
+                baseline: k < c.baseline_count,
+                rpm: m.rpm,
+                values: m.values,
+                normalised: nv,
+                above: ab,
+                verdict: m.verdict,
+                p_healthy: m.p_healthy,
+                modulation_depth: m.modulation_depth,
+                zone,
+                notes: m.notes,
+            }
+        })
+        .collect()
 }
