@@ -549,6 +549,19 @@ pub struct LifeTruth {
 }
 
 impl LifeTruth {
+    /// Recording `index`'s truth.
+    ///
+    /// # Errors
+    /// [`LifeError::NoSuchRecording`] past the run's end.
+    pub fn recording(&self, index: usize) -> Result<&RecordingTruth, LifeError> {
+        self.recordings
+            .get(index)
+            .ok_or(LifeError::NoSuchRecording {
+                index,
+                recordings: self.recordings.len(),
+            })
+    }
+
     /// Truth skeleton of a planned run (severity fields left `None`; the renderer fills them).
     #[allow(clippy::too_many_arguments)]
     pub fn from_plan(
@@ -836,13 +849,7 @@ fn render(
     index: usize,
     with_fault: bool,
 ) -> Result<LifeRecording, LifeError> {
-    let t = truth
-        .recordings
-        .get(index)
-        .ok_or(LifeError::NoSuchRecording {
-            index,
-            recordings: truth.recordings.len(),
-        })?;
+    let t = truth.recording(index)?;
     let base = machine_params(cfg, seed)?;
     let mut p = base.clone();
     let mut r = recording_rng(seed, index);

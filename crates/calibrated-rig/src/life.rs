@@ -198,13 +198,7 @@ fn render(
     index: usize,
     with_fault: bool,
 ) -> Result<LifeRecording, RigLifeError> {
-    let t = truth
-        .recordings
-        .get(index)
-        .ok_or(LifeError::NoSuchRecording {
-            index,
-            recordings: truth.recordings.len(),
-        })?;
+    let t = truth.recording(index)?;
     let n = (cfg.schedule.duration_s * rig.fs_hz).round() as usize;
     let rec_seed: u64 = recording_rng(seed, index).random();
     let class = match (t.spall_width_mm, with_fault) {
