@@ -98,17 +98,11 @@ fn all_real(
     let done: Vec<anyhow::Result<Row>> = records
         .par_iter()
         .map(|e| {
-            let fault = match e.fault {
-                bearing_data::FaultLocation::InnerRace => "inner",
-                bearing_data::FaultLocation::OuterRace => "outer",
-                bearing_data::FaultLocation::Ball => "ball",
-                bearing_data::FaultLocation::Normal => "none",
-            };
             let mut a = base(
                 bearing_data::record_path(dir, e.number)?,
                 out_dir.join(format!("{}.json", e.number)),
             );
-            a.fault = fault.into();
+            a.fault = bearing_model::FaultClass::from(e.fault).name().into();
             let prior = rigs
                 .iter()
                 .find(|(fs, _)| (*fs - e.fs()).abs() < 1.0)

@@ -11,9 +11,14 @@ use serde::{Deserialize, Serialize};
 
 use crate::{catalog_absent, catalog_table};
 
-/// Fault location of a record (the class label).
+/// A record's fault label (its class label): healthy (`Normal`) or where its seeded fault is.
+///
+/// Not a fault location: a location has no "normal". The workspace's fault location is
+/// `bearing_model::FaultLocation`, its fault class `bearing_model::FaultClass`; with this crate's
+/// feature `bearing-model` a label converts to either with `From` (`Option<FaultLocation>`,
+/// `None` for a normal record).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-pub enum FaultLocation {
+pub enum FaultLabel {
     /// Healthy baseline.
     Normal,
     /// Inner-race defect.
@@ -24,7 +29,7 @@ pub enum FaultLocation {
     OuterRace,
 }
 
-impl FaultLocation {
+impl FaultLabel {
     /// Short label: `normal`, `inner`, `ball`, `outer` (the manifest's spelling).
     pub fn as_str(self) -> &'static str {
         match self {
@@ -172,8 +177,8 @@ pub struct CatalogEntry {
     pub rel_path: &'static str,
     /// Sampling rate in Hz (12 000 or 48 000).
     pub fs_hz: u32,
-    /// Fault location (class label).
-    pub fault: FaultLocation,
+    /// Fault label: normal, or where the seeded fault is.
+    pub fault: FaultLabel,
     /// Fault diameter in thousandths of an inch (7, 14, 21, 28); `None` for normal.
     pub diameter_mils: Option<u16>,
     /// Outer-race defect position; `None` unless the fault is outer race.
@@ -203,7 +208,7 @@ impl CatalogEntry {
     /// The bearing end the fault was seeded at (`DriveEnd` for every catalogued fault record).
     pub fn fault_end(&self) -> Option<SensorEnd> {
         match self.fault {
-            FaultLocation::Normal => None,
+            FaultLabel::Normal => None,
             _ => Some(SensorEnd::DriveEnd),
         }
     }
@@ -231,11 +236,11 @@ impl CatalogEntry {
     pub fn class_name(&self) -> String {
         let d = self.diameter_mils.unwrap_or(0);
         match (self.fault, self.outer_position) {
-            (FaultLocation::Normal, _) => "normal".to_owned(),
-            (FaultLocation::InnerRace, _) => format!("IR{d:03}"),
-            (FaultLocation::Ball, _) => format!("B{d:03}"),
-            (FaultLocation::OuterRace, Some(p)) => format!("OR{d:03}@{}", p.clock()),
-            (FaultLocation::OuterRace, None) => format!("OR{d:03}"),
+            (FaultLabel::Normal, _) => "normal".to_owned(),
+            (FaultLabel::InnerRace, _) => format!("IR{d:03}"),
+            (FaultLabel::Ball, _) => format!("B{d:03}"),
+            (FaultLabel::OuterRace, Some(p)) => format!("OR{d:03}@{}", p.clock()),
+            (FaultLabel::OuterRace, None) => format!("OR{d:03}"),
         }
     }
 }
@@ -256,7 +261,7 @@ pub fn entry(number: u32) -> Option<&'static CatalogEntry> {
 /// A catalog filter; unset criteria match everything.
 ///
 /// ```
-/// use bearing_data::{Query, FaultLocation};
+/// use bearing_data::{Query, FaultLabel};
 /// // "all 12 kHz drive-end 0.014 in records at 2 hp"
 /// let hits: Vec<u32> = Query::new().fs_hz(12_000).diameter_in(0.014).load_hp(2)
 ///     .run().iter().map(|e| e.number).collect();
@@ -265,7 +270,7 @@ pub fn entry(number: u32) -> Option<&'static CatalogEntry> {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Query {
     fs_hz: Option<u32>,
-    fault: Option<FaultLocation>,
+    fault: Option<FaultLabel>,
     diameter_mils: Option<u16>,
     outer_position: Option<OuterPosition>,
     load_hp: Option<u8>,
@@ -283,8 +288,8 @@ impl Query {
         self.fs_hz = Some(hz);
         self
     }
-    /// Only records with this fault location.
-    pub fn fault(mut self, fault: FaultLocation) -> Self {
+    /// Only records with this fault label.
+    pub fn fault(mut self, fault: FaultLabel) -> Self {
         self.fault = Some(fault);
         self
     }

@@ -8,7 +8,7 @@
 //! Known quirks, handled by the reader: 99.mat also holds `X098_*` (the variables of 98.mat);
 //! 217.mat also holds `X215_*`; 175.mat holds an extra `X217_DE_time`.
 
-use crate::catalog::{CatalogEntry, Channels, FaultLocation as F, OuterPosition as P};
+use crate::catalog::{CatalogEntry, Channels, FaultLabel as F, OuterPosition as P};
 
 /// The records not in the shared copy, sorted by number.
 pub(crate) static ABSENT: [CatalogEntry; 42] = [

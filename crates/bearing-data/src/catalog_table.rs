@@ -3,7 +3,7 @@
 //! Generated from `shared/data/cwru/MANIFEST.csv` by `tests/catalog_table.rs`
 //! (`UPDATE_CATALOG=1 cargo test -p bearing-data --test catalog_table`). Do not edit.
 
-use crate::catalog::{CatalogEntry, Channels, FaultLocation as F, OuterPosition as P};
+use crate::catalog::{CatalogEntry, Channels, FaultLabel as F, OuterPosition as P};
 
 /// The records the shared copy holds, in manifest order.
 pub(crate) static PRESENT: [CatalogEntry; 74] = [

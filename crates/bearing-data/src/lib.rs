@@ -28,7 +28,9 @@
 //! in the build through the PNG encoder), `sha2` (RustCrypto SHA-256, the digest the
 //! public mirrors pin), `csv` (robust quoting/trimming/comments for users' text files),
 //! `thiserror` (the one typed error enum), `serde` (labels, rpm and the label enums derive
-//! `Serialize`/`Deserialize` so reports can write them).
+//! `Serialize`/`Deserialize` so reports can write them); optionally (feature `bearing-model`,
+//! off by default) `bearing-model`, for the `From` conversions of a [`FaultLabel`] to the
+//! workspace's fault vocabulary (`bearing_model::FaultClass`, `Option<bearing_model::FaultLocation>`).
 //!
 //! ```no_run
 //! use bearing_data::{DataLocation, LoadOptions, Query, load_record};
@@ -51,13 +53,23 @@ mod grades;
 mod location;
 mod mat;
 mod mat_tree;
+#[cfg(feature = "bearing-model")]
+mod model;
 mod recording;
 mod text;
 mod unit;
 
 pub use catalog::{
-    Bearing, CatalogEntry, Channels, FaultLocation, OuterPosition, Query, SensorEnd, catalog, entry,
+    Bearing, CatalogEntry, Channels, FaultLabel, OuterPosition, Query, SensorEnd, catalog, entry,
 };
+
+/// The former name of [`FaultLabel`], kept so that code written against it still compiles.
+#[deprecated(
+    note = "renamed `FaultLabel` (a record's class label, `Normal` included); the fault location \
+            is `bearing_model::FaultLocation`, and with the feature `bearing-model` a label \
+            converts to it (and to `bearing_model::FaultClass`) with `From`"
+)]
+pub type FaultLocation = FaultLabel;
 pub use checksum::{FileStatus, Verify, check_file, sha256_hex, verify_bytes};
 pub use decimate::{Decimator, DecimatorParams, decimate, integer_factor};
 pub use error::{DataError, MAX_SAMPLE_MAGNITUDE, Result, check_samples};

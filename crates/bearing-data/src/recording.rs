@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::catalog::{self, Bearing, CatalogEntry, FaultLocation, OuterPosition, SensorEnd};
+use crate::catalog::{self, Bearing, CatalogEntry, FaultLabel, OuterPosition, SensorEnd};
 use crate::checksum::{Verify, verify_bytes};
 use crate::decimate::{Decimator, DecimatorParams, integer_factor};
 use crate::error::{DataError, Result};
@@ -39,8 +39,8 @@ impl Rpm {
 /// The class labels of a record.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Labels {
-    /// Fault location.
-    pub fault: FaultLocation,
+    /// Fault label: normal, or where the seeded fault is.
+    pub fault: FaultLabel,
     /// Fault diameter in inches; `None` for normal.
     pub fault_diameter_in: Option<f64>,
     /// Outer-race defect position (outer-race faults only).

@@ -3,7 +3,7 @@
 use std::collections::HashSet;
 
 use bearing_data::{
-    Bearing, Channels, DataError, DataLocation, FaultLocation, OuterPosition, Query, SensorEnd,
+    Bearing, Channels, DataError, DataLocation, FaultLabel, OuterPosition, Query, SensorEnd,
     catalog, entry,
 };
 
@@ -28,7 +28,7 @@ fn catalog_counts_and_unique_numbers() {
     // Each class at 48 kHz has all four loads once the absent files are counted.
     let q48 = Query::new()
         .fs_hz(48_000)
-        .fault(FaultLocation::OuterRace)
+        .fault(FaultLabel::OuterRace)
         .diameter_in(0.021);
     assert_eq!(q48.run().len(), 12);
 }
@@ -74,12 +74,12 @@ fn query_from_the_issue() {
     // Normal records have no fault end.
     assert!(
         Query::new()
-            .fault(FaultLocation::Normal)
+            .fault(FaultLabel::Normal)
             .fault_end(SensorEnd::DriveEnd)
             .run()
             .is_empty()
     );
-    assert_eq!(Query::new().fault(FaultLocation::Normal).run().len(), 4);
+    assert_eq!(Query::new().fault(FaultLabel::Normal).run().len(), 4);
     assert_eq!(Query::new().fs_hz(12_000).run().len(), 60);
     assert!(Query::new().diameter_in(f64::NAN).run().is_empty());
     assert_eq!(entry(171).unwrap().fault_diameter_in(), Some(0.014));
@@ -108,4 +108,15 @@ fn data_location_resolution() {
     let found = DataLocation::resolve(Some(here), &root).unwrap();
     assert_eq!(found.path(), Some(here));
     assert_eq!(found.require(true).unwrap(), Some(here));
+}
+
+/// Code written against the label's former name, `FaultLocation`, still compiles (with a
+/// deprecation warning) and means the same type.
+#[test]
+fn former_label_name_still_compiles() {
+    #[allow(deprecated)]
+    let old: bearing_data::FaultLocation = bearing_data::FaultLocation::InnerRace;
+    assert_eq!(old, FaultLabel::InnerRace);
+    assert_eq!(old.as_str(), "inner");
+    assert_eq!(FaultLabel::parse("outer"), Some(FaultLabel::OuterRace));
 }

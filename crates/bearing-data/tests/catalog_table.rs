@@ -119,7 +119,7 @@ fn render(manifest: &str) -> String {
         "//! Catalog rows of the records in the shared data copy.\n//!\n\
          //! Generated from `shared/data/cwru/MANIFEST.csv` by `tests/catalog_table.rs`\n\
          //! (`UPDATE_CATALOG=1 cargo test -p bearing-data --test catalog_table`). Do not edit.\n\n\
-         use crate::catalog::{{CatalogEntry, Channels, FaultLocation as F, OuterPosition as P}};\n\n\
+         use crate::catalog::{{CatalogEntry, Channels, FaultLabel as F, OuterPosition as P}};\n\n\
          /// The records the shared copy holds, in manifest order.\n\
          pub(crate) static PRESENT: [CatalogEntry; {count}] = [\n{rows}];\n"
     )

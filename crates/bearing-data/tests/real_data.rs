@@ -5,7 +5,7 @@ mod common;
 use std::collections::HashMap;
 
 use bearing_data::{
-    DataError, FaultLocation, LoadOptions, RpmSource, Verify, entry, load_record, parse_record,
+    DataError, FaultLabel, LoadOptions, RpmSource, Verify, entry, load_record, parse_record,
     sha256_hex, verify_bytes,
 };
 
@@ -143,7 +143,7 @@ fn normal_97_decimates_to_12k_for_pairing() {
     };
     let rec = load_record(&dir, 97, &LoadOptions::default()).unwrap();
     assert_eq!(rec.fs_hz(), 48_000.0);
-    assert_eq!(rec.labels().fault, FaultLocation::Normal);
+    assert_eq!(rec.labels().fault, FaultLabel::Normal);
     let d = rec.de_at(12_000.0).unwrap();
     assert_eq!(d.len(), 243_938usize.div_ceil(4));
     // The anti-aliasing filter keeps the in-band content: the decimated RMS is within a few

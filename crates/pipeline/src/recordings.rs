@@ -6,7 +6,7 @@
 //! datasets. Decisions: `docs/equations/xtask-chapters.md`, "Data".
 
 use crate::{PipelineError, Result, SimKind};
-use bearing_data::{FaultLocation, LoadOptions, OuterPosition, Query};
+use bearing_data::{FaultLabel, LoadOptions, OuterPosition, Query};
 use bearing_model::FaultClass;
 use calibrated_rig::ExcitationCache;
 use std::path::Path;
@@ -164,16 +164,16 @@ pub fn cwru_number(class: u8, load: u8, crack: u8) -> Result<u32> {
         return Ok(97);
     }
     let fault = match class {
-        1 => FaultLocation::Ball,
-        2 => FaultLocation::OuterRace,
-        _ => FaultLocation::InnerRace,
+        1 => FaultLabel::Ball,
+        2 => FaultLabel::OuterRace,
+        _ => FaultLabel::InnerRace,
     };
     let mut q = Query::new()
         .fs_hz(12_000)
         .fault(fault)
         .diameter_in(CWRU_CRACKS_IN[crack as usize])
         .load_hp(load);
-    if fault == FaultLocation::OuterRace {
+    if fault == FaultLabel::OuterRace {
         q = q.outer_position(OuterPosition::Centered6);
     }
     let hits = q.run();

@@ -5,19 +5,14 @@
 
 use std::f64::consts::PI;
 
-use bearing_data::{CatalogEntry, FaultLocation as CatalogFault, OuterPosition};
+use bearing_data::{CatalogEntry, OuterPosition};
 use calibrated_rig::{Comparison, Location, RigModel, Synthesis, TrainingRecord, signal_stats};
 
 use crate::{PipelineError, Result};
 
-/// The fault location of a catalog record (`None` for a normal record).
+/// The fault location of a catalog record (`None` for a normal record): its label's `From`.
 pub fn location(e: &CatalogEntry) -> Option<Location> {
-    match e.fault {
-        CatalogFault::InnerRace => Some(Location::Inner),
-        CatalogFault::OuterRace => Some(Location::Outer),
-        CatalogFault::Ball => Some(Location::Ball),
-        CatalogFault::Normal => None,
-    }
+    e.fault.into()
 }
 
 /// The outer-race spall's angle in the load zone's frame, rad: 6 o'clock (centred in the load
