@@ -239,7 +239,10 @@ impl Setup {
     /// stores no rate), or samples in memory ([`BaselineSource::from_samples`]).
     fn new(a: SetupArgs<'_>) -> Result<Self, Failure> {
         let flags = RecordingFlags {
-            channel: a.channel.to_string(),
+            signal: hybrid_fdd_cli::flags::SignalFlags {
+                channel: a.channel.to_string(),
+                fs: None,
+            },
             bearing: Some(a.bearing.to_string()),
             alpha: a.alpha.unwrap_or(diagnosis::DEFAULT_FALSE_ALARM),
             ..RecordingFlags::default()
@@ -663,24 +666,37 @@ fn loop_args(
     seconds: Option<f64>,
     fault_size_in: Option<f64>,
     report: PathBuf,
-) -> hybrid_fdd_cli::close_loop::Args {
-    hybrid_fdd_cli::close_loop::Args {
+) -> Result<hybrid_fdd_cli::close_loop::Args, Failure> {
+    use hybrid_fdd_cli::close_loop::{DeclaredModelKind, LoopFlags};
+    let input = |e: anyhow::Error| Failure::new(Kind::Input, &e);
+    // the command's own parsers: bearing-model's fault classes, the `--model` values
+    let fault = close_loop::parse_fault(fault).map_err(|e| input(e.into()))?;
+    let model = <DeclaredModelKind as clap::ValueEnum>::from_str(model, false).map_err(|_| {
+        input(anyhow::anyhow!(
+            "unknown model `{model}` (physics, arx-laguerre, phenomenological)"
+        ))
+    })?;
+    Ok(hybrid_fdd_cli::close_loop::Args {
         input: Some(path),
-        channel: channel.to_string(),
-        fs,
-        rpm,
-        bearing,
-        fault: fault.to_string(),
-        model: model.to_string(),
-        line_frequency,
+        common: LoopFlags {
+            signal: hybrid_fdd_cli::flags::SignalFlags {
+                channel: channel.to_string(),
+                fs,
+            },
+            rpm,
+            bearing,
+            model,
+            units,
+            decimate,
+            line_frequency,
+        },
+        fault,
         seconds,
         max_effects,
         report: Some(report),
         machine: None,
-        units,
-        decimate,
         fault_size_in,
-    }
+    })
 }
 
 /// The JSON of the outcome: `(machine model as `calibrate` writes it, the ledger as `close-loop`
@@ -742,7 +758,7 @@ fn calibrate(
                 None,
                 None,
                 r,
-            );
+            )?;
             let (o, _, _) = hybrid_fdd_cli::close_loop::calibrate_one(&args)
                 .map_err(|e| Failure::new(kind_of(&e, Kind::Input), &e))?;
             outcome_json(&o)
@@ -805,7 +821,7 @@ fn close_loop_file(
                 seconds,
                 fault_size_in,
                 r,
-            );
+            )?;
             let (o, _, _) = hybrid_fdd_cli::close_loop::run_one(&args, prior.as_ref())
                 .map_err(|e| Failure::new(kind_of(&e, Kind::Input), &e))?;
             outcome_json(&o)

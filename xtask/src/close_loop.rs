@@ -4,9 +4,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use bearing_model::FaultClass;
 use close_loop::machine::MachineModel;
 use close_loop::{EffectKind, Outcome};
-use hybrid_fdd_cli::close_loop::{calibrate_one, effect_list, run_one};
+use hybrid_fdd_cli::close_loop::{LoopFlags, calibrate_one, effect_list, run_one};
+use hybrid_fdd_cli::flags::SignalFlags;
 
 use crate::common::Context;
 
@@ -48,19 +50,23 @@ fn all_real(
     std::fs::create_dir_all(&out_dir)?;
     let base = |input: PathBuf, report: PathBuf| hybrid_fdd_cli::close_loop::Args {
         input: Some(input),
-        channel: args.channel.clone(),
-        fs: None,
-        rpm: None,
-        bearing: args.bearing.clone(),
-        fault: "none".into(),
-        model: args.model.clone(),
-        line_frequency: args.line_frequency,
+        common: LoopFlags {
+            signal: SignalFlags {
+                channel: args.common.signal.channel.clone(),
+                fs: None,
+            },
+            rpm: None,
+            bearing: args.common.bearing.clone(),
+            model: args.common.model,
+            units: None,
+            decimate: 1,
+            line_frequency: args.common.line_frequency,
+        },
+        fault: FaultClass::None,
         seconds: args.seconds,
         max_effects: args.max_effects,
         report: Some(report),
         machine: None,
-        units: None,
-        decimate: 1,
         fault_size_in: None,
     };
     // the rig, calibrated on the healthy record at both rates
@@ -70,7 +76,7 @@ fn all_real(
     for (dec, name) in [(4usize, "rig-12k"), (1, "rig-48k")] {
         let t = Instant::now();
         let mut a = base(normal.clone(), out_dir.join(format!("{name}.report.json")));
-        a.decimate = dec;
+        a.common.decimate = dec;
         a.max_effects = args
             .max_effects
             .max(close_loop::machine::CALIBRATE_MAX_EFFECTS);
@@ -102,7 +108,7 @@ fn all_real(
                 bearing_data::record_path(dir, e.number)?,
                 out_dir.join(format!("{}.json", e.number)),
             );
-            a.fault = bearing_model::FaultClass::from(e.fault).name().into();
+            a.fault = FaultClass::from(e.fault);
             let prior = rigs
                 .iter()
                 .find(|(fs, _)| (*fs - e.fs()).abs() < 1.0)

@@ -7,16 +7,19 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context as _, bail};
+use bearing_model::FaultClass;
 use close_loop::machine::MachineModel;
 use close_loop::observe::ArxLaguerreDeclared;
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::PhenomenologicalModel;
 use close_loop::{
-    BearingSpec, DeclaredModel, LoopConfig, OperatingPoint, Outcome, close_loop_from, parse_fault,
+    BearingSpec, DeclaredModel, LoopConfig, OperatingPoint, Outcome, close_loop_from,
 };
 
+use crate::flags::{FaultClassParser, SignalFlags};
+
 /// Flags of this task.
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Debug, Clone)]
 // a negative --rpm or --fs gets the range error, not "unexpected argument"
 #[command(allow_negative_numbers = true)]
 pub struct Args {
@@ -25,40 +28,13 @@ pub struct Args {
     /// `hybrid-fdd simulate`'s CSV (its `accel` column is read, fs from `time_s`).
     #[arg(long)]
     pub input: Option<PathBuf>,
-    /// Channel: of a CWRU `.mat` file DE, FE or BA; of another MAT-file a variable path, a
-    /// struct element's `Name` or a last path component (by default its only long vector); of
-    /// a text file a column name or number.
-    #[arg(long, default_value = "DE")]
-    pub channel: String,
-    /// Sampling rate, Hz, of a recording that stores none (a text file without a time column).
-    /// A CWRU `.mat` file's rate and a time column's always win; a `--fs` more than 0.1 %
-    /// (`.mat`) or 1 % (time column) away from it is an error.
-    #[arg(long)]
-    pub fs: Option<f64>,
-    /// Declared shaft speed, rpm (when omitted: a CWRU file's stored speed; the `rpm` of a
-    /// `simulate` CSV's JSON sidecar, said on stderr).
-    #[arg(long)]
-    pub rpm: Option<f64>,
-    /// Bearing: a designation from the built-in catalogue (`hybrid-fdd bearings` lists them;
-    /// case-insensitive, a maker's name and seal or clearance suffixes ignored: `6205`, `uc204`,
-    /// `ZA-2115`), a geometry (`n=8,d=0.235in,D=1.245in,angle=0deg`) or the four shaft-rate
-    /// multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where `bsf` is
-    /// CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be doubled (the
-    /// 6205's textbook BSF is 2.3567). The physics model simulates 6205, 6203 or a geometry (a
-    /// catalogue bearing's included), not the multiples alone (`--model arx-laguerre` or `phenomenological` then). When omitted: a
-    /// `simulate` CSV's sidecar's bearing (said on stderr), else 6205.
-    #[arg(long)]
-    pub bearing: Option<String>,
-    /// Declared fault: none|outer|inner|ball.
-    #[arg(long, default_value = "none")]
-    pub fault: String,
-    /// Declared model: physics (5-DOF), arx-laguerre (identified on the fitting segment) or
-    /// phenomenological (impact train).
-    #[arg(long, default_value = "physics")]
-    pub model: String,
-    /// Mains frequency of the rig (a line nearer its multiples than fr's is a tone); 0 = unknown.
-    #[arg(long, default_value_t = 60.0)]
-    pub line_frequency: f64,
+    /// How the recording is read and what the loop is told about the machine.
+    #[command(flatten)]
+    pub common: LoopFlags,
+    /// Declared fault: none (also normal, healthy), inner, outer, ball or a combination joined
+    /// by `+` (also `-` or `,`; `ir`, `or`, `b` for short; any order and case).
+    #[arg(long, default_value = "none", value_parser = FaultClassParser)]
+    pub fault: FaultClass,
     /// Use at most this many seconds of the recording (from its start).
     #[arg(long)]
     pub seconds: Option<f64>,
@@ -73,6 +49,38 @@ pub struct Args {
     /// calibrate`) instead of the bare declared model.
     #[arg(long)]
     pub machine: Option<PathBuf>,
+    /// Spall width of the declared fault, inches (CWRU sizes 0.007 / 0.014 / 0.021 / 0.028;
+    /// a CWRU record's own when omitted).
+    #[arg(long)]
+    pub fault_size_in: Option<f64>,
+}
+
+/// The flags `close-loop` and `calibrate` share, with the same meaning: how the recording is
+/// read (channel, rate, units, decimation) and what the loop is told about the machine (speed,
+/// bearing, declared model, mains frequency).
+#[derive(clap::Args, Debug, Clone, PartialEq)]
+pub struct LoopFlags {
+    /// Channel and sampling rate, as `diagnose` reads them.
+    #[command(flatten)]
+    pub signal: SignalFlags,
+    /// Declared shaft speed, rpm (when omitted: a CWRU file's stored speed; the `rpm` of a
+    /// `simulate` CSV's JSON sidecar, said on stderr).
+    #[arg(long)]
+    pub rpm: Option<f64>,
+    /// Bearing: a designation from the built-in catalogue (`hybrid-fdd bearings` lists them;
+    /// case-insensitive, a maker's name and seal or clearance suffixes ignored: `6205`, `uc204`,
+    /// `ZA-2115`, `6206-2RS`), a geometry (`n=8,d=0.235in,D=1.245in,angle=0deg`) or the four
+    /// shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
+    /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
+    /// doubled (the 6205's textbook BSF is 2.3567). The physics model simulates 6205, 6203 or a
+    /// geometry (a catalogue bearing's included), not the multiples alone (`--model
+    /// arx-laguerre` or `phenomenological` then). When omitted: a `simulate` CSV's sidecar's
+    /// bearing (said on stderr), else 6205.
+    #[arg(long)]
+    pub bearing: Option<String>,
+    /// Declared model.
+    #[arg(long, value_enum, default_value_t = DeclaredModelKind::Physics)]
+    pub model: DeclaredModelKind,
     /// Units of the recording: g, m/s^2 or unknown (default: g for CWRU .mat files, m/s^2 for
     /// `simulate`'s CSV, unknown otherwise).
     #[arg(long)]
@@ -80,54 +88,48 @@ pub struct Args {
     /// Decimate the recording by this integer factor first (anti-aliased), e.g. 4 for 48 → 12 kHz.
     #[arg(long, default_value_t = 1)]
     pub decimate: usize,
-    /// Spall width of the declared fault, inches (CWRU sizes 0.007 / 0.014 / 0.021 / 0.028;
-    /// a CWRU record's own when omitted).
-    #[arg(long)]
-    pub fault_size_in: Option<f64>,
+    /// Mains frequency of the rig (a line nearer its multiples than fr's is a tone); 0 = unknown.
+    #[arg(long, default_value_t = 60.0)]
+    pub line_frequency: f64,
+}
+
+impl Default for LoopFlags {
+    /// The flags' defaults.
+    fn default() -> Self {
+        Self {
+            signal: SignalFlags::default(),
+            rpm: None,
+            bearing: None,
+            model: DeclaredModelKind::Physics,
+            units: None,
+            decimate: 1,
+            line_frequency: 60.0,
+        }
+    }
+}
+
+/// The declared model `--model` names: what the loop starts from.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DeclaredModelKind {
+    /// The 5-DOF physics model (a bearing's geometry: 6205, 6203 or `n=…,d=…,D=…`).
+    Physics,
+    /// ARX-Laguerre, identified on the fitting segment (any bearing).
+    ArxLaguerre,
+    /// An impact train (any bearing).
+    Phenomenological,
 }
 
 /// Flags of `hybrid-fdd calibrate` (and `cargo xtask calibrate`).
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Debug, Clone)]
 // a negative --rpm or --fs gets the range error, not "unexpected argument"
 #[command(allow_negative_numbers = true)]
 pub struct CalibrateArgs {
     /// Healthy recording (`.mat` or text, read as `close-loop --input`).
     #[arg(long)]
     pub input: PathBuf,
-    /// Channel, as `close-loop --channel`.
-    #[arg(long, default_value = "DE")]
-    pub channel: String,
-    /// Sampling rate, Hz, of a recording that stores none (as `close-loop --fs`: a CWRU file's
-    /// rate and a time column's win, a `--fs` that disagrees with them is an error).
-    #[arg(long)]
-    pub fs: Option<f64>,
-    /// Declared shaft speed, rpm (a CWRU file's stored speed, or a `simulate` sidecar's, when
-    /// omitted).
-    #[arg(long)]
-    pub rpm: Option<f64>,
-    /// Bearing: a designation from the built-in catalogue (`hybrid-fdd bearings` lists them;
-    /// case-insensitive: `6205`, `UC204`, `6206-2RS`), a geometry
-    /// (`n=12,d=7.94mm,D=38.5mm,angle=0deg`) or the four shaft-rate multiples (`bpfo=3.5848,bpfi=5.4152,ftf=0.39828,bsf=4.7135`, the 6205's), where
-    /// `bsf` is CWRU's ball-defect rate = 2 × the ball spin frequency: a textbook BSF must be
-    /// doubled (the 6205's textbook BSF is 2.3567). A bearing given by its four multiples only
-    /// needs `--model arx-laguerre` or `phenomenological`. When omitted: a `simulate` CSV's sidecar's
-    /// bearing (said on stderr), else 6205.
-    #[arg(long)]
-    pub bearing: Option<String>,
-    /// Declared model (as `close-loop --model`): physics (5-DOF; 6205, 6203 or a geometry),
-    /// arx-laguerre (identified on the fitting segment; any bearing) or phenomenological
-    /// (impact train; any bearing).
-    #[arg(long, default_value = "physics")]
-    pub model: String,
-    /// Units of the recording (as `close-loop --units`).
-    #[arg(long)]
-    pub units: Option<String>,
-    /// Decimate by this integer factor first (4: 48 kHz → 12 kHz).
-    #[arg(long, default_value_t = 1)]
-    pub decimate: usize,
-    /// Mains frequency of the rig; 0 = unknown.
-    #[arg(long, default_value_t = 60.0)]
-    pub line_frequency: f64,
+    /// As for `close-loop`.
+    #[command(flatten)]
+    pub common: LoopFlags,
     /// Maximum number of effects.
     #[arg(long, default_value_t = close_loop::machine::CALIBRATE_MAX_EFFECTS)]
     pub max_effects: usize,
@@ -143,19 +145,12 @@ pub fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
     let t = Instant::now();
     let args = Args {
         input: Some(a.input.clone()),
-        channel: a.channel,
-        fs: a.fs,
-        rpm: a.rpm,
-        bearing: a.bearing,
-        fault: "none".into(),
-        model: a.model,
-        line_frequency: a.line_frequency,
+        common: a.common,
+        fault: FaultClass::None,
         seconds: None,
         max_effects: a.max_effects,
         report: Some(report_beside(&a.out)),
         machine: None,
-        units: a.units,
-        decimate: a.decimate,
         fault_size_in: None,
     };
     let mut outputs = crate::report_files(&report_beside(&a.out));
@@ -351,38 +346,40 @@ fn run_one_as(
 ) -> anyhow::Result<(Outcome, f64, f64)> {
     let input = args.input.as_deref().context("--input is required")?;
     let report = args.report.as_deref().context("--report is required")?;
+    let common = &args.common;
     anyhow::ensure!(
-        args.line_frequency.is_finite() && args.line_frequency >= 0.0,
+        common.line_frequency.is_finite() && common.line_frequency >= 0.0,
         "--line-frequency must be a mains frequency in Hz, or 0 for unknown (got {})",
-        args.line_frequency
+        common.line_frequency
     );
     let mut read = vec![input];
     read.extend(args.machine.as_deref());
     crate::refuse_overwrite("--report", &crate::report_files(report), &read)?;
-    let loaded = crate::diagnose::load(input, &args.channel, args.fs)?;
-    let unit = match args.units.as_deref() {
+    let loaded = crate::diagnose::load(input, &common.signal.channel, common.signal.fs)?;
+    let unit = match common.units.as_deref() {
         Some(code) => close_loop::SampleUnit::from_code(code)?,
         None => loaded.unit.clone(),
     };
     let (mut y, mut fs) = (loaded.samples, loaded.fs_hz);
-    if args.decimate > 1 {
-        y = bearing_data::decimate(&y, args.decimate)?;
-        fs /= args.decimate as f64;
-    } else if args.decimate == 0 {
+    if common.decimate > 1 {
+        y = bearing_data::decimate(&y, common.decimate)?;
+        fs /= common.decimate as f64;
+    } else if common.decimate == 0 {
         bail!("--decimate must be >= 1");
     }
     if let Some(s) = args.seconds {
         y.truncate((s * fs).round() as usize);
     }
     let (rpm, note) = match loaded.rpm {
-        Some(r) => (Some(args.rpm.unwrap_or(r)), None),
-        None => crate::diagnose::rpm_or_sidecar(input, args.rpm),
+        Some(r) => (Some(common.rpm.unwrap_or(r)), None),
+        None => crate::diagnose::rpm_or_sidecar(input, common.rpm),
     };
     if let Some(n) = note {
         eprintln!("note: {n}");
     }
     let rpm = rpm.context("--rpm is required (the file stores no speed)")?;
-    let (bearing_text, note) = crate::diagnose::bearing_or_sidecar(input, args.bearing.as_deref())?;
+    let (bearing_text, note) =
+        crate::diagnose::bearing_or_sidecar(input, common.bearing.as_deref())?;
     if let Some(n) = note {
         eprintln!("note: {n}");
     }
@@ -395,7 +392,7 @@ fn run_one_as(
         },
         None => crate::parse_bearing(&bearing_text)?,
     };
-    let fault = parse_fault(&args.fault)?;
+    let fault = args.fault;
     let op = OperatingPoint::new(rpm, bearing, fault)?;
     if let Some(m) = prior {
         m.check_compatible(fs, &op.bearing.name)?;
@@ -403,12 +400,12 @@ fn run_one_as(
     }
     let cfg = LoopConfig {
         max_effects: args.max_effects,
-        line_frequency_hz: (args.line_frequency > 0.0).then_some(args.line_frequency),
+        line_frequency_hz: (common.line_frequency > 0.0).then_some(common.line_frequency),
         ..LoopConfig::default()
     }
     .check()?;
-    let model: Box<dyn DeclaredModel> = match args.model.as_str() {
-        "physics" => {
+    let model: Box<dyn DeclaredModel> = match common.model {
+        DeclaredModelKind::Physics => {
             let m = PhysicsModel::for_bearing(&op.bearing).with_context(|| {
                 format!(
                     "the physics model simulates a bearing's geometry (6205, 6203 or n=…,d=…,D=…[,angle=…]), not the four multiples `{}`; use --model arx-laguerre or phenomenological",
@@ -424,23 +421,22 @@ fn run_one_as(
                 ..m
             })
         }
-        "phenomenological" => Box::new(PhenomenologicalModel {
+        DeclaredModelKind::Phenomenological => Box::new(PhenomenologicalModel {
             resonance_hz: 3300.0f64.min(0.4 * fs),
             ..PhenomenologicalModel::default()
         }),
-        "arx-laguerre" => {
+        DeclaredModelKind::ArxLaguerre => {
             // identified on the fitting segment only (the held-out part stays unseen)
             let n_fit = close_loop::fit_len(y.len(), &cfg);
             Box::new(ArxLaguerreDeclared::identify(&y[..n_fit])?)
         }
-        other => bail!("unknown model `{other}` (physics, arx-laguerre, phenomenological)"),
     };
     let mut out = if calibrating {
         close_loop::machine::calibrate_with(model.as_ref(), &y, fs, &op, &cfg)?
     } else {
         close_loop_from(model.as_ref(), prior, &y, fs, &op, &cfg)?
     };
-    if fault == bearing_model::FaultClass::None {
+    if fault == FaultClass::None {
         // a healthy machine model is a diagnosis baseline: it needs a structural path even when
         // the declared model already explained the recording and the loop added none
         let n_fit = close_loop::fit_len(y.len(), &cfg);

@@ -5,7 +5,8 @@
 //! integer multiple of the recording's), the call into the `diagnosis` crate, and the reports
 //! (JSON, Markdown, PNG figure); the closed loop and calibration on one recording
 //! ([`close_loop`]), the 5-DOF simulation to CSV ([`simulate`]), the bearing catalogue as a
-//! table ([`bearings`]). No signal processing lives here.
+//! table ([`bearings`]); the flags several commands share and the parsers of the typed ones
+//! ([`flags`]). No signal processing lives here.
 
 /// `println!` that ignores a closed standard output (`hybrid-fdd simulate … | head`): the
 /// files are written either way, and a reader that went away is not an error of the command.
@@ -21,6 +22,7 @@ pub mod bearings;
 pub mod close_loop;
 pub mod diagnose;
 pub mod figure;
+pub mod flags;
 pub mod simulate;
 pub mod simulate_life;
 pub mod train;

@@ -30,6 +30,8 @@ use rayon::prelude::*;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::flags::FaultLocationParser;
+
 /// Flags of this task.
 #[derive(clap::Args, Debug)]
 #[command(allow_negative_numbers = true)]
@@ -38,12 +40,12 @@ pub struct Args {
     /// 6308 (20 kHz) (the phenomenological machine, m/s²).
     #[arg(long, default_value = "6205")]
     pub bearing: String,
-    /// auto (the rig for 6205, else the machine) | rig | machine.
-    #[arg(long, default_value = "auto")]
-    pub model: String,
-    /// Spall location: inner | outer | ball (one per run).
-    #[arg(long, default_value = "outer")]
-    pub fault: String,
+    /// What renders the run.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = LifeModel::Auto)]
+    pub model: LifeModel,
+    /// Spall location (one per run).
+    #[arg(long, default_value = "outer", value_parser = FaultLocationParser)]
+    pub fault: FaultLocation,
     /// Seed of the whole run (onset, nuisances, machine, noise).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -89,9 +91,9 @@ pub struct Args {
     /// Rig only: spall width at the last recording, mm (default 0.1778 = 0.007 in).
     #[arg(long)]
     pub width_end_mm: Option<f64>,
-    /// ims (`YYYY.MM.DD.hh.mm.ss`, one sample a line) | csv (`time_s,accel` + JSON sidecar).
-    #[arg(long, default_value = "ims")]
-    pub layout: String,
+    /// File layout.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = Layout::Ims)]
+    pub layout: Layout,
     /// Output directory (created; must be empty if it exists).
     #[arg(long)]
     pub out: PathBuf,
@@ -106,39 +108,33 @@ pub enum Run {
     Machine(LifeConfig),
 }
 
-/// File layout.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What renders a run (`--model`).
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LifeModel {
+    /// The calibrated rig for the 6205, else the phenomenological machine.
+    Auto,
+    /// The calibrated CWRU rig (the 6205 at 12 kHz, in g).
+    Rig,
+    /// The phenomenological machine (m/s²).
+    Machine,
+}
+
+/// File layout (`--layout`).
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Layout {
-    /// IMS-style ASCII files.
+    /// IMS-style ASCII files named `YYYY.MM.DD.hh.mm.ss`, one sample a line.
     Ims,
-    /// CSV + JSON sidecar.
+    /// `time_s,accel` CSV files and their JSON sidecars.
     Csv,
-}
-
-fn location(s: &str) -> anyhow::Result<FaultLocation> {
-    match s.trim().to_ascii_lowercase().as_str() {
-        "inner" => Ok(FaultLocation::Inner),
-        "outer" => Ok(FaultLocation::Outer),
-        "ball" => Ok(FaultLocation::Ball),
-        other => anyhow::bail!("--fault must be inner, outer or ball (got {other})"),
-    }
-}
-
-fn layout(s: &str) -> anyhow::Result<Layout> {
-    match s.trim().to_ascii_lowercase().as_str() {
-        "ims" => Ok(Layout::Ims),
-        "csv" => Ok(Layout::Csv),
-        other => anyhow::bail!("--layout must be ims or csv (got {other})"),
-    }
 }
 
 /// The run the flags describe (validated).
 ///
 /// # Errors
-/// Unknown bearing, model, fault or layout; flags of the other model; the configuration's
-/// typed errors.
+/// Unknown bearing; `--model rig` for another bearing; flags of the other model; the
+/// configuration's typed errors.
 pub fn run_of(args: &Args) -> anyhow::Result<Run> {
-    let loc = location(&args.fault)?;
+    let loc = args.fault;
     let schedule = Schedule {
         recordings: args.recordings,
         duration_s: args.duration,
@@ -152,15 +148,14 @@ pub fn run_of(args: &Args) -> anyhow::Result<Run> {
     };
     let entry = bearing_model::catalog::lookup(&args.bearing)?;
     let is_6205 = entry.designation == "6205";
-    let rig = match args.model.trim().to_ascii_lowercase().as_str() {
-        "auto" => is_6205,
-        "rig" if is_6205 => true,
-        "rig" => anyhow::bail!(
+    let rig = match args.model {
+        LifeModel::Auto => is_6205,
+        LifeModel::Rig if is_6205 => true,
+        LifeModel::Rig => anyhow::bail!(
             "--model rig: the calibrated rig is the 6205 at 12 kHz (got --bearing {})",
             args.bearing.trim()
         ),
-        "machine" => false,
-        other => anyhow::bail!("--model must be auto, rig or machine (got {other})"),
+        LifeModel::Machine => false,
     };
     if rig {
         if let Some(f) = [
@@ -263,7 +258,7 @@ fn write_ims(path: &Path, x: &[f64]) -> anyhow::Result<()> {
 
 /// Run the task.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let lay = layout(&args.layout)?;
+    let lay = args.layout;
     let spec = run_of(&args)?;
     if args.out.exists() {
         anyhow::ensure!(

@@ -28,9 +28,9 @@ pub struct Args {
     /// Seconds per example: each recording is cut into pieces this long (each ≥ 10 shaft turns).
     #[arg(long, default_value_t = 2.5)]
     pub segment_seconds: f64,
-    /// `tree` (Gini decision tree, rules) or `svm` (one-vs-one linear SVM).
-    #[arg(long, default_value = "tree")]
-    pub model: String,
+    /// The classifier.
+    #[arg(long, value_enum, default_value_t = ClassifierKind::Tree)]
+    pub model: ClassifierKind,
     /// Where to write the trained classifier (JSON).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -136,15 +136,22 @@ pub fn cross_validate(
         .collect()
 }
 
-/// The classifier named by `--model`.
-///
-/// # Errors
-/// A name other than `tree` or `svm`.
-pub fn spec_named(name: &str) -> anyhow::Result<classify::ClassifierSpec> {
-    match name {
-        "tree" => Ok(classify::ClassifierSpec::tree()),
-        "svm" => Ok(classify::ClassifierSpec::svm()),
-        other => bail!("--model {other:?}: use tree or svm"),
+/// The classifier `--model` names.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ClassifierKind {
+    /// A Gini decision tree (its rules are readable).
+    Tree,
+    /// A one-vs-one linear SVM.
+    Svm,
+}
+
+impl ClassifierKind {
+    /// The classifier with its default parameters.
+    pub fn spec(self) -> classify::ClassifierSpec {
+        match self {
+            Self::Tree => classify::ClassifierSpec::tree(),
+            Self::Svm => classify::ClassifierSpec::svm(),
+        }
     }
 }
 
@@ -213,7 +220,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if !(args.segment_seconds.is_finite() && args.segment_seconds > 0.0) {
         bail!("--segment-seconds must be > 0");
     }
-    let spec = spec_named(&args.model)?;
+    let spec = args.model.spec();
     let rows = read_labels(labels)?;
     let baseline = args.recording.baseline_source()?;
     let mut loaded: Vec<Loaded> = rows

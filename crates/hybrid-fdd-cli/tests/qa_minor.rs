@@ -61,27 +61,76 @@ fn close_loop(
 #[test]
 fn a_fault_location_named_twice_is_a_one_line_error() {
     let d = dir("qa-repeated");
+    let out = d.join("sim.csv");
     for fault in ["inner+inner", "outer+outer", "ball+inner+ball", "IR+inner"] {
-        // the calibrated rig (the default here) and the bare 5-DOF model
+        // refused as the flag is read (bearing-model's parser, clap's wording), before any
+        // simulation: the calibrated rig (the default here) and the bare 5-DOF model alike
         for params in ["auto", "cwru"] {
-            let e = simulate_error(
-                &d,
-                &["--fault", fault, "--params", params, "--duration", "0.1"],
+            let v = [
+                "simulate",
+                "--out",
+                s(&out),
+                "--fault",
+                fault,
+                "--params",
+                params,
+            ];
+            let e = Simulate::try_parse_from(v).unwrap_err().to_string();
+            let first = e.lines().next().unwrap_or_default();
+            assert!(
+                first.contains("twice") && first.contains(&format!("invalid value '{fault}'")),
+                "{fault}: {e}"
             );
-            assert!(e.contains("twice") && e.contains(fault), "{fault}: {e}");
-            assert!(!e.contains('\n'), "{e}");
         }
     }
-    assert!(!d.join("sim.csv").exists(), "nothing written");
+    assert!(!out.exists(), "nothing written");
     // close-loop parses its --fault with the same parser
-    let csv = d.join("rec.csv");
-    simulate_outer(&csv);
-    let e = format!(
-        "{:#}",
-        close_loop(&csv, "outer+outer", &d.join("r.json"), &[]).unwrap_err()
+    let e = CloseLoop::try_parse_from(["close-loop", "--fault", "outer+outer"])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.lines().next().unwrap_or_default().contains("outer twice"),
+        "{e}"
     );
-    assert!(e.contains("outer twice"), "{e}");
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// An unknown `--fault` is refused as the flag is read, with clap's error naming the value and
+/// listing the classes; `--help` lists them too; every spelling bearing-model's parser takes is
+/// still taken (`normal`, `healthy`, `ir`, any order and case).
+#[test]
+fn an_unknown_fault_is_refused_with_the_possible_values() {
+    const CLASSES: &str = "[possible values: none, inner, outer, ball, inner+outer, inner+ball, \
+                           outer+ball, inner+outer+ball]";
+    for e in [
+        Simulate::try_parse_from(["simulate", "--out", "x.csv", "--fault", "cage"]).unwrap_err(),
+        CloseLoop::try_parse_from(["close-loop", "--fault", "cage"]).unwrap_err(),
+    ] {
+        assert_eq!(e.kind(), clap::error::ErrorKind::InvalidValue);
+        let text = e.to_string();
+        assert!(
+            text.starts_with("error: invalid value 'cage' for '--fault <FAULT>'"),
+            "{text}"
+        );
+        assert!(text.contains(CLASSES), "{text}");
+    }
+    let help = <CloseLoop as clap::CommandFactory>::command()
+        .term_width(0)
+        .render_long_help()
+        .to_string();
+    assert!(help.contains(CLASSES), "{help}");
+    for (v, want) in [
+        ("normal", bearing_model::FaultClass::None),
+        ("Healthy", bearing_model::FaultClass::None),
+        ("IR", bearing_model::FaultClass::Inner),
+        ("or+inner", bearing_model::FaultClass::InnerOuter),
+        ("ball,OUTER,ir", bearing_model::FaultClass::InnerOuterBall),
+    ] {
+        let a = Simulate::try_parse_from(["simulate", "--out", "x.csv", "--fault", v])
+            .unwrap()
+            .a;
+        assert_eq!(a.fault, want, "{v}");
+    }
 }
 
 #[test]

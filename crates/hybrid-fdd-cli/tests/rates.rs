@@ -9,6 +9,7 @@ mod common;
 use clap::Parser as _;
 use common::{BEARING, Diagnose, Fault, dir, json, machine, s};
 use hybrid_fdd_cli::diagnose::{FsFlag, RecordingFlags, load, load_with};
+use hybrid_fdd_cli::flags::SignalFlags;
 
 /// BUG-3: `--baseline one.csv` (no time column) with `--fs` given is read at `--fs`.
 #[test]
@@ -17,9 +18,11 @@ fn a_one_column_baseline_is_read_at_fs() {
     let one = d.join("one.csv");
     common::write_one_column(&one, &machine(Fault::None, 20_000.0, 1500.0, 1.0, 1));
     let flags = RecordingFlags {
-        fs: Some(20_000.0),
+        signal: SignalFlags {
+            channel: "DE".into(),
+            fs: Some(20_000.0),
+        },
         baseline: Some(one.clone()),
-        channel: "DE".into(),
         ..RecordingFlags::default()
     };
     let b = flags
@@ -54,7 +57,13 @@ fn a_one_column_baseline_is_read_at_fs() {
     hybrid_fdd_cli::diagnose::run(&a).expect("diagnose with a one-column baseline");
     assert_eq!(json(&report)["reference"], "baseline");
     // without --fs the baseline's rate is unknown: a one-line error naming --fs
-    let flags = RecordingFlags { fs: None, ..flags };
+    let flags = RecordingFlags {
+        signal: SignalFlags {
+            fs: None,
+            ..flags.signal
+        },
+        ..flags
+    };
     let e = flags.baseline_source().unwrap_err();
     assert!(format!("{e:#}").contains("--fs is required"), "{e:#}");
     let _ = std::fs::remove_dir_all(&d);
@@ -83,9 +92,11 @@ fn a_decimated_baseline_is_compared_below_its_passband_edge() {
         ",",
     );
     let flags = RecordingFlags {
-        fs: Some(12_000.0),
+        signal: SignalFlags {
+            channel: "accel".into(),
+            fs: Some(12_000.0),
+        },
         baseline: Some(hi.clone()),
-        channel: "accel".into(),
         ..RecordingFlags::default()
     };
     let b = flags.baseline_source().unwrap().expect("given");

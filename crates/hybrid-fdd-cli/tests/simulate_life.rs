@@ -223,12 +223,10 @@ fn machine_run_in_csv_layout() {
 fn bad_flags_are_one_line_errors() {
     let d = common::dir("simulate-life-bad");
     for (i, flags) in [
-        &["--fault", "cage"][..],
-        &["--bearing", "UC204", "--width-start-mm", "0.1"],
+        &["--bearing", "UC204", "--width-start-mm", "0.1"][..],
         &["--severity-start-db", "-30"],
         &["--recordings", "1"],
         &["--bearing", "6203"],
-        &["--layout", "mat"],
         &["--duration", "0.01"],
         &["--onset-min", "0.8", "--onset-max", "0.2"],
         &["--bearing", "6308", "--model", "rig"],
@@ -244,5 +242,66 @@ fn bad_flags_are_one_line_errors() {
             "{flags:?}: {err}"
         );
     }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// A value outside a flag's values is refused before anything runs, with clap's error naming the
+/// value and listing the possible ones (and nothing written).
+#[test]
+fn an_unknown_fault_model_or_layout_lists_the_possible_values() {
+    let d = common::dir("simulate-life-values");
+    for (i, (flags, listed)) in [
+        (
+            &["--fault", "cage"][..],
+            "[possible values: inner, outer, ball]",
+        ),
+        (
+            &["--model", "5dof"],
+            "[possible values: auto, rig, machine]",
+        ),
+        (&["--layout", "mat"], "[possible values: ims, csv]"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let out = d.join(format!("r{i}"));
+        let o = simulate(&out, flags);
+        assert!(!o.status.success(), "{flags:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        let first = err.lines().next().unwrap_or_default();
+        assert_eq!(
+            first,
+            format!(
+                "error: invalid value '{}' for '{} <{}>'",
+                flags[1],
+                flags[0],
+                flags[0][2..].to_uppercase()
+            ),
+            "{err}"
+        );
+        assert!(err.contains(listed), "{flags:?}: {err}");
+        assert!(!out.exists(), "{flags:?}: nothing written");
+    }
+    // any case, as before
+    let o = simulate(
+        &d.join("upper"),
+        &[
+            "--fault",
+            "BALL",
+            "--model",
+            "Machine",
+            "--bearing",
+            "6308",
+            "--layout",
+            "CSV",
+            "--recordings",
+            "4",
+            "--duration",
+            "0.2",
+            "--interval",
+            "3600",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     std::fs::remove_dir_all(&d).ok();
 }

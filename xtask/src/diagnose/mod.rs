@@ -399,8 +399,12 @@ fn trained_section(all: &[diagnosis::Labelled], faulty: usize) -> anyhow::Result
         faulty,
         all.len()
     );
-    for (name, model) in [("Gini tree", "tree"), ("linear SVM", "svm")] {
-        let spec = hybrid_fdd_cli::train::spec_named(model)?;
+    use hybrid_fdd_cli::train::ClassifierKind;
+    for (name, model) in [
+        ("Gini tree", ClassifierKind::Tree),
+        ("linear SVM", ClassifierKind::Svm),
+    ] {
+        let spec = model.spec();
         for (protocol, r) in cross_validate(all, &spec) {
             match r {
                 Ok((avg, per)) => {

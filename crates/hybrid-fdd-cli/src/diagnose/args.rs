@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 
 use super::{BaselineSource, Plan};
+use crate::flags::SignalFlags;
 
 /// Flags of `diagnose`.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -34,24 +35,13 @@ pub struct Args {
     pub classifier: Option<PathBuf>,
 }
 
-/// The flags `diagnose` and `train-classifier` share: channel, rate, speed, bearing, baseline.
+/// The flags `diagnose` and `train-classifier` share: channel and rate ([`SignalFlags`], which
+/// `close-loop` and `calibrate` share too), speed, false-alarm level, bearing, baseline.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct RecordingFlags {
-    /// Channel: of a CWRU `.mat` file DE, FE or BA; of another MAT-file a variable path
-    /// (`bearing.gs`), a struct element's `Name` (`vibration_1`) or a last path component, by
-    /// default its only vector of at least 1024 samples; of a text file a column name or number
-    /// (1 = first; by default `accel`, the only column, or the second of `time,signal`).
-    #[arg(long, default_value = "DE")]
-    pub channel: String,
-    /// Sampling rate, Hz, of recordings that store none (a text file without a time column, a
-    /// MAT-file without a scalar rate beside its signal: `fs`, `sr`, `sample_rate`,
-    /// `sampling_rate`, `SampleFrequency`, `SamplingFrequency`, `SampleRate`, `freq_sampling`, …,
-    /// case and `_` ignored).
-    /// A CWRU `.mat` file's rate, a stored rate and a time column's always win: for a single file, a `--fs` more than 0.1 % (`.mat`) or 1 % (time column)
-    /// away from it is an error; in a directory batch (and `train-classifier`'s labelled list)
-    /// `--fs` applies only to the files that store no rate.
-    #[arg(long)]
-    pub fs: Option<f64>,
+    /// Channel and sampling rate (as `close-loop` and `calibrate` read them).
+    #[command(flatten)]
+    pub signal: SignalFlags,
     /// Shaft speed, rpm, as declared (a set point, a nameplate): the running speed is searched
     /// within ± 10 % of it in the recording's shaft comb (when omitted: a CWRU file's stored
     /// speed, else its nominal one; the `rpm` of a `simulate` CSV's JSON sidecar, said on
@@ -108,8 +98,8 @@ impl RecordingFlags {
             crate::parse_bearing(spec)?
         };
         Ok(Plan {
-            channel: self.channel.clone(),
-            fs: self.fs,
+            channel: self.signal.channel.clone(),
+            fs: self.signal.fs,
             rpm: self.rpm,
             bearing,
         })
@@ -148,7 +138,7 @@ impl RecordingFlags {
     pub fn baseline_source(&self) -> anyhow::Result<Option<BaselineSource>> {
         self.baseline
             .as_deref()
-            .map(|p| BaselineSource::load(p, &self.channel, self.fs))
+            .map(|p| BaselineSource::load(p, &self.signal.channel, self.signal.fs))
             .transpose()
     }
 }

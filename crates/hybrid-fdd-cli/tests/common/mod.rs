@@ -13,28 +13,28 @@ use clap::Parser;
 pub const BEARING: &str = "n=12,d=7.94mm,D=38.5mm,angle=0deg";
 
 /// `diagnose`'s flags.
-#[derive(Parser)]
+#[derive(Parser, Debug)]
 pub struct Diagnose {
     #[command(flatten)]
     pub a: hybrid_fdd_cli::diagnose::Args,
 }
 
 /// `calibrate`'s flags.
-#[derive(Parser)]
+#[derive(Parser, Debug)]
 pub struct Calibrate {
     #[command(flatten)]
     pub a: hybrid_fdd_cli::close_loop::CalibrateArgs,
 }
 
 /// `close-loop`'s flags.
-#[derive(Parser)]
+#[derive(Parser, Debug)]
 pub struct CloseLoop {
     #[command(flatten)]
     pub a: hybrid_fdd_cli::close_loop::Args,
 }
 
 /// `simulate`'s flags.
-#[derive(Parser)]
+#[derive(Parser, Debug)]
 pub struct Simulate {
     #[command(flatten)]
     pub a: hybrid_fdd_cli::simulate::Args,
