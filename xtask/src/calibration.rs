@@ -32,53 +32,100 @@ struct Row {
     cmp: Comparison,
 }
 
+/// The measured recordings the calibration reads, on the drive end at 12 kHz: the healthy 97 and
+/// every drive-end fault record on disk.
+struct Measured {
+    /// 97's samples.
+    healthy: Vec<f64>,
+    /// 97's speed, rpm.
+    rpm_h: f64,
+    /// Each fault record's catalogue entry, samples and speed (rpm), in catalogue order.
+    loaded: Vec<(&'static CatalogEntry, Vec<f64>, f64)>,
+    /// `<number>.mat` of each loaded record (the training records' names).
+    names: Vec<String>,
+}
+
+impl Measured {
+    /// Load 97, then every drive-end fault record of the catalogue that is on disk.
+    fn load(dir: &std::path::Path) -> anyhow::Result<Self> {
+        let (healthy, rpm_h) = load_de(dir, 97)?;
+        let entries: Vec<&CatalogEntry> = bearing_data::catalog()
+            .filter(|e| e.number != 97 && e.fault_end() == Some(SensorEnd::DriveEnd))
+            .filter(|e| bearing_data::record_path(dir, e.number).is_ok_and(|p| p.exists()))
+            .collect();
+        let mut loaded = Vec::new();
+        for e in &entries {
+            let (y, rpm) = load_de(dir, e.number)?;
+            loaded.push((*e, y, rpm));
+        }
+        let names: Vec<String> = loaded
+            .iter()
+            .map(|(e, _, _)| format!("{}.mat", e.number))
+            .collect();
+        Ok(Self {
+            healthy,
+            rpm_h,
+            loaded,
+            names,
+        })
+    }
+
+    /// The training records (see [`is_training`]) that `keep` keeps.
+    fn training(&self, keep: impl Fn(&CatalogEntry) -> bool) -> Vec<TrainingRecord<'_>> {
+        self.loaded
+            .iter()
+            .zip(&self.names)
+            .filter(|((e, _, _), _)| is_training(e) && keep(e))
+            .filter_map(|((e, y, rpm), name)| training_record(e, name, y, *rpm))
+            .collect()
+    }
+
+    /// The rig calibrated on 97 and `training` under `rule`.
+    fn calibrate(
+        &self,
+        training: &[TrainingRecord<'_>],
+        cfg: &close_loop::CheckedConfig,
+        rule: &str,
+    ) -> anyhow::Result<RigModel> {
+        Ok(rig::calibrate_rig(
+            &self.healthy,
+            FS,
+            self.rpm_h,
+            bearing_model::Bearing::Skf6205,
+            training,
+            cfg,
+            rule,
+        )?)
+    }
+}
+
+/// Record `n`'s drive-end channel at 12 kHz and its speed (rpm).
+fn load_de(dir: &std::path::Path, n: u32) -> anyhow::Result<(Vec<f64>, f64)> {
+    let rec = bearing_data::load_record(dir, n, &LoadOptions::unverified())
+        .with_context(|| format!("loading {n}.mat"))?;
+    let y = rec
+        .channel_at(SensorEnd::DriveEnd, FS)?
+        .with_context(|| format!("{n}.mat has no DE channel"))?
+        .into_owned();
+    Ok((y, rec.rpm().value))
+}
+
+/// A record the calibration fits on: 12 kHz at 0 hp (see [`RULE`]).
+fn is_training(e: &CatalogEntry) -> bool {
+    e.fs_hz == 12_000 && e.load_hp == 0
+}
+
 /// Run the task.
 pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     let Some(dir) = ctx.data_dir_or_skip()? else {
         println!("calibrate-rig: no data directory found; nothing to calibrate on");
         return Ok(());
     };
-    let load = |n: u32| -> anyhow::Result<(Vec<f64>, f64)> {
-        let rec = bearing_data::load_record(dir, n, &LoadOptions::unverified())
-            .with_context(|| format!("loading {n}.mat"))?;
-        let y = rec
-            .channel_at(SensorEnd::DriveEnd, FS)?
-            .with_context(|| format!("{n}.mat has no DE channel"))?
-            .into_owned();
-        Ok((y, rec.rpm().value))
-    };
     let t0 = std::time::Instant::now();
-    let (healthy, rpm_h) = load(97)?;
-    let entries: Vec<&CatalogEntry> = bearing_data::catalog()
-        .filter(|e| e.number != 97 && e.fault_end() == Some(SensorEnd::DriveEnd))
-        .filter(|e| bearing_data::record_path(dir, e.number).is_ok_and(|p| p.exists()))
-        .collect();
-    let is_training = |e: &CatalogEntry| e.fs_hz == 12_000 && e.load_hp == 0;
-    let mut loaded = Vec::new();
-    for e in &entries {
-        let (y, rpm) = load(e.number)?;
-        loaded.push((*e, y, rpm));
-    }
-    let names: Vec<String> = loaded
-        .iter()
-        .map(|(e, _, _)| format!("{}.mat", e.number))
-        .collect();
-    let training: Vec<TrainingRecord<'_>> = loaded
-        .iter()
-        .zip(&names)
-        .filter(|((e, _, _), _)| is_training(e))
-        .filter_map(|((e, y, rpm), name)| training_record(e, name, y, *rpm))
-        .collect();
+    let measured = Measured::load(dir)?;
+    let training = measured.training(|_| true);
     let cfg = close_loop::LoopConfig::default().check()?;
-    let mut model = rig::calibrate_rig(
-        &healthy,
-        FS,
-        rpm_h,
-        bearing_model::Bearing::Skf6205,
-        &training,
-        &cfg,
-        RULE,
-    )?;
+    let mut model = measured.calibrate(&training, &cfg, RULE)?;
     model.units = "g".into();
     model.provenance.healthy_record = "97.mat (DE, 48 kHz decimated by 4)".into();
     model.healthy.units = "g".into();
@@ -88,12 +135,28 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         training.len(),
         t0.elapsed().as_secs_f64()
     );
+    let (rows, sim_h) = compare_records(&model, &measured)?;
+    let figure = spectra_figure(&model, &measured, &sim_h)?;
+    let mut rows: Vec<Row> = rows.into_iter().collect::<anyhow::Result<_>>()?;
+    rows[1..].sort_by_key(|r| (r.role != "fit", r.role.len(), r.number));
+    let extra = leave_one_size_out(&measured, &cfg)? + &ceiling(&rows);
+    write(ctx, &model, &rows, &figure, &extra, args.check)
+}
+
+/// Every record simulated and compared with its measurement, in parallel: 97 first (the
+/// healthy machine at 97's own levels), then the fault records in catalogue order, each
+/// with its role (fit, held out, held out at 48 kHz). Also returns 97's simulation.
+fn compare_records(
+    model: &RigModel,
+    measured: &Measured,
+) -> anyhow::Result<(Vec<anyhow::Result<Row>>, Vec<f64>)> {
     use rayon::prelude::*;
-    let bar = indicatif::ProgressBar::new(loaded.len() as u64 + 1);
-    let mut rows: Vec<anyhow::Result<Row>> = loaded
+    let bar = indicatif::ProgressBar::new(measured.loaded.len() as u64 + 1);
+    let mut rows: Vec<anyhow::Result<Row>> = measured
+        .loaded
         .par_iter()
         .map(|(e, y, rpm)| {
-            let cmp = compare_record(&model, e, y, FS, *rpm)?;
+            let cmp = compare_record(model, e, y, FS, *rpm)?;
             bar.inc(1);
             Ok(Row {
                 number: e.number,
@@ -111,6 +174,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         })
         .collect();
     // the healthy record is compared with the healthy machine at its own recording's levels
+    let (healthy, rpm_h) = (&measured.healthy, measured.rpm_h);
     let sim_h = model.background_as_calibrated(rpm_h, healthy.len(), 97);
     rows.insert(
         0,
@@ -120,32 +184,36 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
             role: "fit (healthy)",
             rpm: rpm_h,
             cmp: Comparison {
-                measured: rig::signal_stats(&healthy, FS, None)?,
+                measured: rig::signal_stats(healthy, FS, None)?,
                 simulated: rig::signal_stats(&sim_h, FS, None)?,
             },
         }),
     );
     bar.finish_and_clear();
-    // measured against simulated spectra of the healthy record and the first held-out record of
-    // each location and outer-race position
+    Ok((rows, sim_h))
+}
+
+/// Measured against simulated spectra of the healthy record (`sim_h` its simulation) and of the
+/// first held-out 12 kHz record of each location and outer-race position: the figure's PNG.
+fn spectra_figure(model: &RigModel, measured: &Measured, sim_h: &[f64]) -> anyhow::Result<Vec<u8>> {
     let welch = close_loop::spectrum::Welch::new(FS, 512)?;
     let f: Vec<f64> = (0..welch.n_bins()).map(|k| welch.frequency(k)).collect();
     let mut panels = vec![(
         "97 normal (fit; healthy machine at 97's levels)".to_string(),
         f.clone(),
         vec![
-            ("measured".to_string(), welch.try_psd(&healthy)?),
-            ("simulated".to_string(), welch.try_psd(&sim_h)?),
+            ("measured".to_string(), welch.try_psd(&measured.healthy)?),
+            ("simulated".to_string(), welch.try_psd(sim_h)?),
         ],
     )];
     let mut seen = Vec::new();
-    for (e, y, rpm) in &loaded {
+    for (e, y, rpm) in &measured.loaded {
         let key = (e.fault, e.outer_position);
         if is_training(e) || e.fs_hz != 12_000 || seen.contains(&key) {
             continue;
         }
         seen.push(key);
-        let (sim, _) = simulate_record(&model, e, *rpm, y.len())?;
+        let (sim, _) = simulate_record(model, e, *rpm, y.len())?;
         panels.push((
             format!("{} {} (held out, {:.0} rpm)", e.number, e.class_name(), rpm),
             f.clone(),
@@ -155,33 +223,27 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
             ],
         ));
     }
-    let figure = crate::chapters::figures::spectra(
+    crate::chapters::figures::spectra(
         "Calibrated rig: Welch PSD, measured vs simulated (g²/Hz, 12 kHz DE)",
         &panels,
-    )?;
-    let mut rows: Vec<Row> = rows.into_iter().collect::<anyhow::Result<_>>()?;
-    rows[1..].sort_by_key(|r| (r.role != "fit", r.role.len(), r.number));
-    // a second protocol: the 0.014 in bearings held out entirely (every load)
+    )
+}
+
+/// A second protocol: the same calibration without the 0.014 in bearings (every load held out),
+/// their 12 kHz records compared: the README's paragraph and table.
+fn leave_one_size_out(
+    measured: &Measured,
+    cfg: &close_loop::CheckedConfig,
+) -> anyhow::Result<String> {
+    use rayon::prelude::*;
     let held_size = |e: &CatalogEntry| {
         e.fault_diameter_in()
             .is_some_and(|d| (d - 0.014).abs() < 1e-6)
     };
-    let training2: Vec<TrainingRecord<'_>> = loaded
-        .iter()
-        .zip(&names)
-        .filter(|((e, _, _), _)| is_training(e) && !held_size(e))
-        .filter_map(|((e, y, rpm), name)| training_record(e, name, y, *rpm))
-        .collect();
-    let model2 = rig::calibrate_rig(
-        &healthy,
-        FS,
-        rpm_h,
-        bearing_model::Bearing::Skf6205,
-        &training2,
-        &cfg,
-        "leave one size out",
-    )?;
-    let rows2: Vec<Row> = loaded
+    let training2 = measured.training(|e| !held_size(e));
+    let model2 = measured.calibrate(&training2, cfg, "leave one size out")?;
+    let rows2: Vec<Row> = measured
+        .loaded
         .par_iter()
         .filter(|(e, _, _)| e.fs_hz == 12_000 && held_size(e))
         .map(|(e, y, rpm)| {
@@ -194,7 +256,7 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
             })
         })
         .collect::<anyhow::Result<_>>()?;
-    let extra = format!(
+    Ok(format!(
         "\n**Second protocol, leave one size out:** the same calibration without the 0.014 in \
          bearings (169, 185, 197), whose severity then comes from interpolating 0.007 and 0.021 in; \
          its {} records at 12 kHz (every load) held out:\n\n| records | n | RMS within ×1.5 | all four \
@@ -202,10 +264,11 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
          |kurtosis error| | median |fault-line prominence error| (dB) |\n|---|---|---|---|---|---|---|---|\n{}",
         rows2.len(),
         summary_row("0.014 in held out", &rows2.iter().collect::<Vec<_>>())
-    ) + &ceiling(&rows);
-    write(ctx, &model, &rows, &figure, &extra, args.check)
+    ))
 }
 
+/// Write (or with `check` compare with the committed) `results/calibration/` — README, records'
+/// CSV, rig JSON — and the rig the simulator uses; the figure and the summary only when writing.
 fn write(
     ctx: &Context,
     model: &RigModel,
@@ -215,6 +278,52 @@ fn write(
     check: bool,
 ) -> anyhow::Result<()> {
     let out = ctx.root.join("results/calibration");
+    let mut md = calibration_section(model);
+    md.push_str(&severity_table(model));
+    let mut summary = String::new();
+    for role in ["fit", "held out"] {
+        let set: Vec<&Row> = rows.iter().filter(|r| r.role.starts_with(role)).collect();
+        summary.push_str(&summary_row(role, &set));
+    }
+    md.push_str(
+        "\n## Summary\n\n| records | n | RMS within ×1.5 | all four bands within ×1.5 (per band: 0–1 / 1–2 / 2–4 / 4–6 kHz) | kurtosis within 30 % | median RMS sim/meas | median |kurtosis error| | median |fault-line prominence error| (dB) |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    md.push_str(&summary);
+    md.push_str(extra);
+    let (records_md, csv) = record_tables(rows)?;
+    md.push_str(&records_md);
+    let json = model.to_json()? + "\n";
+    let files = [
+        (out.join("README.md"), md),
+        (out.join("records.csv"), csv),
+        (out.join("rig.json"), json.clone()),
+        (
+            ctx.root.join("crates/calibrated-rig/rig/cwru-12k.json"),
+            json,
+        ),
+    ];
+    if check {
+        for (p, text) in &files {
+            let old = std::fs::read_to_string(p).unwrap_or_default();
+            anyhow::ensure!(&old == text, "{} differs from a fresh run", p.display());
+        }
+        println!("calibrate-rig --check: {} files match", files.len());
+        return Ok(());
+    }
+    for (p, text) in &files {
+        if let Some(d) = p.parent() {
+            std::fs::create_dir_all(d)?;
+        }
+        std::fs::write(p, text)?;
+    }
+    std::fs::write(out.join("psd_measured_vs_simulated.png"), figure)?;
+    print!("{summary}");
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// The README's heading, its note on units and its paragraph on what was calibrated on what.
+fn calibration_section(model: &RigModel) -> String {
     let mut md = String::from(
         "# The simulator calibrated to the measured CWRU rig\n\n\
          Generated by `cargo xtask calibrate-rig`; do not edit. Model: `calibrated_rig` \
@@ -263,6 +372,12 @@ fn write(
         model.chain_fir.len(),
         rig::PATH_REFINEMENTS,
     ));
+    md
+}
+
+/// The table of the severities: one row per fault location, outer-race position and size.
+fn severity_table(model: &RigModel) -> String {
+    let mut md = String::new();
     md.push_str(
         "| severity | position | size (mm) | gain | random fraction | strike fraction | record |\n|---|---|---|---|---|---|---|\n",
     );
@@ -292,16 +407,12 @@ fn write(
             s.record
         ));
     }
-    let mut summary = String::new();
-    for role in ["fit", "held out"] {
-        let set: Vec<&Row> = rows.iter().filter(|r| r.role.starts_with(role)).collect();
-        summary.push_str(&summary_row(role, &set));
-    }
-    md.push_str(
-        "\n## Summary\n\n| records | n | RMS within ×1.5 | all four bands within ×1.5 (per band: 0–1 / 1–2 / 2–4 / 4–6 kHz) | kurtosis within 30 % | median RMS sim/meas | median |kurtosis error| | median |fault-line prominence error| (dB) |\n|---|---|---|---|---|---|---|---|\n",
-    );
-    md.push_str(&summary);
-    md.push_str(extra);
+    md
+}
+
+/// Every record, simulated against measured: the README's table and `records.csv`.
+fn record_tables(rows: &[Row]) -> anyhow::Result<(String, String)> {
+    let mut md = String::new();
     md.push_str(
         "\n## Every record, simulated against measured\n\n\
          Bands: mean square in 0–1, 1–2, 2–4, 4–6 kHz, ratio simulated/measured. Line: prominence of \
@@ -371,37 +482,9 @@ fn write(
         ])?;
     }
     let csv = String::from_utf8(csv.into_inner()?)?;
-    let json = model.to_json()? + "\n";
-    let files = [
-        (out.join("README.md"), md),
-        (out.join("records.csv"), csv),
-        (out.join("rig.json"), json.clone()),
-        (
-            ctx.root.join("crates/calibrated-rig/rig/cwru-12k.json"),
-            json,
-        ),
-    ];
-    if check {
-        for (p, text) in &files {
-            let old = std::fs::read_to_string(p).unwrap_or_default();
-            anyhow::ensure!(&old == text, "{} differs from a fresh run", p.display());
-        }
-        println!("calibrate-rig --check: {} files match", files.len());
-        return Ok(());
-    }
-    for (p, text) in &files {
-        if let Some(d) = p.parent() {
-            std::fs::create_dir_all(d)?;
-        }
-        std::fs::write(p, text)?;
-    }
-    std::fs::write(out.join("psd_measured_vs_simulated.png"), figure)?;
-    print!("{summary}");
-    println!("wrote {}", out.display());
-    Ok(())
+    Ok((md, csv))
 }
 
-/// One line of the summary table: targets met over `set`.
 /// The same targets met by the best a load-independent model of each bearing can do: the
 /// measured 0 hp, 12 kHz record of the same bearing (class, size, outer-race position) taken as
 /// the prediction of each held-out record of that bearing — measured statistics only, nothing
@@ -462,6 +545,7 @@ fn ceiling(rows: &[Row]) -> String {
     )
 }
 
+/// One line of the summary table: targets met over `set`.
 fn summary_row(role: &str, set: &[&Row]) -> String {
     let n = set.len();
     let (mut a, mut b, mut c) = (0, 0, 0);

@@ -176,6 +176,7 @@ fn score_record(dir: &Path, number: u32, args: &Args) -> anyhow::Result<Vec<Row>
     Ok(rows)
 }
 
+/// The report's three files: README (markdown), CSV and JSON.
 fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)> {
     let mut md = String::new();
     writeln!(md, "<!-- {GENERATED}; do not edit -->")?;
@@ -192,7 +193,36 @@ fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)>
          corrected), ±3σ universes, N_f = 2. NRMSE = ‖y − ŷ‖ / ‖y − ȳ‖ on the scored segment.\n",
         args.fit_len, args.test_len, args.n_a, args.n_b
     )?;
-    // Summary: mean NRMSE per input and model.
+    md += &summary_by_input(rows)?;
+    writeln!(md, "## Per record\n")?;
+    writeln!(
+        md,
+        "| record | class | input u | model | parameters | RMSE | NRMSE | residual variance |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|---|---|---|")?;
+    for r in rows {
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {:.5e} | {:.4} | {:.4e} |",
+            r.record,
+            r.class,
+            r.input.name(),
+            r.model,
+            r.params,
+            r.m.rmse,
+            r.m.nrmse,
+            r.m.residual_variance
+        )?;
+    }
+    let csv = csv_of(rows)?;
+    let json = json_of(rows, args);
+    Ok((md, csv, serde_json::to_string_pretty(&json)? + "\n"))
+}
+
+/// The mean held-out NRMSE per exogenous input and model, the lowest ARX-Laguerre one, and the
+/// decision on the input.
+fn summary_by_input(rows: &[Row]) -> anyhow::Result<String> {
+    let mut md = String::new();
     writeln!(md, "## Mean held-out NRMSE by exogenous input\n")?;
     writeln!(
         md,
@@ -247,27 +277,11 @@ fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)>
          therefore use the AR form (N_b = 0, u = none) by default; the shaft-phase sinusoid adds \
          nothing measurable.\n"
     )?;
-    writeln!(md, "## Per record\n")?;
-    writeln!(
-        md,
-        "| record | class | input u | model | parameters | RMSE | NRMSE | residual variance |"
-    )?;
-    writeln!(md, "|---|---|---|---|---|---|---|---|")?;
-    for r in rows {
-        writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {:.5e} | {:.4} | {:.4e} |",
-            r.record,
-            r.class,
-            r.input.name(),
-            r.model,
-            r.params,
-            r.m.rmse,
-            r.m.nrmse,
-            r.m.residual_variance
-        )?;
-    }
+    Ok(md)
+}
 
+/// The CSV: one line per record, input and model.
+fn csv_of(rows: &[Row]) -> anyhow::Result<String> {
     let mut csv = format!(
         "# {GENERATED}\nrecord,class,input,model,params,n,rmse,nrmse,residual_variance,signal_variance\n"
     );
@@ -287,9 +301,14 @@ fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)>
             r.m.signal_variance
         )?;
     }
+    Ok(csv)
+}
 
+/// The JSON: the protocol and one entry per record, input and model (numbers to 7 significant
+/// digits).
+fn json_of(rows: &[Row], args: &Args) -> serde_json::Value {
     let round = |v: f64, sig: usize| -> f64 { format!("{v:.sig$e}").parse().unwrap_or(v) };
-    let json = serde_json::json!({
+    serde_json::json!({
         "generated_by": "cargo xtask identify",
         "protocol": {
             "fs_hz": FS,
@@ -309,6 +328,5 @@ fn render(rows: &[Row], args: &Args) -> anyhow::Result<(String, String, String)>
             "nrmse": round(r.m.nrmse, 6),
             "residual_variance": round(r.m.residual_variance, 6),
         })).collect::<Vec<_>>(),
-    });
-    Ok((md, csv, serde_json::to_string_pretty(&json)? + "\n"))
+    })
 }

@@ -1003,6 +1003,19 @@ impl MachineParams {
         let r = &self.recipe;
         r.validate()?;
         let fs = r.fs_hz;
+        self.validate_structure(fs)?;
+        self.validate_speed(fs)?;
+        self.validate_lines_and_levels()?;
+        let n_modes = self.structure.modes.len();
+        self.validate_once_per_rev(n_modes)?;
+        self.validate_gear_mesh()?;
+        self.validate_electrical()?;
+        self.validate_fault(n_modes)
+    }
+
+    /// The structure at `fs` Hz: at least one mode, each in range, not every power share zero;
+    /// the floor's corner and level.
+    fn validate_structure(&self, fs: f64) -> Result<()> {
         if self.structure.modes.is_empty() {
             return Err(ModelError::InvalidRecipe(
                 "the structure needs at least one mode".into(),
@@ -1038,6 +1051,11 @@ impl MachineParams {
             40.0,
             "-200 ..= 40 dB",
         )?;
+        Ok(())
+    }
+
+    /// The speed at `fs` Hz: its RMS fluctuation and each wander tone.
+    fn validate_speed(&self, fs: f64) -> Result<()> {
         check_range(
             "speed rms_fraction",
             self.speed.rms_fraction,
@@ -1056,6 +1074,12 @@ impl MachineParams {
             check_range("wander amplitude", t[1].abs(), 0.0, 0.2, "|a| <= 0.2")?;
             check_range("wander phase", t[2], -1e3, 1e3, "finite")?;
         }
+        Ok(())
+    }
+
+    /// Every line of the shaft comb, the gear mesh and the electrical harmonics, and the
+    /// components' levels.
+    fn validate_lines_and_levels(&self) -> Result<()> {
         let lines_ok = |name: &'static str, lines: &[Line]| -> Result<()> {
             for l in lines {
                 check_range(name, l.multiple, 0.0, 1e6, "0 ..= 1e6")?;
@@ -1076,7 +1100,11 @@ impl MachineParams {
         ] {
             check_range(name, v, -200.0, 80.0, "-200 ..= 80 dB")?;
         }
-        let n_modes = self.structure.modes.len();
+        Ok(())
+    }
+
+    /// The once-per-rev component: its mode (an index below `n_modes`), jitter, spread, angle.
+    fn validate_once_per_rev(&self, n_modes: usize) -> Result<()> {
         let o = &self.once_per_rev;
         check_range(
             "once-per-rev mode",
@@ -1100,6 +1128,11 @@ impl MachineParams {
             "0 ..= 2",
         )?;
         check_range("once-per-rev angle", o.angle_rad, -1e3, 1e3, "finite")?;
+        Ok(())
+    }
+
+    /// The gear mesh: tooth counts and the two modulations' depths, indices and phases.
+    fn validate_gear_mesh(&self) -> Result<()> {
         let g = &self.gear_mesh;
         check_range("gear z1", f64::from(g.z1), 1.0, 1e4, "1 ..= 10000")?;
         check_range("gear z2", f64::from(g.z2), 1.0, 1e4, "1 ..= 10000")?;
@@ -1109,6 +1142,11 @@ impl MachineParams {
             check_range("gear am_phase", g.am_phase[k], -1e3, 1e3, "finite")?;
             check_range("gear pm_phase", g.pm_phase[k], -1e3, 1e3, "finite")?;
         }
+        Ok(())
+    }
+
+    /// The electrical component: line frequency, pole-pass frequency, depth and phase.
+    fn validate_electrical(&self) -> Result<()> {
         let e = &self.electrical;
         check_range("line_hz", e.line_hz, 1.0, 1e4, "1 ..= 10000 Hz")?;
         if let Some(pp) = e.pole_pass_hz {
@@ -1116,7 +1154,13 @@ impl MachineParams {
         }
         check_range("pole_pass_depth", e.pole_pass_depth, 0.0, 1.0, "0 ..= 1")?;
         check_range("pole_pass_phase", e.pole_pass_phase, -1e3, 1e3, "finite")?;
-        match (&self.fault, &r.fault) {
+        Ok(())
+    }
+
+    /// The drawn fault against the recipe's: both absent, or both present with the drawn one's
+    /// order, rates, severity, mode (an index below `n_modes`), load zone and spread in range.
+    fn validate_fault(&self, n_modes: usize) -> Result<()> {
+        match (&self.fault, &self.recipe.fault) {
             (None, None) => {}
             (Some(f), Some(_)) => {
                 check_range("fault order", f.order, 0.01, 1e3, "0.01 ..= 1000")?;

@@ -337,7 +337,8 @@ pub fn sig(v: f64) -> String {
     }
 }
 
-/// All figures of a chapter.
+/// All figures of a chapter: the residuals and energies of the first CWRU fixed-load table, of
+/// the simulated multi-fault substitute, and a confusion figure per table.
 #[allow(clippy::too_many_arguments)]
 pub fn chapter_figures(
     ch: u8,
@@ -349,147 +350,184 @@ pub fn chapter_figures(
     methods: &[Method],
 ) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
+    if let Some(d) = diss
+        .iter()
+        .find(|d| matches!(d.condition, Condition::FixedLoad { .. }))
+    {
+        out.extend(cwru_figures(ch, cache, d, feats, traces_map, methods)?);
+    }
+    if let Some(d) = diss
+        .iter()
+        .find(|d| matches!(d.condition, Condition::FixedSpeed { .. }))
+    {
+        out.extend(multi_fault_figures(ch, d, feats, traces_map, methods)?);
+    }
+    out.extend(confusion_figures(diss, tabs)?);
+    Ok(out)
+}
+
+/// Residual traces and energies on the CWRU fixed-load table `d`, largest crack: every method's
+/// residuals in chapter 5, the first method's elsewhere; the first method's energies.
+fn cwru_figures(
+    ch: u8,
+    cache: &Cache,
+    d: &DissTable,
+    feats: &BTreeMap<(String, RecKey), Vec<f64>>,
+    traces_map: &BTreeMap<(String, RecKey), Vec<f64>>,
+    methods: &[Method],
+) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
     let fig_residual = match ch {
         2 => "fig2_5",
         3 => "fig3_3",
         4 => "fig4_9",
         _ => "fig5_4_to_5_6",
     };
-    // Residual traces and energies on the first CWRU fixed-load table, largest crack.
-    if let Some(d) = diss
-        .iter()
-        .find(|d| matches!(d.condition, Condition::FixedLoad { .. }))
-    {
-        let load = match d.condition {
-            Condition::FixedLoad { load_hp } => load_hp,
-            _ => 0,
-        };
-        let ci = d.cracks.len() - 1;
-        let shown: Vec<Method> = if ch == 5 {
-            methods.to_vec()
-        } else {
-            vec![methods[0]]
-        };
-        let mut rows = Vec::new();
-        for m in &shown {
-            for c in &d.classes {
-                let k = super::inputs::cwru_key(c, load, ci);
-                if let Some(tr) = traces_map.get(&(m.name().to_string(), k)) {
-                    let n = tr.len().min(1200);
-                    rows.push((
-                        format!(
-                            "{} residual, {} ({})",
-                            m.name(),
-                            class_label(c),
-                            cache.get(&k)?.id
-                        ),
-                        tr[..n].to_vec(),
-                    ));
-                }
-            }
-        }
-        out.push((
-            format!("figures/{fig_residual}_residuals_cwru.png"),
-            traces(
-                &format!(
-                    "Residuals, CWRU {load} hp, {} in (first 0.1 s)",
-                    d.cracks[ci]
-                ),
-                &rows,
-                super::inputs::CWRU_FS,
-            )?,
-        ));
-        let series: Vec<(String, Vec<f64>)> = d
-            .classes
-            .iter()
-            .filter_map(|c| {
-                let k = super::inputs::cwru_key(c, load, ci);
-                feats
-                    .get(&(methods[0].name().to_string(), k))
-                    .map(|v| (class_label(c), v.clone()))
-            })
-            .collect();
-        let name = if ch == 5 {
-            "fig5_7_energies_cwru.png".to_string()
-        } else {
-            format!("energies_ch{ch}_cwru.png")
-        };
-        out.push((
-            format!("figures/{name}"),
-            energies(
-                &format!(
-                    "{} residual window energies, CWRU {load} hp, {} in",
-                    methods[0].name(),
-                    d.cracks[ci]
-                ),
-                &series,
-            )?,
-        ));
-    }
-    // Multi-fault substitute: residual traces (Fig. 4.10) and energies.
-    if let Some(d) = diss
-        .iter()
-        .find(|d| matches!(d.condition, Condition::FixedSpeed { .. }))
-    {
-        let rpm = match d.condition {
-            Condition::FixedSpeed { rpm } => rpm,
-            _ => 0,
-        };
-        let ci = d.cracks.len() - 1;
-        let mut rows = Vec::new();
+    let load = match d.condition {
+        Condition::FixedLoad { load_hp } => load_hp,
+        _ => 0,
+    };
+    let ci = d.cracks.len() - 1;
+    let shown: Vec<Method> = if ch == 5 {
+        methods.to_vec()
+    } else {
+        vec![methods[0]]
+    };
+    let mut rows = Vec::new();
+    for m in &shown {
         for c in &d.classes {
-            let k = super::inputs::multi_key(c, rpm, ci);
-            if let Some(tr) = traces_map.get(&(methods[0].name().to_string(), k)) {
+            let k = super::inputs::cwru_key(c, load, ci);
+            if let Some(tr) = traces_map.get(&(m.name().to_string(), k)) {
                 let n = tr.len().min(1200);
                 rows.push((
                     format!(
-                        "{} residual, {} (simulated)",
-                        methods[0].name(),
-                        class_label(c)
+                        "{} residual, {} ({})",
+                        m.name(),
+                        class_label(c),
+                        cache.get(&k)?.id
                     ),
                     tr[..n].to_vec(),
                 ));
             }
         }
-        let fname = if ch == 4 {
-            "fig4_10_residuals_multi_simulated.png"
-        } else {
-            "residuals_multi_simulated.png"
-        };
-        out.push((
-            format!("figures/{fname}"),
-            traces(
-                &format!(
-                    "Residuals, SIMULATED multi-fault substitute, {rpm} rpm, {} mm",
-                    d.cracks[ci]
-                ),
-                &rows,
-                super::inputs::MULTI_FS,
-            )?,
-        ));
-        let series: Vec<(String, Vec<f64>)> = d
-            .classes
-            .iter()
-            .filter_map(|c| {
-                let k = super::inputs::multi_key(c, rpm, ci);
-                feats
-                    .get(&(methods[0].name().to_string(), k))
-                    .map(|v| (class_label(c), v.clone()))
-            })
-            .collect();
-        out.push((
-            "figures/energies_multi_simulated.png".to_string(),
-            energies(
-                &format!(
-                    "{} window energies, SIMULATED substitute {rpm} rpm, {} mm",
-                    methods[0].name(),
-                    d.cracks[ci]
-                ),
-                &series,
-            )?,
-        ));
     }
-    // Confusion matrices: proposed method, dissertation protocol, every table.
+    out.push((
+        format!("figures/{fig_residual}_residuals_cwru.png"),
+        traces(
+            &format!(
+                "Residuals, CWRU {load} hp, {} in (first 0.1 s)",
+                d.cracks[ci]
+            ),
+            &rows,
+            super::inputs::CWRU_FS,
+        )?,
+    ));
+    let series: Vec<(String, Vec<f64>)> = d
+        .classes
+        .iter()
+        .filter_map(|c| {
+            let k = super::inputs::cwru_key(c, load, ci);
+            feats
+                .get(&(methods[0].name().to_string(), k))
+                .map(|v| (class_label(c), v.clone()))
+        })
+        .collect();
+    let name = if ch == 5 {
+        "fig5_7_energies_cwru.png".to_string()
+    } else {
+        format!("energies_ch{ch}_cwru.png")
+    };
+    out.push((
+        format!("figures/{name}"),
+        energies(
+            &format!(
+                "{} residual window energies, CWRU {load} hp, {} in",
+                methods[0].name(),
+                d.cracks[ci]
+            ),
+            &series,
+        )?,
+    ));
+    Ok(out)
+}
+
+/// The multi-fault substitute's table `d` (simulated), largest crack: the first method's residual
+/// traces (Fig. 4.10) and window energies.
+fn multi_fault_figures(
+    ch: u8,
+    d: &DissTable,
+    feats: &BTreeMap<(String, RecKey), Vec<f64>>,
+    traces_map: &BTreeMap<(String, RecKey), Vec<f64>>,
+    methods: &[Method],
+) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
+    let rpm = match d.condition {
+        Condition::FixedSpeed { rpm } => rpm,
+        _ => 0,
+    };
+    let ci = d.cracks.len() - 1;
+    let mut rows = Vec::new();
+    for c in &d.classes {
+        let k = super::inputs::multi_key(c, rpm, ci);
+        if let Some(tr) = traces_map.get(&(methods[0].name().to_string(), k)) {
+            let n = tr.len().min(1200);
+            rows.push((
+                format!(
+                    "{} residual, {} (simulated)",
+                    methods[0].name(),
+                    class_label(c)
+                ),
+                tr[..n].to_vec(),
+            ));
+        }
+    }
+    let fname = if ch == 4 {
+        "fig4_10_residuals_multi_simulated.png"
+    } else {
+        "residuals_multi_simulated.png"
+    };
+    out.push((
+        format!("figures/{fname}"),
+        traces(
+            &format!(
+                "Residuals, SIMULATED multi-fault substitute, {rpm} rpm, {} mm",
+                d.cracks[ci]
+            ),
+            &rows,
+            super::inputs::MULTI_FS,
+        )?,
+    ));
+    let series: Vec<(String, Vec<f64>)> = d
+        .classes
+        .iter()
+        .filter_map(|c| {
+            let k = super::inputs::multi_key(c, rpm, ci);
+            feats
+                .get(&(methods[0].name().to_string(), k))
+                .map(|v| (class_label(c), v.clone()))
+        })
+        .collect();
+    out.push((
+        "figures/energies_multi_simulated.png".to_string(),
+        energies(
+            &format!(
+                "{} window energies, SIMULATED substitute {rpm} rpm, {} mm",
+                methods[0].name(),
+                d.cracks[ci]
+            ),
+            &series,
+        )?,
+    ));
+    Ok(out)
+}
+
+/// Confusion matrices of the proposed method under the dissertation's protocol (random windows),
+/// one figure per table, one matrix per crack size.
+fn confusion_figures(
+    diss: &[&DissTable],
+    tabs: &[OurTable],
+) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
     for d in diss {
         let Some(t) = tabs
             .iter()

@@ -266,9 +266,27 @@ pub fn tuning_section(
     ratios: &BTreeMap<(String, RecKey), f64>,
     cache: &Cache,
 ) -> anyhow::Result<((String, String), ResidualRatios)> {
+    let mut b = gains_table(methods, tunings, cache)?;
+    let (tables, healthy_ratio) = residual_ratio_tables(methods, ratios);
+    b += &tables;
+    Ok((
+        (
+            "Observer gains and residual size (what each observer does)".to_string(),
+            b,
+        ),
+        healthy_ratio,
+    ))
+}
+
+/// The tuning rule, each observer's gains on each healthy fit segment, and the observers that
+/// predict almost nothing of it.
+fn gains_table(
+    methods: &[Method],
+    tunings: &BTreeMap<(Method, RecKey), pl::Tuning>,
+    cache: &Cache,
+) -> anyhow::Result<String> {
     use std::fmt::Write as _;
     let mut b = String::new();
-    let mut healthy_ratio = ResidualRatios::new();
     let _ = writeln!(
         b,
         "Gains are set on the healthy fit segment only (rule: docs/equations/xtask-chapters.md). The bound of eqs 2.44 / 3.21 / 4.20–4.29 / 5.28 is measured first on the segment's first half: Γ₀ = RMS(Δᵐ⁻¹û), û the lumped uncertainty of the same model under its linear (PI) law (its extended state d̂₀ plus its residual r₀) averaged over one shaft revolution, so that the unpredictable innovation averages out (m = 3 for Levant laws, 2 otherwise); then Γ = Γ₀ (no search over c: on a healthy segment any sliding injection beyond the uncertainty adds to the one-step error, so a search would run to the smallest c it is offered; only when no linear design runs the law stably with Γ₀ are the fallbacks c = {:?} tried in that order, and the c used is in the table) and the linear design default, `for_recordings` or innovations (K_p = b_y: the identified one-step predictor itself), whichever gives the smallest residual RMS on the segment's second half without growing (linear laws have no Γ). No test window and no label is used.\n",
@@ -315,6 +333,18 @@ pub fn tuning_section(
             flat.join(", ")
         );
     }
+    Ok(b)
+}
+
+/// Per data set, RMS(residual) / RMS(signal) per observer and class, and the healthy class's
+/// ratio per data set and observer (rounded to 3 decimals).
+fn residual_ratio_tables(
+    methods: &[Method],
+    ratios: &BTreeMap<(String, RecKey), f64>,
+) -> (String, ResidualRatios) {
+    use std::fmt::Write as _;
+    let mut b = String::new();
+    let mut healthy_ratio = ResidualRatios::new();
     let mut datasets: Vec<&str> = Vec::new();
     for (_, k) in ratios.keys() {
         let ds = k.dataset();
@@ -371,11 +401,5 @@ pub fn tuning_section(
             let _ = writeln!(b, "| {} | {} |", m.name(), row.join(" | "));
         }
     }
-    Ok((
-        (
-            "Observer gains and residual size (what each observer does)".to_string(),
-            b,
-        ),
-        healthy_ratio,
-    ))
+    (b, healthy_ratio)
 }

@@ -188,143 +188,28 @@ fn verdict(r: &Result<Outcome, String>) -> &str {
     }
 }
 
+/// Every recording of the shared data's three rigs diagnosed, the figures drawn, the trained
+/// classifier cross-validated and `results/diagnosis/` written (see the module's doc).
 fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
     let start = std::time::Instant::now();
     let cpu0 = crate::false_alarm::process_cpu_s();
     let entries: Vec<_> = bearing_data::catalog()
         .filter(|e| e.in_shared_copy)
         .collect();
-    let b97 = load_record(dir, 97, &LoadOptions::default()).context("loading 97.mat")?;
-    let baseline =
-        BaselineSource::from_samples(Path::new("97.mat"), b97.de().to_vec(), b97.fs_hz());
     let plan = Plan {
         channel: "DE".into(),
         fs: None,
         rpm: None,
         bearing: BearingSpec::parse("6205")?,
     };
-    // prepare both rates first (a recording baseline does not depend on the speed; the cache
-    // would also prepare each once under the parallel part)
-    baseline.at(48_000.0, b97.rpm().value)?;
-    baseline.at(12_000.0, b97.rpm().value)?;
-    // the machine model calibrated on 97 (the closed loop from the healthy 5-DOF model), at
-    // both rates: its whole model is the third reference's healthy model, and its healthy
-    // envelope is synthesised once per rate and record speed
-    let cfg = close_loop::LoopConfig::default().check()?;
-    let machine_at = |x: &[f64], fs: f64| -> anyhow::Result<BaselineSource> {
-        let mut m = close_loop::machine::calibrate(
-            x,
-            fs,
-            b97.rpm().value,
-            bearing_model::Bearing::Skf6205,
-            &cfg,
-        )
-        .with_context(|| format!("calibrating the machine model on 97.mat at {fs} Hz"))?;
-        m.units = "g".into();
-        m.provenance.recording = "97.mat".into();
-        Ok(BaselineSource::from_machine(
-            Path::new(&format!("97.mat machine model ({} kHz)", fs / 1000.0)),
-            m,
-        ))
-    };
-    let m48 = machine_at(b97.de(), 48_000.0)?;
-    let x12 =
-        bearing_data::Decimator::new(bearing_data::DecimatorParams::new(4))?.decimate(b97.de())?;
-    let m12 = machine_at(&x12, 12_000.0)?;
-    // each model's healthy synthesis at every record speed (the catalog's; the file's is the
-    // same) first, serially (0.2–0.4 s each), so the parallel part only reads the caches and
-    // its scheduling — hence which thread's FFT plans compute what — stays as before
-    for e in &entries {
-        let msrc = if e.fs() == 48_000.0 { &m48 } else { &m12 };
-        msrc.at(e.fs(), e.rpm())?;
-    }
-    let bar = indicatif::ProgressBar::new(entries.len() as u64);
-    let rows: Vec<Row> = entries
-        .par_iter()
-        .map(|e| -> anyhow::Result<Row> {
-            let (rec, l) = cwru_loaded(dir, e)?;
-            let base = diagnose_loaded(&l, &plan, Some(&baseline)).map_err(|e| format!("{e:#}"));
-            let own = diagnose_loaded(&l, &plan, None).map_err(|e| format!("{e:#}"));
-            let msrc = if l.fs_hz == 48_000.0 { &m48 } else { &m12 };
-            let machine = diagnose_loaded(&l, &plan, Some(msrc)).map_err(|e| format!("{e:#}"));
-            let examples = if l.fs_hz == 12_000.0 {
-                let meta = ExampleMeta {
-                    label: e.fault.as_str().into(),
-                    recording: e.number.to_string(),
-                    load_hp: u32::from(e.load_hp),
-                    fault_size_mils: e.diameter_mils.map(u32::from),
-                };
-                examples(&l, &plan, None, SEGMENT_S, &meta)
-                    .with_context(|| format!("examples of {}", e.number))?
-            } else {
-                Vec::new()
-            };
-            bar.inc(1);
-            Ok(Row {
-                number: e.number,
-                fs: rec.fs_hz(),
-                class: e.class_name(),
-                label: e.fault.as_str(),
-                load_hp: e.load_hp,
-                rpm: rec.rpm().value,
-                grade: bearing_data::smith_randall_grade(e.number),
-                base,
-                own,
-                machine,
-                examples,
-            })
-        })
-        .collect::<anyhow::Result<_>>()?;
-    bar.finish_and_clear();
+    let refs = References::prepare(dir, &entries)?;
+    let rows = diagnose_cwru(dir, &entries, &plan, &refs)?;
     let cwru_s = start.elapsed().as_secs_f64();
     let t1 = std::time::Instant::now();
     let others = rigs::run(dir)?;
     let others_s = t1.elapsed().as_secs_f64();
-    std::fs::create_dir_all(out.join("figures"))?;
-    for r in rows.iter().filter(|r| FIGURES.contains(&r.number)) {
-        if let Ok(o) = &r.base {
-            hybrid_fdd_cli::figure::envelope_figure(
-                &o.diagnosis,
-                &out.join(format!("figures/{}_baseline.png", r.number)),
-                &format!("{}.mat ({})", r.number, r.class),
-            )?;
-        }
-    }
-    for r in others
-        .rows
-        .iter()
-        .filter(|r| FIGURES_OTHER.contains(&r.stem.as_str()))
-    {
-        let (o, which) = match &r.base {
-            Some((_, o)) => (o, "baseline"),
-            None => (&r.own, "self"),
-        };
-        if let Ok(o) = o {
-            hybrid_fdd_cli::figure::envelope_figure(
-                &o.diagnosis,
-                &out.join(format!("figures/{}_{}_{which}.png", r.rig.key(), r.stem)),
-                &format!("{} / {} ({})", r.rig.title(), r.stem, r.label),
-            )?;
-        }
-    }
-    // the normal class of the trained classifier: 97 at 12 kHz
-    let normal = Loaded {
-        samples: x12,
-        fs_hz: 12_000.0,
-        rpm: Some(b97.rpm().value),
-        unit: bearing_data::SampleUnit::cwru(),
-        fault_size_in: None,
-    };
-    let meta97 = ExampleMeta {
-        label: "normal".into(),
-        recording: "97".into(),
-        load_hp: 0,
-        fault_size_mils: None,
-    };
-    let mut all = examples(&normal, &plan, None, SEGMENT_S, &meta97)?;
-    let faulty = rows.iter().filter(|r| !r.examples.is_empty()).count();
-    all.extend(rows.iter().flat_map(|r| r.examples.iter().cloned()));
-    let trained = trained_section(&all, faulty)?;
+    write_figures(out, &rows, &others)?;
+    let trained = trained_classifier(refs, &plan, &rows)?;
     let peer_path = out.join("peer_openconmo.csv");
     let peer = summary::read_peer(&peer_path)
         .with_context(|| format!("reading {}", peer_path.display()))?;
@@ -354,6 +239,185 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
     )?;
     println!("wrote {}", out.display());
     Ok(())
+}
+
+/// The three references a CWRU record is diagnosed against besides itself: the healthy
+/// recording 97 and the machine model calibrated on it at 48 and at 12 kHz.
+struct References {
+    /// 97.mat as a recording baseline (both rates prepared).
+    baseline: BaselineSource,
+    /// The machine model calibrated on 97 at 48 kHz.
+    m48: BaselineSource,
+    /// The machine model calibrated on 97 decimated to 12 kHz.
+    m12: BaselineSource,
+    /// 97's drive-end channel decimated to 12 kHz (the trained classifier's normal class).
+    x12: Vec<f64>,
+    /// 97's speed, rpm.
+    rpm97: f64,
+}
+
+impl References {
+    /// Load 97, prepare its baseline at both rates, calibrate the machine model on it at both
+    /// rates and synthesise each model's healthy envelope at every record's speed, serially.
+    fn prepare(dir: &Path, entries: &[&bearing_data::CatalogEntry]) -> anyhow::Result<Self> {
+        let b97 = load_record(dir, 97, &LoadOptions::default()).context("loading 97.mat")?;
+        let rpm97 = b97.rpm().value;
+        let baseline =
+            BaselineSource::from_samples(Path::new("97.mat"), b97.de().to_vec(), b97.fs_hz());
+        // prepare both rates first (a recording baseline does not depend on the speed; the cache
+        // would also prepare each once under the parallel part)
+        baseline.at(48_000.0, rpm97)?;
+        baseline.at(12_000.0, rpm97)?;
+        // the machine model calibrated on 97 (the closed loop from the healthy 5-DOF model), at
+        // both rates: its whole model is the third reference's healthy model, and its healthy
+        // envelope is synthesised once per rate and record speed
+        let cfg = close_loop::LoopConfig::default().check()?;
+        let m48 = machine_reference(b97.de(), 48_000.0, rpm97, &cfg)?;
+        let x12 = bearing_data::Decimator::new(bearing_data::DecimatorParams::new(4))?
+            .decimate(b97.de())?;
+        let m12 = machine_reference(&x12, 12_000.0, rpm97, &cfg)?;
+        // each model's healthy synthesis at every record speed (the catalog's; the file's is the
+        // same) first, serially (0.2–0.4 s each), so the parallel part only reads the caches and
+        // its scheduling — hence which thread's FFT plans compute what — stays as before
+        for e in entries {
+            let msrc = if e.fs() == 48_000.0 { &m48 } else { &m12 };
+            msrc.at(e.fs(), e.rpm())?;
+        }
+        Ok(Self {
+            baseline,
+            m48,
+            m12,
+            x12,
+            rpm97,
+        })
+    }
+}
+
+/// The machine model calibrated on 97's samples `x` at `fs` Hz, in g, as a reference.
+fn machine_reference(
+    x: &[f64],
+    fs: f64,
+    rpm97: f64,
+    cfg: &close_loop::CheckedConfig,
+) -> anyhow::Result<BaselineSource> {
+    let mut m = close_loop::machine::calibrate(x, fs, rpm97, bearing_model::Bearing::Skf6205, cfg)
+        .with_context(|| format!("calibrating the machine model on 97.mat at {fs} Hz"))?;
+    m.units = "g".into();
+    m.provenance.recording = "97.mat".into();
+    Ok(BaselineSource::from_machine(
+        Path::new(&format!("97.mat machine model ({} kHz)", fs / 1000.0)),
+        m,
+    ))
+}
+
+/// Every CWRU record diagnosed in parallel against 97, against itself and against the machine
+/// model of its rate, with the trained classifier's examples of the 12 kHz records.
+fn diagnose_cwru(
+    dir: &Path,
+    entries: &[&bearing_data::CatalogEntry],
+    plan: &Plan,
+    refs: &References,
+) -> anyhow::Result<Vec<Row>> {
+    let bar = indicatif::ProgressBar::new(entries.len() as u64);
+    let rows: Vec<Row> = entries
+        .par_iter()
+        .map(|e| -> anyhow::Result<Row> {
+            let (rec, l) = cwru_loaded(dir, e)?;
+            let base =
+                diagnose_loaded(&l, plan, Some(&refs.baseline)).map_err(|e| format!("{e:#}"));
+            let own = diagnose_loaded(&l, plan, None).map_err(|e| format!("{e:#}"));
+            let msrc = if l.fs_hz == 48_000.0 {
+                &refs.m48
+            } else {
+                &refs.m12
+            };
+            let machine = diagnose_loaded(&l, plan, Some(msrc)).map_err(|e| format!("{e:#}"));
+            let examples = if l.fs_hz == 12_000.0 {
+                let meta = ExampleMeta {
+                    label: e.fault.as_str().into(),
+                    recording: e.number.to_string(),
+                    load_hp: u32::from(e.load_hp),
+                    fault_size_mils: e.diameter_mils.map(u32::from),
+                };
+                examples(&l, plan, None, SEGMENT_S, &meta)
+                    .with_context(|| format!("examples of {}", e.number))?
+            } else {
+                Vec::new()
+            };
+            bar.inc(1);
+            Ok(Row {
+                number: e.number,
+                fs: rec.fs_hz(),
+                class: e.class_name(),
+                label: e.fault.as_str(),
+                load_hp: e.load_hp,
+                rpm: rec.rpm().value,
+                grade: bearing_data::smith_randall_grade(e.number),
+                base,
+                own,
+                machine,
+                examples,
+            })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    bar.finish_and_clear();
+    Ok(rows)
+}
+
+/// The envelope figures of the chosen CWRU records (against 97) and of the chosen MFPT and UESTC
+/// recordings (against their baseline, else self-referenced) into `figures/`.
+fn write_figures(out: &Path, rows: &[Row], others: &rigs::Others) -> anyhow::Result<()> {
+    std::fs::create_dir_all(out.join("figures"))?;
+    for r in rows.iter().filter(|r| FIGURES.contains(&r.number)) {
+        if let Ok(o) = &r.base {
+            hybrid_fdd_cli::figure::envelope_figure(
+                &o.diagnosis,
+                &out.join(format!("figures/{}_baseline.png", r.number)),
+                &format!("{}.mat ({})", r.number, r.class),
+            )?;
+        }
+    }
+    for r in others
+        .rows
+        .iter()
+        .filter(|r| FIGURES_OTHER.contains(&r.stem.as_str()))
+    {
+        let (o, which) = match &r.base {
+            Some((_, o)) => (o, "baseline"),
+            None => (&r.own, "self"),
+        };
+        if let Ok(o) = o {
+            hybrid_fdd_cli::figure::envelope_figure(
+                &o.diagnosis,
+                &out.join(format!("figures/{}_{}_{which}.png", r.rig.key(), r.stem)),
+                &format!("{} / {} ({})", r.rig.title(), r.stem, r.label),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// The trained classifier's section: its normal class from 97 at 12 kHz, its fault classes from
+/// the 12 kHz fault records' examples.
+fn trained_classifier(refs: References, plan: &Plan, rows: &[Row]) -> anyhow::Result<String> {
+    // the normal class of the trained classifier: 97 at 12 kHz
+    let normal = Loaded {
+        samples: refs.x12,
+        fs_hz: 12_000.0,
+        rpm: Some(refs.rpm97),
+        unit: bearing_data::SampleUnit::cwru(),
+        fault_size_in: None,
+    };
+    let meta97 = ExampleMeta {
+        label: "normal".into(),
+        recording: "97".into(),
+        load_hp: 0,
+        fault_size_mils: None,
+    };
+    let mut all = examples(&normal, plan, None, SEGMENT_S, &meta97)?;
+    let faulty = rows.iter().filter(|r| !r.examples.is_empty()).count();
+    all.extend(rows.iter().flat_map(|r| r.examples.iter().cloned()));
+    trained_section(&all, faulty)
 }
 
 /// (right, total) over rows matching `pick`, for the baseline, the self-referenced and the

@@ -715,6 +715,8 @@ fn false_alarm_markdown(h: Option<&FalseAlarmHeadline>) -> String {
     m
 }
 
+/// The CWRU section: the three references, the accuracy per group of records, the confusion
+/// matrices, every record and the wrong verdicts against the baseline.
 fn cwru_markdown(inp: &Inputs) -> String {
     let rows = inp.rows;
     let mut m = String::from(
@@ -743,6 +745,16 @@ fn cwru_markdown(inp: &Inputs) -> String {
          ### Accuracy (verdict == label, over the records named)\n\n\
          | records | baseline reference | self reference | machine-model reference |\n|---|---|---|---|\n",
     );
+    m += &cwru_accuracy(rows);
+    m += &cwru_confusions(rows);
+    m += &cwru_every_record(inp);
+    m += &cwru_wrong_verdicts(rows);
+    m
+}
+
+/// The accuracy table's rows: each group of CWRU records, right under each reference.
+fn cwru_accuracy(rows: &[Row]) -> String {
+    let mut m = String::new();
     let twelve = |r: &Row| r.fs == 12_000.0 && r.label != "normal";
     let groups: Vec<(&str, Pick)> = vec![
         (
@@ -769,6 +781,12 @@ fn cwru_markdown(inp: &Inputs) -> String {
         let [b, s, mm] = tally(rows, f);
         let _ = writeln!(m, "| {name} | {} | {} | {} |", pct(b), pct(s), pct(mm));
     }
+    m
+}
+
+/// A confusion matrix per reference: baseline, self, machine model.
+fn cwru_confusions(rows: &[Row]) -> String {
+    let mut m = String::new();
     for (name, pick) in [("baseline", 0usize), ("self", 1), ("machine-model", 2)] {
         let _ = write!(
             m,
@@ -788,6 +806,14 @@ fn cwru_markdown(inp: &Inputs) -> String {
             }),
         );
     }
+    m
+}
+
+/// Every CWRU record: its conditions, label, verdicts, probabilities, speed, scores, band and the
+/// peer's types.
+fn cwru_every_record(inp: &Inputs) -> String {
+    let mut m = String::new();
+    let rows = inp.rows;
     m += "\n### Every record\n\n`p_healthy`: the recording's probability that a healthy machine gives fault evidence this strong, 3 × the smallest hypothesis's (a fault needs it ≤ α and its lines' modulation depth ≥ 0.5); rpm used: the self-referenced diagnosis's speed, its source and offset from the declared speed; peer: `peer_openconmo.csv`'s `peer_type` (DRS → kurtogram → SES) and `cpw_type` (cepstrum pre-whitening → SES), which always name a fault.\n\n\
           | record | fs (kHz) | class | load (hp) | rpm | grade | label | verdict (baseline) | verdict (self) | verdict (machine model) | p_healthy b/s/m | rpm used (self) | scores i/o/b (dB, baseline) | band (Hz, baseline) | peer | peer (cpw) |\n\
           |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -814,6 +840,12 @@ fn cwru_markdown(inp: &Inputs) -> String {
             band_cell(&r.base),
         );
     }
+    m
+}
+
+/// The records the baseline reference gets wrong, and why.
+fn cwru_wrong_verdicts(rows: &[Row]) -> String {
+    let mut m = String::new();
     m += "\n### Wrong verdicts (baseline reference) and why\n\n";
     m += WHY_NOTATION;
     for r in rows.iter().filter(|r| verdict(&r.base) != r.label) {
@@ -941,6 +973,8 @@ fn why(o: &Result<Outcome, String>, label: &str) -> String {
     format!("{}; {label} lines: {lines}", parts.join("; "))
 }
 
+/// An MFPT or UESTC section: how the recordings were loaded, the confusion matrices, every
+/// record and the wrong verdicts per reference.
 fn other_markdown(inp: &Inputs, rig: Rig) -> String {
     let rows: Vec<&OtherRow> = inp.others.rows.iter().filter(|r| r.rig == rig).collect();
     let mut m = format!("\n## {}\n\n", rig.title());
@@ -948,34 +982,7 @@ fn other_markdown(inp: &Inputs, rig: Rig) -> String {
         let _ = writeln!(m, "Not run: {why}.");
         return m;
     }
-    match rig {
-        Rig::Mfpt => {
-            m += "- The fault files of `<data>/mfpt/` (the shared copy holds no baseline file), \
-                  loaded as `hybrid-fdd diagnose --channel bearing.gs` loads them: the signal \
-                  `bearing.gs`, the rate `sr` stored beside it, the declared speed the stored \
-                  `rate` (the nameplate shaft frequency, read as rpm × 60), searched ± 10 %.\n\
-                  - Bearing `MFPT-NICE` (the data set's own geometry). Self-referenced: the rig \
-                  has no healthy recording here. Labels from the file names (`InnerRaceFault` → \
-                  inner, `OuterRaceFault` → outer).\n";
-        }
-        Rig::Uestc => {
-            m += "- `<data>/uestc/Data/*/*.mat`, loaded as `hybrid-fdd diagnose --channel Data` \
-                  loads them (the rate from `SampleFrequency`). Declared speed = the set speed in \
-                  the name (`N_1000_1` → 1000 rpm), searched ± 10 %: the running speed differs \
-                  from it (see rpm used).\n\
-                  - Bearing `UC204`: the catalogue's typical geometry for the source's ASAHI UCPH \
-                  20 insert; the source gives none, so the geometry is an assumption (data \
-                  README), and the catalogue marks it typical, which widens every fault-line \
-                  window (table below).\n\
-                  - **self**: self-referenced. **baseline**: against the same rig's normal \
-                  recording at the same set speed and the *other* segment — `N_<rpm>_2` for the \
-                  `*_<rpm>_1` records and `N_<rpm>_1` for the `*_<rpm>_2` ones; for the normal \
-                  records themselves that is the other segment of the same condition (a healthy \
-                  recording against another healthy stretch of the same run, not against \
-                  itself).\n\
-                  - Labels from the names: N normal, B ball, I inner, O outer.\n";
-        }
-    }
+    m += rig_intro(rig);
     let refs: Vec<(&str, bool)> = if rig == Rig::Uestc {
         vec![("self", false), ("baseline", true)]
     } else {
@@ -993,6 +1000,47 @@ fn other_markdown(inp: &Inputs, rig: Rig) -> String {
                 .map(|(l, o)| (l, verdict(o))),
         );
     }
+    m += &other_every_record(inp, rig, &rows);
+    m += &other_wrong_verdicts(&rows, &refs);
+    m
+}
+
+/// How a rig's recordings were loaded, referenced and labelled.
+fn rig_intro(rig: Rig) -> &'static str {
+    match rig {
+        Rig::Mfpt => {
+            "- The fault files of `<data>/mfpt/` (the shared copy holds no baseline file), \
+                  loaded as `hybrid-fdd diagnose --channel bearing.gs` loads them: the signal \
+                  `bearing.gs`, the rate `sr` stored beside it, the declared speed the stored \
+                  `rate` (the nameplate shaft frequency, read as rpm × 60), searched ± 10 %.\n\
+                  - Bearing `MFPT-NICE` (the data set's own geometry). Self-referenced: the rig \
+                  has no healthy recording here. Labels from the file names (`InnerRaceFault` → \
+                  inner, `OuterRaceFault` → outer).\n"
+        }
+        Rig::Uestc => {
+            "- `<data>/uestc/Data/*/*.mat`, loaded as `hybrid-fdd diagnose --channel Data` \
+                  loads them (the rate from `SampleFrequency`). Declared speed = the set speed in \
+                  the name (`N_1000_1` → 1000 rpm), searched ± 10 %: the running speed differs \
+                  from it (see rpm used).\n\
+                  - Bearing `UC204`: the catalogue's typical geometry for the source's ASAHI UCPH \
+                  20 insert; the source gives none, so the geometry is an assumption (data \
+                  README), and the catalogue marks it typical, which widens every fault-line \
+                  window (table below).\n\
+                  - **self**: self-referenced. **baseline**: against the same rig's normal \
+                  recording at the same set speed and the *other* segment — `N_<rpm>_2` for the \
+                  `*_<rpm>_1` records and `N_<rpm>_1` for the `*_<rpm>_2` ones; for the normal \
+                  records themselves that is the other segment of the same condition (a healthy \
+                  recording against another healthy stretch of the same run, not against \
+                  itself).\n\
+                  - Labels from the names: N normal, B ball, I inner, O outer.\n"
+        }
+    }
+}
+
+/// Every MFPT or UESTC record: speed, verdicts, probabilities, the most significant hypothesis
+/// per reference, and the peer's types.
+fn other_every_record(inp: &Inputs, rig: Rig, rows: &[&OtherRow]) -> String {
+    let mut m = String::new();
     m += "\n### Every record\n\nColumns as for CWRU; most significant: the hypothesis with the smallest `p_healthy` (its `p_healthy`, its modulation depth).\n\n";
     if rig == Rig::Uestc {
         m += "| record | label | set rpm | rpm used (self) | verdict (self) | p_healthy (self) | most significant (self) | baseline | verdict (baseline) | p_healthy (baseline) | most significant (baseline) | peer | peer (cpw) |\n\
@@ -1001,7 +1049,7 @@ fn other_markdown(inp: &Inputs, rig: Rig) -> String {
         m += "| record | label | fs (Hz) | rpm used | verdict (self) | p_healthy | most significant | scores i/o/b (dB) | band (Hz) | peer | peer (cpw) |\n\
               |---|---|---:|---|---|---|---|---|---|---|---|\n";
     }
-    for r in &rows {
+    for r in rows {
         let (pt, pc) = peer_cells(peer_of(inp.peer, rig.key(), &r.stem));
         if let Some((bname, b)) = &r.base {
             let _ = writeln!(
@@ -1034,7 +1082,13 @@ fn other_markdown(inp: &Inputs, rig: Rig) -> String {
             );
         }
     }
-    for (name, base) in &refs {
+    m
+}
+
+/// The records each reference (`refs`: name, against the baseline or not) gets wrong, and why.
+fn other_wrong_verdicts(rows: &[&OtherRow], refs: &[(&str, bool)]) -> String {
+    let mut m = String::new();
+    for (name, base) in refs {
         let wrong: Vec<_> = rows
             .iter()
             .filter_map(|r| pick(r, *base).map(|(l, o)| (r, l, o)))
@@ -1060,6 +1114,29 @@ pub fn write_outputs(inp: &Inputs, out: &Path) -> anyhow::Result<()> {
     write_other_files(inp, out)?;
     let summary = summary_rows(inp);
     write_summary_files(&summary, out)?;
+    let mut m = readme_head(inp);
+    m += &summary_markdown(&summary, inp.peer.is_some());
+    if inp.peer.is_none() {
+        m += "\n`peer_openconmo.csv` was not found when this report was written: the peer columns are empty (write it with `python docs/crosschecks/openconmo_envelope.py`).\n";
+    } else if let Some(p) = inp.peer {
+        m += &peer_labels_note(inp, p);
+    }
+    m += "\n### The three bearings\n\n";
+    m += &bearings_markdown(inp)?;
+    m += &false_alarm_markdown(inp.false_alarm);
+    m += &cwru_markdown(inp);
+    m += &other_markdown(inp, Rig::Mfpt);
+    m += &other_markdown(inp, Rig::Uestc);
+    m += inp.trained;
+    m += NOTES;
+    m += &files_section();
+    std::fs::write(out.join("README.md"), m)?;
+    Ok(())
+}
+
+/// The README's heading, the run's line (the only one that changes from run to run), the
+/// method in short and the per-rig summary's legend.
+fn readme_head(inp: &Inputs) -> String {
     let n_other = inp.others.rows.len();
     let diagnoses = 3 * inp.rows.len()
         + inp
@@ -1076,7 +1153,7 @@ pub fn write_outputs(inp: &Inputs, out: &Path) -> anyhow::Result<()> {
             format!("{}", o.diagnosis.false_alarm)
         });
     let run = &inp.run;
-    let mut m = format!(
+    format!(
         "# Training-free diagnosis of every real recording: CWRU, MFPT, UESTC\n\n\
          {GENERATED}\n\n\
          Run: {} recordings ({} CWRU, {n_other} MFPT and UESTC), {diagnoses} diagnoses, in \
@@ -1122,58 +1199,57 @@ pub fn write_outputs(inp: &Inputs, out: &Path) -> anyhow::Result<()> {
         run.load.as_ref().map_or(String::new(), |l| format!(
             "; 1-minute load average {l} at the end, other jobs sharing the machine's 2 cores"
         )),
-    );
-    m += &summary_markdown(&summary, inp.peer.is_some());
-    if inp.peer.is_none() {
-        m += "\n`peer_openconmo.csv` was not found when this report was written: the peer columns are empty (write it with `python docs/crosschecks/openconmo_envelope.py`).\n";
-    } else if let Some(p) = inp.peer {
-        // the peer's labels against ours
-        let mut mismatched = Vec::new();
-        for r in inp.rows {
-            if let Some(pr) = peer_of(Some(p), "cwru", &r.number.to_string())
-                && pr.label != r.label
-            {
-                mismatched.push(r.number.to_string());
-            }
+    )
+}
+
+/// Where the peer's file and our labels disagree, and how many recordings it covers.
+fn peer_labels_note(inp: &Inputs, p: &Peer) -> String {
+    let n_other = inp.others.rows.len();
+    let mut m = String::new();
+    // the peer's labels against ours
+    let mut mismatched = Vec::new();
+    for r in inp.rows {
+        if let Some(pr) = peer_of(Some(p), "cwru", &r.number.to_string())
+            && pr.label != r.label
+        {
+            mismatched.push(r.number.to_string());
         }
-        for r in &inp.others.rows {
-            if let Some(pr) = peer_of(Some(p), r.rig.key(), &r.stem)
-                && pr.label != r.label
-            {
-                mismatched.push(r.stem.clone());
-            }
+    }
+    for r in &inp.others.rows {
+        if let Some(pr) = peer_of(Some(p), r.rig.key(), &r.stem)
+            && pr.label != r.label
+        {
+            mismatched.push(r.stem.clone());
         }
-        let missing = inp
+    }
+    let missing = inp
+        .rows
+        .iter()
+        .filter(|r| peer_of(Some(p), "cwru", &r.number.to_string()).is_none())
+        .count()
+        + inp
+            .others
             .rows
             .iter()
-            .filter(|r| peer_of(Some(p), "cwru", &r.number.to_string()).is_none())
-            .count()
-            + inp
-                .others
-                .rows
-                .iter()
-                .filter(|r| peer_of(Some(p), r.rig.key(), &r.stem).is_none())
-                .count();
-        let _ = writeln!(
-            m,
-            "\nThe peer file covers {} of these recordings; its labels differ from ours on {} ({}).",
-            inp.rows.len() + n_other - missing,
-            mismatched.len(),
-            if mismatched.is_empty() {
-                "none".into()
-            } else {
-                mismatched.join(", ")
-            }
-        );
-    }
-    m += "\n### The three bearings\n\n";
-    m += &bearings_markdown(inp)?;
-    m += &false_alarm_markdown(inp.false_alarm);
-    m += &cwru_markdown(inp);
-    m += &other_markdown(inp, Rig::Mfpt);
-    m += &other_markdown(inp, Rig::Uestc);
-    m += inp.trained;
-    m += NOTES;
+            .filter(|r| peer_of(Some(p), r.rig.key(), &r.stem).is_none())
+            .count();
+    let _ = writeln!(
+        m,
+        "\nThe peer file covers {} of these recordings; its labels differ from ours on {} ({}).",
+        inp.rows.len() + n_other - missing,
+        mismatched.len(),
+        if mismatched.is_empty() {
+            "none".into()
+        } else {
+            mismatched.join(", ")
+        }
+    );
+    m
+}
+
+/// The README's closing section: which figures and per-record files were written.
+fn files_section() -> String {
+    let mut m = String::new();
     m += "\n## Files\n\nFigures: `figures/<record>_baseline.png` (CWRU, baseline reference) for ";
     m += &FIGURES
         .iter()
@@ -1186,6 +1262,5 @@ pub fn write_outputs(inp: &Inputs, out: &Path) -> anyhow::Result<()> {
           and `records.json` (CWRU, every diagnosis in full), `records_other_rigs.csv` and \
           `records_other_rigs.json` (MFPT, UESTC); the summary table: `summary.csv`, \
           `summary.json`.\n";
-    std::fs::write(out.join("README.md"), m)?;
-    Ok(())
+    m
 }
