@@ -107,6 +107,7 @@ pub(crate) fn analyse(
     x: &[f64],
     fs_hz: f64,
     o: &FaultOrders,
+    near_comb: f64,
     baseline: Option<&Baseline>,
     options: &crate::options::CheckedOptions,
 ) -> Result<Analysis> {
@@ -148,7 +149,7 @@ pub(crate) fn analyse(
         envs = Some(all);
         provisional = Some(p);
     }
-    let finding = options.find_speed(spectrum_comb, envelope_comb)?;
+    let finding = options.find_speed(spectrum_comb, envelope_comb, near_comb)?;
     let rpm_used = finding.rpm_used;
     let uncertain_fastest = rpm_used * (1.0 + finding.relative_uncertainty);
     let p = plan(fs_hz, o, rpm_used, uncertain_fastest)?;
@@ -200,7 +201,9 @@ fn diagnose_in(
     check_fs(fs_hz)?;
     let options = options.check()?;
     let o = bearing.orders;
-    let a = analyse(engine, x, fs_hz, &o, baseline, &options)?;
+    let rate_uncertainty = options.rate_uncertainty(bearing);
+    let near_comb = crate::options::near_comb_distance(&o, rate_uncertainty);
+    let a = analyse(engine, x, fs_hz, &o, near_comb, baseline, &options)?;
     let fr = a.fr;
 
     // 3. the detector: each hypothesis's lines against the band's clear windows
@@ -208,7 +211,6 @@ fn diagnose_in(
         a.finding.source,
         SpeedSource::Declared | SpeedSource::RangeCentre
     );
-    let rate_uncertainty = options.rate_uncertainty(bearing);
     let detection = detect::detect(
         &a.spectra,
         &a.base_spectra,

@@ -242,10 +242,14 @@ impl CheckedOptions {
     /// # Errors
     /// [`DiagnosisError::SpeedNotFound`] when neither comb was found, no speed was declared, and
     /// the range is wider than [`MAX_BLIND_RANGE`].
+    /// `near_comb` is how far (relative) a fault's near-comb lies from the shaft comb
+    /// ([`near_comb_distance`]): an unrefined envelope comb is confirmed by the spectrum's comb
+    /// within half of it (`confirmed_by_spectrum`: the spectrum's complete comb at the same speed).
     pub fn find_speed(
         &self,
         spectrum: Option<SpeedEstimate>,
         envelope: Option<SpeedEstimate>,
+        near_comb: f64,
     ) -> Result<SpeedFinding> {
         let [lo, hi] = self.range;
         let offset = |rpm: f64| self.declared_rpm.map(|d| 100.0 * (rpm / d - 1.0));
@@ -301,13 +305,27 @@ impl CheckedOptions {
                 "shaft comb of the recording's spectrum",
             ));
         }
-        if let Some(m) = envelope {
+        if let Some(m) = envelope.filter(|m| m.refined_rpm.is_some()) {
             return Ok(comb(
                 &m,
                 m.rpm,
                 true,
                 SpeedSource::EnvelopeComb,
                 "shaft comb of the residual's squared envelope",
+            ));
+        }
+        // an envelope comb that refines in no band (a wandering speed spreads its lines) is the
+        // shaft's when the recording's own spectrum, an independent reading, puts its best comb
+        // at the same speed: a fault's near-comb (k·BPFI ± m·fr, 0.989 fr on a 6203) lives in
+        // the envelope only, and lies a percent from the shaft comb the spectrum shows
+        if let Some(m) = envelope.filter(|m| confirmed_by_spectrum(m, spectrum.as_ref(), near_comb))
+        {
+            return Ok(comb(
+                &m,
+                m.rpm,
+                false,
+                SpeedSource::EnvelopeComb,
+                "shaft comb of the residual's squared envelope (not refined: confirmed by the spectrum's comb at the same speed)",
             ));
         }
         let (rpm, source) = match self.declared_rpm {
@@ -341,9 +359,131 @@ impl CheckedOptions {
     }
 }
 
+/// How far, relative, the near-comb of an inner-race fault's line family lies from the shaft
+/// comb: `k·BPFI ± m·fr` holds lines near every order of `BPFI/n · fr`, `n` the integer nearest
+/// the BPFI order (0.989 fr on a 6203, 0.986 on a 6308), less the fault rates' uncertainty
+/// `rate_uncertainty` (the near-comb moves with them); 0 when they could meet.
+pub fn near_comb_distance(orders: &bearing_model::FaultOrders, rate_uncertainty: f64) -> f64 {
+    let n = orders.bpfi.round().max(1.0);
+    ((orders.bpfi / n - 1.0).abs() - rate_uncertainty).max(0.0)
+}
+
+/// Whether the recording's own spectrum confirms an unrefined envelope comb `m`: the best comb
+/// of the spectrum's search, complete but not necessarily accepted (its first order
+/// [`crate::speed::COMB_MIN_FIRST_ORDER`] and [`crate::speed::COMB_MIN_COMPLETE`] of its orders
+/// present, its contrast not asked: on a machine whose speed wanders the contrast falls), lies
+/// within
+/// [`COMB_AGREEMENT_BINS`] resolution steps of it, or within half the distance to a fault's
+/// near-comb (`near_comb`, [`near_comb_distance`]) up to [`MAX_COMB_DISAGREEMENT`]: a
+/// wandering speed moves the two readings apart by more than their resolution (0.5 % on a
+/// simulated machine wandering 0.2 % RMS), and a near-comb in the envelope against the shaft
+/// comb in the spectrum still disagrees. A spectrum that holds the fault family's low-frequency
+/// lines itself (the 5-DOF model's 6203 inner race: its near-comb at 0.988 fr in the spectrum,
+/// first order 7.9 dB) is no confirmation: its first order is not a shaft line's 10 dB.
+fn confirmed_by_spectrum(
+    m: &SpeedEstimate,
+    spectrum: Option<&SpeedEstimate>,
+    near_comb: f64,
+) -> bool {
+    spectrum.is_some_and(|s| {
+        let tol = (COMB_AGREEMENT_BINS * m.resolution.max(s.resolution))
+            .max((0.5 * near_comb).min(MAX_COMB_DISAGREEMENT));
+        s.first_order_score >= crate::speed::COMB_MIN_FIRST_ORDER
+            && s.orders_present as f64 >= crate::speed::COMB_MIN_COMPLETE * s.orders as f64
+            && (s.rpm / m.rpm - 1.0).abs() <= tol
+    })
+}
+
+/// An unrefined envelope comb and the spectrum's comb agree at least when their speeds lie
+/// within this many of the coarser one's resolution steps (half a bin at the top order each).
+pub const COMB_AGREEMENT_BINS: f64 = 2.0;
+/// The widest relative disagreement between an unrefined envelope comb and the spectrum's comb
+/// that still confirms it (the fault windows' slip allowance is 2 %).
+pub const MAX_COMB_DISAGREEMENT: f64 = 0.01;
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn estimate(rpm: f64, refined: bool, first: f64, present: usize) -> SpeedEstimate {
+        SpeedEstimate {
+            rpm,
+            comb_score: 12.0,
+            contrast: 2.5,
+            orders: 10,
+            first_order_score: first,
+            orders_present: present,
+            accepted: true,
+            refined_rpm: refined.then_some(rpm),
+            envelope_band_hz: None,
+            resolution: 3e-4,
+        }
+    }
+
+    #[test]
+    fn an_unrefined_envelope_comb_needs_the_spectrum_s_comb_at_its_speed() {
+        let o = DiagnoseOptions::declared(1575.0).check().unwrap();
+        let env = SpeedEstimate {
+            envelope_band_hz: Some([2000.0, 3000.0]),
+            ..estimate(1504.0, false, 2.0, 9)
+        };
+        // the spectrum's comb, not accepted, at the same speed: the envelope comb is the shaft's
+        let spec = SpeedEstimate {
+            accepted: false,
+            ..estimate(1503.8, false, 2.9, 9)
+        };
+        let f = o.find_speed(Some(spec), Some(env), 0.0).unwrap();
+        assert_eq!(f.source, SpeedSource::EnvelopeComb);
+        assert!((f.rpm_used - 1504.0).abs() < 1e-9);
+        assert!(f.note.contains("not refined"), "{}", f.note);
+        // 0.5 % apart (a wandering speed): confirmed where a fault's near-comb lies 1.44 % off
+        let wander = SpeedEstimate {
+            rpm: 1504.0 * 1.005,
+            ..spec
+        };
+        assert_eq!(
+            o.find_speed(Some(wander), Some(env), 0.0144)
+                .unwrap()
+                .source,
+            SpeedSource::EnvelopeComb
+        );
+        assert_eq!(
+            o.find_speed(Some(wander), Some(env), 0.0).unwrap().source,
+            SpeedSource::Declared
+        );
+        // a near-comb's distance away (the near-comb in the envelope, the shaft comb in the
+        // spectrum): the declared speed
+        let far = SpeedEstimate {
+            rpm: 1504.0 * 1.011,
+            ..spec
+        };
+        let f = o.find_speed(Some(far), Some(env), 0.0144).unwrap();
+        assert_eq!(f.source, SpeedSource::Declared);
+        // a spectrum without its first order, or with most orders missing, confirms nothing
+        for weak in [
+            SpeedEstimate {
+                first_order_score: 0.2,
+                ..spec
+            },
+            SpeedEstimate {
+                orders_present: 4,
+                ..spec
+            },
+        ] {
+            let f = o.find_speed(Some(weak), Some(env), 0.0).unwrap();
+            assert_eq!(f.source, SpeedSource::Declared);
+        }
+        // no spectrum at all: the declared speed
+        let f = o.find_speed(None, Some(env), 0.0).unwrap();
+        assert_eq!(f.source, SpeedSource::Declared);
+        // a refined envelope comb needs no confirmation
+        let refined = SpeedEstimate {
+            envelope_band_hz: Some([2000.0, 3000.0]),
+            ..estimate(1504.0, true, 2.0, 9)
+        };
+        let f = o.find_speed(None, Some(refined), 0.0).unwrap();
+        assert_eq!(f.source, SpeedSource::EnvelopeComb);
+    }
 
     #[test]
     fn bad_options_are_typed_errors() {
@@ -369,10 +509,10 @@ mod tests {
     #[test]
     fn without_a_comb_a_wide_range_is_refused_and_a_narrow_one_searched() {
         let wide = DiagnoseOptions::search(300.0, 3600.0).check().unwrap();
-        let e = wide.find_speed(None, None).unwrap_err();
+        let e = wide.find_speed(None, None, 0.0).unwrap_err();
         assert!(matches!(e, DiagnosisError::SpeedNotFound { .. }), "{e}");
         let narrow = DiagnoseOptions::search(1000.0, 1100.0).check().unwrap();
-        let f = narrow.find_speed(None, None).unwrap();
+        let f = narrow.find_speed(None, None, 0.0).unwrap();
         assert_eq!(f.source, SpeedSource::RangeCentre);
         assert!((f.relative_uncertainty - 50.0 / 1050.0).abs() < 1e-12);
     }

@@ -127,7 +127,7 @@ fn unknown_in(
         ball_spin: 0.5 * MAX_ORDER,
         ball_defect: MAX_ORDER,
     };
-    let a = analyse(engine, x, fs_hz, &plan_orders, baseline, &options)?;
+    let a = analyse(engine, x, fs_hz, &plan_orders, 0.0, baseline, &options)?;
     let fr = a.fr;
     let views: Vec<BandView> = a
         .spectra
@@ -435,6 +435,7 @@ fn report(
                 explained_by: None,
                 p_given_stronger: None,
                 masks: Masks::default(),
+                shaft_comb_hz: None,
             });
             HypothesisEvidence {
                 hypothesis: h,

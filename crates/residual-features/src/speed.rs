@@ -286,7 +286,12 @@ fn range_search(rpm_low: f64, rpm_high: f64) -> (f64, f64) {
 /// here: an envelope's shaft lines stand alone in their neighbourhood, and 3 s records (74
 /// turns at 1480 rpm) are common. Of the bands whose comb passes, the one with the highest comb
 /// score gives the speed ([`SpeedEstimate::envelope_band_hz`] names it; `rpm` is the refined
-/// speed). `None` when no band passes.
+/// speed). When no band's comb refines, the best-scoring accepted comb is returned unrefined
+/// ([`SpeedEstimate::refined_rpm`] `None`, `rpm` the search's): it is not a speed by itself — a
+/// fault's near-comb can pass the search's rules — but another, independent reading of the shaft
+/// that agrees with it (the recording's own spectrum, `diagnosis`) confirms it; a machine whose
+/// speed wanders spreads its envelope lines beyond [`REFINE_CONSISTENCY`] and refines in no
+/// band. `None` when no band passes.
 ///
 /// # Errors
 /// The spectral engine's errors (non-finite input).
@@ -342,18 +347,28 @@ fn envelope_speed(
     }
     // the best comb that refines: refinements (a zoom DFT per line) only as far as needed
     accepted.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut best_unrefined = None;
     for (_, band, low, rate) in accepted {
-        if let Some(m) = comb_speed(engine, &low, rate, rpm, search, f64::INFINITY, coarse)?
-            && let Some(refined) = m.refined_rpm
-        {
-            return Ok(Some(SpeedEstimate {
-                rpm: refined,
-                envelope_band_hz: Some([band.low_hz(), band.high_hz()]),
-                ..m
-            }));
+        if let Some(m) = comb_speed(engine, &low, rate, rpm, search, f64::INFINITY, coarse)? {
+            let band_hz = Some([band.low_hz(), band.high_hz()]);
+            if let Some(refined) = m.refined_rpm {
+                return Ok(Some(SpeedEstimate {
+                    rpm: refined,
+                    envelope_band_hz: band_hz,
+                    ..m
+                }));
+            }
+            if best_unrefined.is_none() && m.accepted {
+                best_unrefined = Some(SpeedEstimate {
+                    envelope_band_hz: band_hz,
+                    ..m
+                });
+            }
         }
     }
-    Ok(None)
+    // no band refines: the best-scoring accepted comb, unrefined (`refined_rpm` is `None`), for
+    // the caller to confirm by other evidence
+    Ok(best_unrefined)
 }
 
 /// Bands [`estimate_envelope_speed`] searches: the most impulsive ones (largest spectral

@@ -113,6 +113,11 @@ pub struct Significance {
     pub p_given_stronger: Option<f64>,
     /// What that band masked.
     pub masks: Masks,
+    /// The shaft rate, Hz, whose comb explains every line carrying this hypothesis's evidence
+    /// when the speed was not confirmed by a comb (`detect::shaft_explains`): the lines are the
+    /// shaft's, and the hypothesis is not significant (its `p_healthy` is 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shaft_comb_hz: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -178,6 +183,8 @@ struct Scan {
     reading: BandReading,
     depth: f64,
     p_healthy: f64,
+    /// What the band read masked (at a searched speed, its shaft comb's orders too).
+    masks: Masks,
 }
 
 /// The modulation depth of a reading's harmonics in `v`: `√(Σ_k m_k²)`.
@@ -212,6 +219,11 @@ fn scan(
             s.reading.statistic_db,
         )
     };
+    let step = if rhos.len() > 1 {
+        rhos[1] - rhos[0]
+    } else {
+        0.0
+    };
     for &rho in rhos {
         let tr = t.at_speed(rho);
         // the references are read off every hypothesis's lattice: a fault's own lines, and
@@ -221,6 +233,12 @@ fn scan(
             .iter()
             .flat_map(|o| o.at_speed(rho).lattice(top))
             .collect();
+        // a searched speed is a hypothesis about the shaft too: the comb the bands show at it
+        // is the shaft's, masked as at a measured speed
+        let at_rho = (step > 0.0)
+            .then(|| shaft_masked_at(views, all, t.fr, rho, step))
+            .flatten();
+        let views = at_rho.as_deref().unwrap_or(views);
         for (b, v) in views.iter().enumerate() {
             let r = LineTest::new(v, &lattice, tr.fr).read(&tr);
             let cand = Scan {
@@ -229,6 +247,7 @@ fn scan(
                 depth: harmonics_depth(v, &r),
                 reading: r,
                 p_healthy: 1.0,
+                masks: v.masks,
             };
             let better = best.as_ref().is_none_or(|s| {
                 let (a, c) = (key(&cand), key(s));
@@ -256,8 +275,136 @@ fn scan(
                 statistic_db: 0.0,
             },
             p_healthy: 1.0,
+            masks: Masks::default(),
         },
     }
+}
+
+/// Whether `t` is an inner race whose family's near-comb (`BPFI/n`, `n` the integer nearest
+/// the BPFI order) lies within half a bin `df` (relative to its shaft rate) plus the rates'
+/// uncertainty `u` of the shaft's comb: its harmonics on a comb's orders are then its own
+/// family's as much as a shaft's — an inner race modulated by the load zone fills the envelope
+/// with shaft orders itself — so [`shaft_explains`] is not asked (a 6203's BPFI 4.947 fr, a
+/// 6308's 4.928, a UC204's 4.95 ± 3 % against bins of fr/8 … fr/32).
+fn inner_near_comb(t: &Template, df: f64, u: f64) -> bool {
+    if t.hypothesis != Hypothesis::Inner || t.fr <= 0.0 {
+        return false;
+    }
+    let q = t.fault_hz / t.fr;
+    let n = q.round().max(1.0);
+    (q / n - 1.0).abs() <= 0.5 * df / t.fr + u
+}
+
+/// Orders of a shaft comb off a hypothesis's lines that [`shaft_explains`] looks at (the first
+/// ones not among the lines).
+const SHAFT_CHECK_ORDERS: usize = 6;
+/// … of which at least this many must stand as lines: a shaft comb (once-per-rev impacts, a
+/// rub) holds nearly every order; a fault family's near-comb meets a few of them by chance at
+/// the envelope spectrum's resolution (a bin of fr/8 … fr/32).
+const SHAFT_MIN_ORDERS: usize = 4;
+
+/// The shaft rate in `range` (Hz) whose comb explains every line carrying evidence in `r` (read
+/// in `v`), if one does: each such line within `max(½ bin, COMB_TOLERANCE)` of an order of it
+/// (the rate fitted to them, the strongest line's order `n` taken in turn), and at least
+/// [`SHAFT_MIN_ORDERS`] of its first [`SHAFT_CHECK_ORDERS`] orders off those lines standing
+/// [`LINE_THRESHOLD_DB`] over their median, as close, in some band of `views`. A fault explains
+/// lines at non-integer orders; a comb at integer orders is the shaft's (once-per-rev impacts,
+/// a rub, looseness). With a speed no comb confirmed a template slides until its lines sit on
+/// the shaft's orders (BPFI 4.93 fr on the 5th, 10th and 15th; a ball's BSF×2 ± FTF on the
+/// 8th, 9th and 17th), and the declared speed's masks, a few per cent off, do not cover them.
+/// A fault's own lines are told from a shaft comb by the orders between: an inner race's
+/// family `k·BPFI ± m·fr` forms a near-comb at `BPFI/5 ≈ 0.986–0.989 fr` whose orders lie
+/// 1.1–1.4 % (first), 2.2–2.9 % (second) … from the shaft's lines and the family's: at the
+/// envelope spectrum's resolution (half a bin is 1.6 % of fr at fr/32 bins) a few of them meet
+/// a line, not four of six.
+pub(crate) fn shaft_explains(
+    views: &[BandView],
+    v: &BandView,
+    r: &linetest::BandReading,
+    range: [f64; 2],
+) -> Option<f64> {
+    let lines: Vec<(f64, f64)> = r
+        .terms
+        .iter()
+        .filter(|t| t.value >= crate::LINE_THRESHOLD_DB)
+        .map(|t| (t.bin as f64 * v.df, t.value))
+        .collect();
+    let &(f_max, _) = lines.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let tol = |f: f64| (0.5 * v.df).max(view::COMB_TOLERANCE * f);
+    (1..)
+        .map(|n| f_max / n as f64)
+        .take_while(|&f| f >= range[0])
+        .filter(|&f| f <= range[1])
+        .find_map(|f0| {
+            // the rate fitted to the lines' orders at f0
+            let ks: Vec<f64> = lines.iter().map(|&(f, _)| (f / f0).round()).collect();
+            if ks.iter().any(|&k| k < 1.0) {
+                return None;
+            }
+            let (num, den) = lines
+                .iter()
+                .zip(&ks)
+                .fold((0.0, 0.0), |(a, b), (&(f, _), &k)| (a + k * f, b + k * k));
+            let fs = num / den;
+            let on_orders = lines
+                .iter()
+                .zip(&ks)
+                .all(|(&(f, _), &k)| (f - k * fs).abs() <= tol(f));
+            if !on_orders {
+                return None;
+            }
+            let shown = (1..)
+                .map(|j| j as f64)
+                .filter(|j| !ks.contains(j))
+                .take(SHAFT_CHECK_ORDERS)
+                .filter(|&j| views.iter().any(|w| w.holds_line(j * fs, tol(j * fs))))
+                .count();
+            (shown >= SHAFT_MIN_ORDERS).then_some(fs)
+        })
+}
+
+/// Sub-steps of a speed-ratio step at which [`shaft_masked_at`] looks for the shaft comb.
+const COMB_SUBSTEPS: usize = 8;
+
+/// The views with the shaft's orders masked at the speed a searched ratio stands for, when the
+/// bands show a shaft comb there; `None` when none does. A ratio `rho` stands for the speeds
+/// within half a step `step` of `rho·fr`; the comb is looked for across them (in
+/// [`COMB_SUBSTEPS`], finer than [`view::COMB_TOLERANCE`] wherever the step is a few per cent),
+/// its lines counted as [`BandView::new`] counts them at the speed used (the faults' harmonic
+/// windows at that ratio excluded), and masked at the speed where the bands hold the most when
+/// one band holds [`view::COMB_MIN_LINES`]. Without this, a template searched over a range a
+/// declared speed is uncertain by settles where its lines fall on a shaft comb: on a machine
+/// declared 5 % fast with once-per-rev impacts, BPFI 4.93 fr read at a ratio placing BPFI×1..3
+/// on the shaft's 5th, 10th and 15th orders (`false_alarm.md`, *Declared-speed error*).
+fn shaft_masked_at(
+    views: &[BandView],
+    all: &[Template],
+    fr: f64,
+    rho: f64,
+    step: f64,
+) -> Option<Vec<BandView>> {
+    let kinematic: Vec<(f64, f64)> = all
+        .iter()
+        .flat_map(|t| t.at_speed(rho).harmonic_windows().collect::<Vec<_>>())
+        .collect();
+    let (lines, speed) = (0..=COMB_SUBSTEPS)
+        .map(|i| {
+            let r = rho + step * (i as f64 / COMB_SUBSTEPS as f64 - 0.5);
+            let f = fr * r;
+            let per_band: Vec<usize> = views
+                .iter()
+                .map(|v| v.shaft_comb_lines(f, &kinematic))
+                .collect();
+            let shown = per_band.iter().any(|&n| n >= view::COMB_MIN_LINES);
+            (if shown { per_band.iter().sum() } else { 0 }, f)
+        })
+        .fold((0, 0.0), |b, c| if c.0 > b.0 { c } else { b });
+    (lines > 0).then(|| {
+        views
+            .iter()
+            .map(|v| v.with_shaft_orders_at(speed))
+            .collect()
+    })
 }
 
 /// The speed ratios searched for a relative speed uncertainty `u` (steps of half the narrowest
@@ -356,9 +503,29 @@ pub(crate) fn detect(
         }
     }
     if !unconfirmed {
-        return detect_at(spectra, views, o, fr, slack.speed + slack.rate, 0.0, alpha);
+        return detect_at(
+            spectra,
+            views,
+            o,
+            fr,
+            slack.speed + slack.rate,
+            0.0,
+            None,
+            alpha,
+        );
     }
-    let at_declared = detect_at(spectra, views.clone(), o, fr, slack.rate, 0.0, 0.5 * alpha);
+    // the speeds the shaft may run at: a comb of any of them explains lines at its orders
+    let shaft_range = Some([fr * (1.0 - slack.speed), fr * (1.0 + slack.speed)]);
+    let at_declared = detect_at(
+        spectra,
+        views.clone(),
+        o,
+        fr,
+        slack.rate,
+        0.0,
+        shaft_range,
+        0.5 * alpha,
+    );
     if !at_declared.confirmed.is_empty() || !at_declared.uncertain.is_empty() {
         return Detection {
             stage: SpeedStage::Declared,
@@ -367,12 +534,23 @@ pub(crate) fn detect(
     }
     Detection {
         stage: SpeedStage::Searched,
-        ..detect_at(spectra, views, o, fr, slack.rate, slack.speed, 0.5 * alpha)
+        ..detect_at(
+            spectra,
+            views,
+            o,
+            fr,
+            slack.rate,
+            slack.speed,
+            shaft_range,
+            0.5 * alpha,
+        )
     }
 }
 
 /// One reading: windows widened by `speed_slack` (a coarse comb's placement), or the speed
-/// searched over `± search` by speed ratios (a declared speed no comb confirmed).
+/// searched over `± search` by speed ratios (a declared speed no comb confirmed). `shaft_range`
+/// (Hz), when no comb confirmed the speed: a hypothesis whose evidence a shaft comb at a rate in
+/// it explains is not significant ([`shaft_explains`]).
 #[allow(clippy::too_many_arguments)]
 fn detect_at(
     spectra: &[EnvelopeSpectrum],
@@ -381,6 +559,7 @@ fn detect_at(
     fr: f64,
     speed_slack: f64,
     search: f64,
+    shaft_range: Option<[f64; 2]>,
     alpha: f64,
 ) -> Detection {
     let base: Vec<Template> = Hypothesis::ALL
@@ -436,10 +615,22 @@ fn detect_at(
                 significant: false,
                 explained_by: None,
                 p_given_stronger: None,
-                masks: v.masks,
+                masks: s.masks,
+                shaft_comb_hz: None,
             }
         })
         .collect();
+    if let Some(range) = shaft_range {
+        for ((sig, s), t) in per_hypothesis.iter_mut().zip(&scans).zip(&templates) {
+            if inner_near_comb(t, views[s.band].df, speed_slack) {
+                continue;
+            }
+            if let Some(f) = shaft_explains(&views, &views[s.band], &s.reading, range) {
+                sig.shaft_comb_hz = Some(f);
+                sig.p_healthy = 1.0;
+            }
+        }
+    }
     // significant hypotheses, strongest first: by the depth of the envelope modulation their
     // lines carry (the probabilities of strong faults all reach their floors)
     let mut order: Vec<usize> = (0..templates.len())
@@ -543,6 +734,82 @@ mod calibration {
             mean_square: 1.0,
             ..EnvelopeSpectrum::default()
         }
+    }
+
+    /// Four noise bands with lines of `amp` × the noise's mean power at every frequency of
+    /// `lines` (Hz).
+    fn bands_with_lines(
+        seed: u64,
+        df: f64,
+        nbins: usize,
+        lines: &[f64],
+        amp: f64,
+    ) -> Vec<EnvelopeSpectrum> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        (0..4)
+            .map(|_| {
+                let mut s = noise_spectrum(&mut rng, nbins, df, 4);
+                for &f in lines {
+                    if let Some(p) = s.power.get_mut((f / df).round() as usize) {
+                        *p += amp;
+                    }
+                }
+                s
+            })
+            .collect()
+    }
+
+    /// A shaft comb (once-per-rev impacts: every order of 10 Hz to 400 Hz) read at a declared
+    /// speed 5 % fast, no comb confirming it: a template searching the range settles on the
+    /// comb's orders, and the comb explains them, so no fault is called; an outer race at the
+    /// same declared speed (BPFO×1..6 beside the shaft's 1× and 2×) is still called, its lines
+    /// explained by no shaft comb.
+    #[test]
+    fn a_shaft_comb_at_an_unconfirmed_speed_is_no_fault() {
+        let o = bearing_model::BearingSpec::parse("6308").unwrap().orders;
+        let (fr_true, fr) = (10.0, 10.5);
+        let df = 1.0 / 6.0;
+        let nbins = (1000.0 / df) as usize;
+        let slack = Slack {
+            speed: 0.1,
+            rate: 0.0,
+        };
+        let comb: Vec<f64> = (1..=40).map(|k| k as f64 * fr_true).collect();
+        for seed in 1..=5 {
+            let spectra = bands_with_lines(seed, df, nbins, &comb, 60.0);
+            let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+            assert!(
+                d.confirmed.is_empty() && d.uncertain.is_empty(),
+                "seed {seed}: {:?} {:?}",
+                d.confirmed,
+                d.uncertain
+            );
+            let explained = d
+                .per_hypothesis
+                .iter()
+                .filter_map(|s| s.shaft_comb_hz)
+                .collect::<Vec<_>>();
+            assert!(
+                explained.iter().all(|f| (f - fr_true).abs() < 0.05),
+                "{explained:?}"
+            );
+        }
+        let outer: Vec<f64> = (1..=6)
+            .map(|k| k as f64 * o.bpfo * fr_true)
+            .chain([fr_true, 2.0 * fr_true])
+            .collect();
+        let spectra = bands_with_lines(1, df, nbins, &outer, 60.0);
+        let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+        assert!(
+            d.confirmed.contains(&Hypothesis::Outer),
+            "{:?}",
+            d.confirmed
+        );
+        let outer = Hypothesis::ALL
+            .iter()
+            .position(|h| *h == Hypothesis::Outer)
+            .unwrap();
+        assert_eq!(d.per_hypothesis[outer].shaft_comb_hz, None);
     }
 
     /// On white-noise spectra (four bands, 16 averages, fr/32 bins) each band's line test and

@@ -200,6 +200,42 @@ impl BandView {
         }
     }
 
+    /// Lines of the shaft comb `j·fr`, `j = 1..=`[`COMB_CHECK_ORDERS`], that this band's
+    /// evidence holds (≥ [`LINE_THRESHOLD_DB`] within its comb tolerance), frequencies inside
+    /// `kinematic` (the faults' harmonic windows) not counted: the check [`BandView::new`] makes
+    /// at the speed used, at another speed.
+    pub(crate) fn shaft_comb_lines(&self, fr: f64, kinematic: &[(f64, f64)]) -> usize {
+        (1..=COMB_CHECK_ORDERS)
+            .map(|j| j as f64 * fr)
+            .filter(|&f| f < self.top_hz)
+            .filter(|&f| !kinematic.iter().any(|&(a, b)| (a..=b).contains(&f)))
+            .filter(|&f| {
+                view_max(
+                    &self.d,
+                    self.df,
+                    f,
+                    (self.comb_tolerance * f / self.df).max(1.0),
+                ) >= LINE_THRESHOLD_DB
+            })
+            .count()
+    }
+
+    /// Whether the evidence holds a line (≥ [`LINE_THRESHOLD_DB`]) within `half_width` Hz of
+    /// `f` (at least the nearest bin), below the band's top.
+    pub(crate) fn holds_line(&self, f: f64, half_width: f64) -> bool {
+        f < self.top_hz && view_max(&self.d, self.df, f, half_width / self.df) >= LINE_THRESHOLD_DB
+    }
+
+    /// This view with the shaft's integer orders of `fr` masked besides what it masks already
+    /// (a speed a template search tries: the shaft comb at that speed is the shaft's).
+    pub(crate) fn with_shaft_orders_at(&self, fr: f64) -> Self {
+        let mut w = self.clone();
+        w.masks.shaft_orders = true;
+        w.mask_comb(fr, 1.0);
+        w.refresh();
+        w
+    }
+
     /// Mask `(j + offset)·f0`, `j ≥ 0`, up to the top: ± max(1 bin, [`COMB_TOLERANCE`] of the
     /// frequency).
     fn mask_comb(&mut self, f0: f64, offset: f64) {
