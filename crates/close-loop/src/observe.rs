@@ -112,8 +112,7 @@ impl ResidualObserver {
         let (kind, model, linear) = match self {
             Self::ArxLaguerre => {
                 let id = identify_arx(fit)?;
-                let model =
-                    observers::LinearModel::from_state_space(&id.state_space()).map_err(obs_err)?;
+                let model = id.state_space().validated().map_err(obs_err)?;
                 (
                     ObserverKind::Alpio,
                     ModelConfig::ArxLaguerre {
@@ -125,7 +124,7 @@ impl ResidualObserver {
             }
             Self::CalibratedPath { ar } => (
                 ObserverKind::Asmo,
-                ModelConfig::CalibratedPath(observers::LinearModel::from_ar(ar).map_err(obs_err)?),
+                ModelConfig::CalibratedPath(observers::StateSpace::from_ar(ar).map_err(obs_err)?),
                 LinearDesign::default(),
             ),
             &Self::Physics {

@@ -34,6 +34,19 @@ pub struct PathMode {
 }
 
 /// An identified structural path.
+///
+/// The workspace's other AR model is the diagnosis' whitener (`diagnosis::ArWhitener`). Both
+/// filter through the one prediction-error loop ([`diagnosis::whiten::prediction_error`], which
+/// [`StructuralPath::prediction_error`] runs with [`StructuralPath::prediction_coefficients`]),
+/// and a path becomes a whitener at the edge (`ArWhitener::from_coefficients` of its prediction
+/// coefficients, as a machine-model baseline does). They stay two types because what they hold
+/// and how they are fitted differ: a path is fitted by Yule–Walker (Levinson–Durbin,
+/// [`levinson`]) on a line-free PSD with its order chosen by a spectral score ([`identify`]),
+/// keeps `A(z)` coefficients and an excitation variance, and is also a spectrum, a set of modes
+/// and a synthesis filter `1/A(z)`; the whitener is fitted by least squares on time samples with
+/// its order chosen by held-out one-step error, keeps prediction coefficients `−α_i` and its
+/// fit's record. Either fit on the other's data gives other numbers, and both are serialised
+/// (machine models, diagnosis reports).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StructuralPath {
     /// Sampling rate the path was identified at, Hz.
@@ -177,19 +190,32 @@ impl StructuralPath {
         y
     }
 
+    /// The prediction coefficients `a_i = −α_i` of the path's one-step predictor
+    /// `ŷ(n) = Σ a_i y(n−i)` (the convention of `diagnosis::ArWhitener`).
+    pub fn prediction_coefficients(&self) -> Vec<f64> {
+        self.ar.iter().map(|a| -a).collect()
+    }
+
     /// The one-step prediction error `A(z)·y` (the path's innovation; the first p samples use
-    /// the available past only).
+    /// the available past only). From sample p on it is [`diagnosis::whiten::prediction_error`]
+    /// of [`StructuralPath::prediction_coefficients`]: `y(n) − Σ (−α_k) y(n−k)` is the bits of
+    /// `y(n) + Σ α_k y(n−k)` (negation is exact), summed in the same order.
     pub fn prediction_error(&self, y: &[f64]) -> Vec<f64> {
         let p = self.ar.len();
-        (0..y.len())
+        let mut e: Vec<f64> = (0..p.min(y.len()))
             .map(|n| {
                 let mut v = y[n];
-                for k in 1..=p.min(n) {
+                for k in 1..=n {
                     v += self.ar[k - 1] * y[n - k];
                 }
                 v
             })
-            .collect()
+            .collect();
+        e.extend(diagnosis::whiten::prediction_error(
+            &self.prediction_coefficients(),
+            y,
+        ));
+        e
     }
 
     /// The structural modes: the poles of `1/A(z)` (roots of A), one entry per complex pair
@@ -448,6 +474,37 @@ mod tests {
             identify_from_signal(&y[..1000], fs, 64),
             Err(CloseLoopError::TooShort { .. })
         ));
+    }
+
+    /// The prediction error through the shared loop gives the bits of its definition
+    /// `y(n) + Σ_{k ≤ min(n, p)} α_k y(n−k)`, for every length around the loop's block size.
+    #[test]
+    fn prediction_error_is_the_definition_bit_for_bit() {
+        let path = StructuralPath {
+            fs_hz: 1000.0,
+            ar: (0..7).map(|i| 0.3 / (i as f64 + 1.0) - 0.05).collect(),
+            excitation_variance: 1.0,
+        };
+        for n in 0..60 {
+            let y: Vec<f64> = (0..n)
+                .map(|k| (0.7 * k as f64).sin() + 0.01 * k as f64)
+                .collect();
+            let definition: Vec<u64> = (0..n)
+                .map(|i| {
+                    let mut v = y[i];
+                    for k in 1..=path.order().min(i) {
+                        v += path.ar[k - 1] * y[i - k];
+                    }
+                    v.to_bits()
+                })
+                .collect();
+            let shared: Vec<u64> = path
+                .prediction_error(&y)
+                .iter()
+                .map(|v| v.to_bits())
+                .collect();
+            assert_eq!(shared, definition, "length {n}");
+        }
     }
 
     #[test]

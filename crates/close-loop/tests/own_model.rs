@@ -198,7 +198,7 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
     assert!(rp < r, "predictor residual RMS {rp} against the path's {r}");
     assert!(m.predictor_residual_kurtosis.unwrap().is_finite());
     // as an observer model: the physics observers' one-step predictor removes the resonance
-    let flo_ratio = |pm: observers::LinearModel| {
+    let flo_ratio = |pm: observers::StateSpace| {
         assert!(pm.is_shift_form());
         let mut obs = observers::build_observer(
             observers::ObserverKind::Flo,

@@ -7,6 +7,10 @@
 //! past — the structural resonances, the shaft and mains lines the fitted signal holds — and
 //! keeps what is not: the onsets of fault impacts. The order is chosen among [`ORDERS`] by the
 //! one-step prediction error on a held-out part of the fitted signal.
+//!
+//! [`prediction_error`] is the workspace's one AR prediction-error filtering loop: the
+//! whitener's [`ArWhitener::residual`] and the closed loop's structural path
+//! (`close_loop::path::StructuralPath::prediction_error`) both run it.
 
 use laguerre_id::{ArxModel, ArxOrders, IdentError};
 use serde::{Deserialize, Serialize};
@@ -32,6 +36,18 @@ pub struct OrderScore {
 }
 
 /// A fitted AR prediction-error (whitening) filter.
+///
+/// The closed loop's structural path (`close_loop::path::StructuralPath`) is the other AR model
+/// of the workspace. Both filter through the one [`prediction_error`] loop, and a path becomes a
+/// whitener at the edge ([`ArWhitener::from_coefficients`] of its prediction coefficients
+/// `a_i = −α_i`, as a machine-model baseline does); they stay two types because what they hold
+/// and how they are fitted differ: this one is fitted by least squares on time samples with its
+/// order chosen by held-out one-step error among [`ORDERS`], keeps prediction coefficients
+/// `a_i` (x(k) ≈ Σ a_i x(k−i)) and its fit's record (samples, per-order scores), and its residual
+/// starts at sample `p`; the path is fitted by Yule–Walker (Levinson–Durbin) on a line-free PSD
+/// with its order chosen by a spectral score, keeps `A(z)` coefficients `α_i = −a_i` and an
+/// excitation variance, and is also a spectrum, a set of modes and a synthesis filter `1/A(z)`.
+/// Either fit on the other's data gives other numbers, and both are serialised in reports.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ArWhitener {
     /// Chosen order `p`.
@@ -160,45 +176,59 @@ impl ArWhitener {
     }
 
     /// The prediction error `e(k) = x(k) − Σ a_i x(k−i)` for `k = p … len−1` (the first `p`
-    /// samples have no full history and are not returned).
+    /// samples have no full history and are not returned): [`prediction_error`] with this
+    /// whitener's coefficients.
     pub fn residual(&self, x: &[f64]) -> Vec<f64> {
-        let p = self.order;
-        if x.len() <= p {
-            return Vec::new();
-        }
-        // BLOCK outputs at a time: each keeps its own sum in the same order (the same bits as
-        // one at a time), and the independent chains run side by side in vector registers
-        // instead of each subtraction waiting on the one before (order 142 at 12 kHz: a CWRU
-        // machine model)
-        const BLOCK: usize = 16;
-        let mut out = Vec::with_capacity(x.len() - p);
-        let mut k = p;
-        while k + BLOCK <= x.len() {
-            let mut s = [0.0; BLOCK];
-            s.copy_from_slice(&x[k..k + BLOCK]);
-            for (i, a) in self.coefficients.iter().enumerate() {
-                let past: &[f64; BLOCK] = x[k - 1 - i..k - 1 - i + BLOCK]
-                    .try_into()
-                    .expect("a slice of BLOCK samples");
-                for (sj, xj) in s.iter_mut().zip(past) {
-                    *sj -= a * xj;
-                }
-            }
-            out.extend_from_slice(&s);
-            k += BLOCK;
-        }
-        out.extend((k..x.len()).map(|k| self.one_residual(x, k)));
-        out
+        prediction_error(&self.coefficients, x)
     }
+}
 
-    /// `e(k)` of [`ArWhitener::residual`] for one `k ≥ p`.
-    fn one_residual(&self, x: &[f64], k: usize) -> f64 {
-        let mut s = x[k];
-        for (i, a) in self.coefficients.iter().enumerate() {
-            s -= a * x[k - 1 - i];
-        }
-        s
+/// The AR prediction-error filter `e(k) = x(k) − Σ_{i=1}^{p} a_i x(k−i)` of prediction
+/// coefficients `a_1 … a_p` (`p = coefficients.len()`), for `k = p … len−1` (the first `p`
+/// samples have no full history and are not returned; empty when `x` has at most `p`). Each
+/// `e(k)` is summed in the order `i = 1 … p`, so every output is the bits of
+/// [`one_prediction_error`]. The one AR filtering loop of the workspace: [`ArWhitener::residual`]
+/// and `close_loop::path::StructuralPath::prediction_error` (with `a_i = −α_i`) run it.
+pub fn prediction_error(coefficients: &[f64], x: &[f64]) -> Vec<f64> {
+    let p = coefficients.len();
+    if x.len() <= p {
+        return Vec::new();
     }
+    // BLOCK outputs at a time: each keeps its own sum in the same order (the same bits as
+    // one at a time), and the independent chains run side by side in vector registers
+    // instead of each subtraction waiting on the one before (order 142 at 12 kHz: a CWRU
+    // machine model)
+    const BLOCK: usize = 16;
+    let mut out = Vec::with_capacity(x.len() - p);
+    let mut k = p;
+    while k + BLOCK <= x.len() {
+        let mut s = [0.0; BLOCK];
+        s.copy_from_slice(&x[k..k + BLOCK]);
+        for (i, a) in coefficients.iter().enumerate() {
+            let past: &[f64; BLOCK] = x[k - 1 - i..k - 1 - i + BLOCK]
+                .try_into()
+                .expect("a slice of BLOCK samples");
+            for (sj, xj) in s.iter_mut().zip(past) {
+                *sj -= a * xj;
+            }
+        }
+        out.extend_from_slice(&s);
+        k += BLOCK;
+    }
+    out.extend((k..x.len()).map(|k| one_prediction_error(coefficients, x, k)));
+    out
+}
+
+/// `e(k)` of [`prediction_error`] for one `k ≥ coefficients.len()`.
+///
+/// # Panics
+/// When `k < coefficients.len()` or `k ≥ x.len()` (no full history or no sample).
+pub fn one_prediction_error(coefficients: &[f64], x: &[f64], k: usize) -> f64 {
+    let mut s = x[k];
+    for (i, a) in coefficients.iter().enumerate() {
+        s -= a * x[k - 1 - i];
+    }
+    s
 }
 
 #[cfg(test)]
@@ -217,7 +247,7 @@ mod residual_tests {
                 .collect();
             let blocked: Vec<u64> = w.residual(&x).iter().map(|v| v.to_bits()).collect();
             let one: Vec<u64> = (w.order..n)
-                .map(|k| w.one_residual(&x, k).to_bits())
+                .map(|k| one_prediction_error(&w.coefficients, &x, k).to_bits())
                 .collect();
             assert_eq!(blocked, one, "length {n}");
         }

@@ -16,6 +16,7 @@ use crate::arx::{ArxModel, ArxOrders, check_io};
 use crate::basis::{LaguerreBank, MAX_ORDER, Pole, step_bank};
 use crate::error::{IdentError, Result};
 use crate::lstsq;
+use crate::state_space::StateSpace;
 use serde::{Deserialize, Serialize};
 
 /// Largest state dimension N_a + N_b.
@@ -145,45 +146,6 @@ impl ArxLaguerreConfig {
 pub struct LaguerreState {
     /// State entries (only the first `n_states` are used).
     pub x: [f64; MAX_STATES],
-}
-
-/// The explicit matrices of eqs. 4.11–4.15: A (block diagonal of A_y, A_u), b_y, b_u and the
-/// output map K, each padded with zeros to [`MAX_STATES`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StateSpace {
-    /// N_a + N_b.
-    pub n_states: usize,
-    /// N_a.
-    pub n_a: usize,
-    /// N_b.
-    pub n_b: usize,
-    /// A of eq. 4.12, row-major (`a[i][j]`).
-    pub a: [[f64; MAX_STATES]; MAX_STATES],
-    /// b_y of eq. 4.15 (zero in the input rows).
-    pub b_y: [f64; MAX_STATES],
-    /// b_u of eq. 4.15 (zero in the output rows).
-    pub b_u: [f64; MAX_STATES],
-    /// Fourier coefficients K (eq. 4.11 output map).
-    pub k: [f64; MAX_STATES],
-}
-
-impl StateSpace {
-    /// Matrix form of eq. 4.11: X(k+1) = A X(k) + b_y y(k) + b_u u(k), ŷ(k+1) = Kᵀ X(k+1).
-    /// O(n²); the model's [`ArxLaguerreModel::predict_next`] is the O(n) equivalent.
-    pub fn step(&self, state: &LaguerreState, y: f64, u: f64) -> (LaguerreState, f64) {
-        let n = self.n_states;
-        let mut next = LaguerreState::default();
-        let mut yhat = 0.0;
-        for i in 0..n {
-            let mut s = self.b_y[i] * y + self.b_u[i] * u;
-            for j in 0..n {
-                s += self.a[i][j] * state.x[j];
-            }
-            next.x[i] = s;
-            yhat += self.k[i] * s;
-        }
-        (next, yhat)
-    }
 }
 
 /// One candidate's orders (N_a, N_b) and its held-out one-step NRMSE
@@ -367,28 +329,27 @@ impl ArxLaguerreModel {
         &self.k[..self.n_states()]
     }
 
-    /// The explicit matrices A, b_y, b_u, K of eqs. 4.12–4.15.
+    /// The explicit matrices A (block diagonal of A_y, A_u), b_y, b_u, K of eqs. 4.12–4.15, as
+    /// the workspace's state-space type (n = N_a + N_b states, A row-major).
     pub fn state_space(&self) -> StateSpace {
         let (na, nb) = (self.n_a(), self.n_b());
+        let n = na + nb;
         let mut ss = StateSpace {
-            n_states: na + nb,
-            n_a: na,
-            n_b: nb,
-            a: [[0.0; MAX_STATES]; MAX_STATES],
-            b_y: [0.0; MAX_STATES],
-            b_u: [0.0; MAX_STATES],
-            k: self.k,
+            a: vec![0.0; n * n],
+            b_y: vec![0.0; n],
+            b_u: vec![0.0; n],
+            k: self.k[..n].to_vec(),
         };
         for i in 0..na {
             for j in 0..na {
-                ss.a[i][j] = self.bank_a.a_entry(i, j);
+                ss.a[i * n + j] = self.bank_a.a_entry(i, j);
             }
             ss.b_y[i] = self.bank_a.b_entry(i);
         }
         if let Some(bb) = self.bank_b {
             for i in 0..nb {
                 for j in 0..nb {
-                    ss.a[na + i][na + j] = bb.a_entry(i, j);
+                    ss.a[(na + i) * n + na + j] = bb.a_entry(i, j);
                 }
                 ss.b_u[na + i] = bb.b_entry(i);
             }

@@ -7,6 +7,9 @@
 //!   pole choice (eq. 4.10), one-step prediction and free-run simulation, and an allocation-free
 //!   per-sample predictor ([`ArxLaguerreModel::predict_next`]) for observers.
 //! - [`metrics`]: NRMSE and residual variance.
+//! - [`state_space`]: the workspace's one linear state-space model [`StateSpace`] (A, b_y, b_u,
+//!   K of any order: an identified model's explicit matrices, a Laguerre model from its poles,
+//!   an AR model in shift form), which the observers run.
 //!
 //! The crate knows nothing about bearings: it takes slices of samples.
 //!
@@ -54,15 +57,16 @@ pub mod error;
 mod lstsq;
 pub mod metrics;
 pub mod optimize;
+pub mod state_space;
 
 pub use arx::{ArxModel, ArxOrders};
 pub use arx_laguerre::{
     ArxLaguerreConfig, ArxLaguerreModel, LaguerreState, MAX_STATES, OrderScore, PoleChoice,
-    StateSpace,
 };
 pub use basis::{LaguerreBank, MAX_ORDER, Pole};
 pub use error::{IdentError, Result};
 pub use metrics::FitMetrics;
+pub use state_space::{LAGUERRE_STRUCTURE_TOLERANCE, LaguerreStructure, StateSpace};
 
 /// The README's example, compiled and run as a doctest.
 #[doc = include_str!("../README.md")]

@@ -75,7 +75,7 @@ fn bench(c: &mut Criterion) {
 
     // ARX-Laguerre with N_a = 16 (the largest output bank the order search may pick) in AR form.
     let k16: Vec<f64> = (0..16).map(|i| 0.5 * 0.8f64.powi(i)).collect();
-    let model16 = LinearModel::from_poles(-0.2, 16, 0.0, 0, k16).unwrap();
+    let model16 = StateSpace::from_poles(-0.2, 16, 0.0, 0, k16).unwrap();
     let y16: Vec<f64> = (0..N)
         .map(|k| ((k as f64) * 0.37).sin() + 0.3 * ((k as f64) * 1.91).sin())
         .collect();
@@ -101,7 +101,7 @@ fn bench(c: &mut Criterion) {
         let ar: Vec<f64> = (0..p)
             .map(|i| -0.5 * 0.95f64.powi(i as i32) * (0.3 * i as f64).cos())
             .collect();
-        let path = LinearModel::from_ar(&ar).unwrap();
+        let path = StateSpace::from_ar(&ar).unwrap();
         let mut g = c.benchmark_group(format!("calibrated_path_{p}_states"));
         g.throughput(Throughput::Elements(N as u64));
         g.sample_size(20);

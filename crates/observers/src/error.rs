@@ -73,6 +73,10 @@ pub enum ObserverError {
         /// Decay rate tried.
         gamma: f64,
     },
+    /// A state-space model (`laguerre_id::StateSpace`) with a wrong shape, a non-finite entry
+    /// or a Laguerre pole outside (−1, 1).
+    #[error("invalid state-space model: {0}")]
+    Model(#[from] laguerre_id::IdentError),
     /// A string did not name an observer kind.
     #[error("unknown observer kind (a string of {length} bytes)")]
     UnknownKind {

@@ -17,7 +17,7 @@
 //! Dependencies and why: `nalgebra` (small dense matrices and the matrix exponential for gain
 //! design, the LMI check and exact discretisation, all off the per-sample path);
 //! `bearing-model` (the housing mode of the 5-DOF model, [`ModalParams::from_bearing_model`]);
-//! `laguerre-id` (identified ARX-Laguerre models, [`LinearModel::from_state_space`], and
+//! `laguerre-id` (the state-space type [`StateSpace`] the ARX-type observers run, and
 //! its `MAX_STATES` bound for the fixed-size O(n) Laguerre cascade of
 //! [`ArxLaguerrePredictor`]);
 //! `fuzzy-ts` (the fuzzy ARX-Laguerre model and Table 5.1 inference, [`FalPredictor`]);
@@ -47,7 +47,9 @@ pub use named::{
     path_observer,
 };
 pub use observer::{Observer, ObserverOutput, RunObserver, StepOutput};
+#[allow(deprecated)]
+pub use predictor::LinearModel;
 pub use predictor::{
     ArxLaguerrePredictor, FalPredictor, LAGUERRE_STRUCTURE_TOLERANCE, LaguerreStructure,
-    LinearModel, ModalParams, Predictor, SecondOrderPredictor,
+    ModalParams, Predictor, SecondOrderPredictor, StateSpace,
 };

@@ -23,7 +23,7 @@ use crate::law::{
 };
 use crate::observer::{Observer, ObserverOutput, RunObserver};
 use crate::predictor::{
-    ArxLaguerrePredictor, FalPredictor, LinearModel, ModalParams, Predictor, SecondOrderPredictor,
+    ArxLaguerrePredictor, FalPredictor, ModalParams, Predictor, SecondOrderPredictor, StateSpace,
 };
 use nalgebra::{DMatrix, DVector};
 
@@ -275,7 +275,7 @@ pub fn design_physics_linear(
 /// A_γ = [[A + b_y Kᵀ, f], [0, 1]], C = [Kᵀ, 0] (eq. 2.34 with the fault entering along f),
 /// giving K_p and K_I; the LMI (2.34) is verified and its largest decay rate reported.
 pub fn design_arx_linear(
-    model: &LinearModel,
+    model: &StateSpace,
     fault_direction: &[f64],
     d: &LinearDesign,
 ) -> Result<LinearReport, ObserverError> {
@@ -320,7 +320,7 @@ pub fn design_arx_linear(
 /// γ < (1 − (1 − K_I)²)/2, reported as the decay rate). No Riccati iteration on the n + 1
 /// states, which matters for paths of a hundred states.
 pub fn design_innovations(
-    model: &LinearModel,
+    model: &StateSpace,
     d: &LinearDesign,
 ) -> Result<LinearReport, ObserverError> {
     d.validate()?;
@@ -336,10 +336,10 @@ pub fn design_innovations(
     })
 }
 
-/// Linear design for a shift-form (AR) path model ([`LinearModel::from_ar`]): always the
+/// Linear design for a shift-form (AR) path model ([`StateSpace::from_ar`]): always the
 /// innovations design ([`design_innovations`]; `d.innovations` is implied).
 pub fn design_path_linear(
-    model: &LinearModel,
+    model: &StateSpace,
     d: &LinearDesign,
 ) -> Result<LinearReport, ObserverError> {
     if !model.is_shift_form() {
@@ -357,7 +357,7 @@ pub fn design_path_linear(
 /// estimate d̂ adds to the prediction directly ([`ArxLaguerrePredictor::new_path`]).
 pub fn path_observer(
     kind: ObserverKind,
-    model: &LinearModel,
+    model: &StateSpace,
     s: &ObserverSettings,
 ) -> Result<ArxObserver, ObserverError> {
     let rep = design_path_linear(model, &s.linear)?;
@@ -418,7 +418,7 @@ pub enum FaultDirection {
 
 impl FaultDirection {
     /// The direction vector for `model`.
-    pub fn vector(&self, model: &LinearModel) -> Vec<f64> {
+    pub fn vector(&self, model: &StateSpace) -> Vec<f64> {
         match self {
             Self::Input if model.b_u.iter().any(|v| *v != 0.0) => model.b_u.clone(),
             Self::Input | Self::OutputFilter => model.b_y.clone(),
@@ -432,7 +432,7 @@ impl FaultDirection {
 /// (VSO, HOSTSMO) drop the integral gain K_I.
 pub fn arx_observer(
     kind: ObserverKind,
-    model: &LinearModel,
+    model: &StateSpace,
     fault: &FaultDirection,
     s: &ObserverSettings,
 ) -> Result<ArxObserver, ObserverError> {
@@ -477,7 +477,7 @@ impl PhysicsObserver {
 impl ArxObserver {
     /// APIO, eqs (2.33)–(2.35), (3.9)–(3.10).
     pub fn apio(
-        model: &LinearModel,
+        model: &StateSpace,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -485,7 +485,7 @@ impl ArxObserver {
     }
     /// ALPIO, eqs (4.16)–(4.17).
     pub fn alpio(
-        model: &LinearModel,
+        model: &StateSpace,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -493,7 +493,7 @@ impl ArxObserver {
     }
     /// SMALPIO, eqs (4.18)–(4.19).
     pub fn smalpio(
-        model: &LinearModel,
+        model: &StateSpace,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -501,7 +501,7 @@ impl ArxObserver {
     }
     /// ASMO, eqs (5.25)–(5.28).
     pub fn asmo(
-        model: &LinearModel,
+        model: &StateSpace,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -509,7 +509,7 @@ impl ArxObserver {
     }
     /// AFSMO, eqs (5.29)–(5.32).
     pub fn afsmo(
-        model: &LinearModel,
+        model: &StateSpace,
         f: &FaultDirection,
         s: &ObserverSettings,
     ) -> Result<Self, ObserverError> {
@@ -526,13 +526,13 @@ pub enum ModelConfig {
     /// An ARX-Laguerre model and where the fault enters.
     ArxLaguerre {
         /// The model.
-        model: LinearModel,
+        model: StateSpace,
         /// Fault direction.
         fault: FaultDirection,
     },
     /// The calibrated structural path of a machine model as a shift-form (AR) predictor
-    /// ([`LinearModel::from_ar`]; built by [`path_observer`]).
-    CalibratedPath(LinearModel),
+    /// ([`StateSpace::from_ar`]; built by [`path_observer`]).
+    CalibratedPath(StateSpace),
     /// A fuzzy ARX-Laguerre model (`fuzzy-ts`) and where the fault enters.
     FuzzyArxLaguerre {
         /// The model.

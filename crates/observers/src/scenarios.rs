@@ -3,7 +3,7 @@
 //! lumped uncertainty / fault entering where the observers expect it.
 
 use crate::error::ObserverError;
-use crate::predictor::{LinearModel, ModalParams, discretize_mode};
+use crate::predictor::{ModalParams, StateSpace, discretize_mode};
 
 /// The true mode Ẋ₁ = X₂, Ẋ₂ = −ω²X₁ − 2ζωX₂ + b u + d, sampled exactly (d, u held over a sample).
 #[derive(Debug, Clone, PartialEq)]
@@ -59,7 +59,7 @@ impl OscillatorPlant {
 /// so that Kᵀ f = 1 (the observers' convention).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArxPlant {
-    model: LinearModel,
+    model: StateSpace,
     f: Vec<f64>,
     x: Vec<f64>,
     tmp: Vec<f64>,
@@ -67,7 +67,7 @@ pub struct ArxPlant {
 
 impl ArxPlant {
     /// Plant at rest; `f` is normalised to Kᵀ f = 1.
-    pub fn new(model: &LinearModel, f: &[f64]) -> Result<Self, ObserverError> {
+    pub fn new(model: &StateSpace, f: &[f64]) -> Result<Self, ObserverError> {
         model.validate()?;
         let kf: f64 = model.k.iter().zip(f).map(|(a, b)| a * b).sum();
         if f.len() != model.order() {
@@ -129,9 +129,9 @@ impl ArxPlant {
 
 /// A reference ARX-Laguerre model with `n_a = n_b = 4` (8 states): Laguerre poles 0.6 / 0.5 and
 /// coefficients chosen so that A + b_y Kᵀ is stable (spectral radius 0.9585, complex pole pairs).
-pub fn reference_arx_model() -> LinearModel {
+pub fn reference_arx_model() -> StateSpace {
     let k = vec![0.3, -0.6, 0.3, -0.1, 1.0, 0.4, -0.2, 0.1];
-    LinearModel::from_poles(0.6, 4, 0.5, 4, k).expect("constant, valid reference model")
+    StateSpace::from_poles(0.6, 4, 0.5, 4, k).expect("constant, valid reference model")
 }
 
 /// An ARX-Laguerre model of the chapters' shape on CWRU 97: `n_a` output and `n_b` input
@@ -140,12 +140,12 @@ pub fn reference_arx_model() -> LinearModel {
 /// plant stays bounded. For throughput measurements at a realistic state count.
 ///
 /// # Errors
-/// [`ObserverError`] when the orders are outside what [`LinearModel::from_poles`] accepts.
-pub fn chapters_shaped_arx_model(n_a: usize, n_b: usize) -> Result<LinearModel, ObserverError> {
+/// [`ObserverError`] when the orders are outside what [`StateSpace::from_poles`] accepts.
+pub fn chapters_shaped_arx_model(n_a: usize, n_b: usize) -> Result<StateSpace, ObserverError> {
     let k = (0..n_a + n_b)
         .map(|j| if j % 2 == 0 { 0.05 } else { -0.03 })
         .collect();
-    LinearModel::from_poles(0.8941, n_a, -0.0391, n_b, k)
+    Ok(StateSpace::from_poles(0.8941, n_a, -0.0391, n_b, k)?)
 }
 
 /// Total variation per sample of a series (the chattering measure): mean |x(k+1) − x(k)|.

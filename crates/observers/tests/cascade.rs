@@ -7,7 +7,7 @@ use observers::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-fn random_model(rng: &mut ChaCha8Rng) -> LinearModel {
+fn random_model(rng: &mut ChaCha8Rng) -> StateSpace {
     let n_a = rng.random_range(1..=8);
     let n_b = rng.random_range(0..=8);
     let za = rng.random_range(-0.95..0.95);
@@ -17,7 +17,7 @@ fn random_model(rng: &mut ChaCha8Rng) -> LinearModel {
     let k = (0..n_a + n_b)
         .map(|_| rng.random_range(-scale..scale))
         .collect();
-    LinearModel::from_poles(za, n_a, zb, n_b, k).unwrap()
+    StateSpace::from_poles(za, n_a, zb, n_b, k).unwrap()
 }
 
 #[test]
@@ -127,7 +127,7 @@ fn structure_detection() {
         });
         let k: Vec<f64> = (0..n_a + n_b).map(|i| 0.1 * (i as f64 + 1.0)).collect();
         let id = laguerre_id::ArxLaguerreModel::from_parts(bank_a.unwrap(), bank_b, &k).unwrap();
-        let m = LinearModel::from_state_space(&id.state_space()).unwrap();
+        let m = id.state_space().validated().unwrap();
         let s = m.laguerre_structure().expect("Laguerre structure");
         assert_eq!((s.n_a, s.n_b), (n_a, n_b));
         assert_eq!(s.zeta_a, 0.7);

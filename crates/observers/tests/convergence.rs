@@ -339,7 +339,7 @@ proptest! {
     ) {
         let ar = ar_from_pairs(&pairs);
         let y = ar_record(&ar, &w);
-        let model = LinearModel::from_ar(&ar).unwrap();
+        let model = StateSpace::from_ar(&ar).unwrap();
         for kind in [ObserverKind::Apio, ObserverKind::Flo, ObserverKind::Alpio] {
             let mut o = path_observer(kind, &model, &ObserverSettings::new(1e-3)).unwrap();
             prop_assert!(o.predictor().uses_shift_form());
@@ -370,7 +370,7 @@ proptest! {
             .map(|(k, v)| v + if k >= k0 { step } else { 0.0 })
             .collect();
         let j = (step * (1.0 + ar.iter().sum::<f64>())).abs().max(1e-6);
-        let model = LinearModel::from_ar(&ar).unwrap();
+        let model = StateSpace::from_ar(&ar).unwrap();
         for kind in ObserverKind::ALL.into_iter().filter(|k| *k != ObserverKind::Vso) {
             let bound = 1.2 * j / 300.0;
             let mut o = path_observer(kind, &model, &ObserverSettings::new(bound)).unwrap();
@@ -390,7 +390,7 @@ fn rms(x: &[f64]) -> f64 {
 /// and thresholds that are not 0 < TH_n < TH_f (AFSMO) are typed errors, not silent gains.
 #[test]
 fn error_scale_and_fuzzy_thresholds_are_validated() {
-    let model = LinearModel::from_ar(&[-1.2, 0.5]).unwrap();
+    let model = StateSpace::from_ar(&[-1.2, 0.5]).unwrap();
     let cfg = ModelConfig::CalibratedPath(model);
     let mut s = ObserverSettings::new(1e-3);
     s.error_scale = 0.0;
@@ -406,7 +406,7 @@ fn error_scale_and_fuzzy_thresholds_are_validated() {
     s.fuzzy_thresholds = Some([0.3, 0.6]);
     assert!(build_observer(ObserverKind::Afsmo, &cfg, &s).is_ok());
     // a model that is not in shift form cannot be a calibrated path
-    let laguerre = LinearModel::from_poles(0.5, 2, 0.0, 0, vec![0.3, 0.1]).unwrap();
+    let laguerre = StateSpace::from_poles(0.5, 2, 0.0, 0, vec![0.3, 0.1]).unwrap();
     assert!(!laguerre.is_shift_form());
     assert!(matches!(
         build_observer(

@@ -26,7 +26,7 @@ fn identified_arx_laguerre_model_tracks_step_fault() {
     )
     .unwrap();
     let id = laguerre_id::ArxLaguerreModel::identify(&y, Some(&u), &cfg).unwrap();
-    let model = LinearModel::from_state_space(&id.state_space()).unwrap();
+    let model = id.state_space().validated().unwrap();
     let truth = reference_arx_model();
     for (a, b) in model.k.iter().zip(&truth.k) {
         assert!((a - b).abs() < 1e-6, "identified K {a} vs {b}");
@@ -172,7 +172,7 @@ fn innovations_design_keeps_the_one_step_error() {
     let pred = id.predict(&y, None).unwrap();
     let e: Vec<f64> = y.iter().zip(&pred).map(|(a, b)| a - b).collect();
     let e_rms = rms(&e[fit..]);
-    let model = LinearModel::from_state_space(&id.state_space()).unwrap();
+    let model = id.state_space().validated().unwrap();
     for (kind, limit) in [
         (ObserverKind::Apio, 1.1),
         (ObserverKind::Smalpio, 1.1),

@@ -144,12 +144,12 @@ pub const TREE_MIN_LEAF: usize = 5;
 /// model), and the segment itself (the gains are set on it, see [`Prepared::tune`]).
 #[derive(Debug, Clone)]
 pub struct Prepared {
-    arx: observers::LinearModel,
+    arx: observers::StateSpace,
     /// The identified ARX-Laguerre model `arx` was built from (its one-step predictor,
     /// [`Prepared::record_nrmse`]).
     identified: laguerre_id::ArxLaguerreModel,
     fal: Option<Box<fuzzy_ts::FuzzyArxLaguerre>>,
-    path: Option<observers::LinearModel>,
+    path: Option<observers::StateSpace>,
     input: Option<MachineInput>,
     fit: Vec<f64>,
     /// The machine model's input over `fit` (None in AR form), computed once for the
@@ -297,7 +297,7 @@ impl Prepared {
                         cfg.get().max_path_order,
                     )?;
                     let modes = p.modes().iter().filter(|m| m.frequency_hz > 0.0).count();
-                    (observers::LinearModel::from_ar(&p.ar)?, modes, p.order(), 0)
+                    (observers::StateSpace::from_ar(&p.ar)?, modes, p.order(), 0)
                 }
             };
             let err = (
@@ -368,7 +368,7 @@ impl Prepared {
             None => None,
         };
         let (n_a, n_b) = (m.n_a(), m.n_b());
-        let arx = observers::LinearModel::from_state_space(&m.state_space())?;
+        let arx = m.state_space().validated()?;
         let fal = if fuzzy {
             let cfg = ArxLaguerreConfig::new(n_a, n_b, PoleChoice::DEFAULT_SEARCH)?;
             let f = fuzzy_ts::FuzzyArxLaguerre::identify(

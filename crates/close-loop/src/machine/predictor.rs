@@ -27,18 +27,18 @@ impl MachineModel {
     }
 
     /// The calibrated structural path as an observer model: the AR path `y = e / A(z)` in shift
-    /// form ([`observers::LinearModel::from_ar`]), the model the physics observers (SMO,
+    /// form ([`observers::StateSpace::from_ar`]), the model the physics observers (SMO,
     /// HOSTSMO, FLO, VSO, PFLO) run on once a machine has been calibrated
     /// ([`observers::ModelConfig::CalibratedPath`]).
     ///
     /// # Errors
     /// [`CloseLoopError::Model`] when the machine model holds no structural path (the loop found
     /// no broadband structure to add), [`CloseLoopError::Observer`] for an invalid path.
-    pub fn observer_model(&self) -> Result<observers::LinearModel, CloseLoopError> {
+    pub fn observer_model(&self) -> Result<observers::StateSpace, CloseLoopError> {
         let path = self.path.as_ref().ok_or_else(|| CloseLoopError::Model {
             reason: "the machine model holds no structural path to run an observer on".into(),
         })?;
-        observers::LinearModel::from_ar(&path.ar).map_err(|e| CloseLoopError::Observer {
+        observers::StateSpace::from_ar(&path.ar).map_err(|e| CloseLoopError::Observer {
             reason: e.to_string(),
         })
     }
@@ -93,8 +93,8 @@ impl MachineModel {
     ///
     /// # Errors
     /// As [`MachineModel::predictor_path`]; [`CloseLoopError::Observer`] for an invalid model.
-    pub fn predictor_model(&self) -> Result<observers::LinearModel, CloseLoopError> {
-        observers::LinearModel::from_ar(&self.predictor_path()?.ar).map_err(|e| {
+    pub fn predictor_model(&self) -> Result<observers::StateSpace, CloseLoopError> {
+        observers::StateSpace::from_ar(&self.predictor_path()?.ar).map_err(|e| {
             CloseLoopError::Observer {
                 reason: e.to_string(),
             }

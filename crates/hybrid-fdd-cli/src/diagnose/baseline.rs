@@ -129,8 +129,10 @@ impl BaselineSource {
         let path = m.path.as_ref().with_context(|| {
             format!("baseline machine model {name} holds no structural path to whiten with")
         })?;
-        let (ar, rms, kurt, what) = match (m.predictor_residual_rms, m.predictor_residual_kurtosis)
-        {
+        let (whitening_path, rms, kurt, what) = match (
+            m.predictor_residual_rms,
+            m.predictor_residual_kurtosis,
+        ) {
             (Some(rms), Some(kurt)) => {
                 let p = m
                     .predictor_path()
@@ -141,7 +143,7 @@ impl BaselineSource {
                     m.lines.len(),
                     p.ar.len()
                 );
-                (p.ar, rms, kurt, what)
+                (p, rms, kurt, what)
             }
             _ => {
                 let (Some(rms), Some(kurt)) = (m.path_residual_rms, m.path_residual_kurtosis)
@@ -154,11 +156,11 @@ impl BaselineSource {
                     "structural path of AR order {} as the healthy model (a model written before the whole model's residual statistics)",
                     path.ar.len()
                 );
-                (path.ar.clone(), rms, kurt, what)
+                (path.clone(), rms, kurt, what)
             }
         };
         let w = diagnosis::ArWhitener::from_coefficients(
-            ar.iter().map(|a| -a).collect(),
+            whitening_path.prediction_coefficients(),
             m.fs_hz,
             "baseline machine model",
         )?;

@@ -37,11 +37,28 @@ pub fn write_reports(o: &Outcome, report: &Path, title: &str) -> anyhow::Result<
     Ok(())
 }
 
-/// The Markdown report.
+/// The Markdown report: the verdict, the trained classifier's class, the bearing guess, the
+/// facts of the run, the rule, the evidence table and the shaft harmonics, in that order.
 pub fn markdown(o: &Outcome, title: &str) -> String {
     let d = &o.diagnosis;
-    let op = &d.operating_point;
-    let s = &d.statistics;
+    let mut m = verdict_section(d, title);
+    if let Some(t) = &o.trained {
+        m += &trained_section(t);
+    }
+    if let Some(g) = &d.bearing_guess {
+        m += &bearing_guess_section(g);
+    }
+    m += &speed_line(&d.operating_point);
+    m += &facts_section(o);
+    m += &format!("Rule: {}.\n\n", d.thresholds.rule);
+    m += &evidence_table(d);
+    m += &shaft_harmonics_line(d);
+    m
+}
+
+/// The title, the verdict (with the candidates it could not tell apart) and its false-alarm
+/// probability.
+fn verdict_section(d: &diagnosis::Diagnosis, title: &str) -> String {
     let mut m = format!("# Diagnosis of {title}\n\n**Verdict: {}**", d.verdict);
     if !d.candidates.is_empty() {
         m += &format!(
@@ -57,45 +74,57 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         "\n\nA healthy machine shows evidence this strong for some fault with probability {:.1e} (the verdict names a fault at {} per recording or below, and only where its harmonics modulate the envelope like a defect's impacts).\n\n",
         d.p_healthy, d.false_alarm
     );
-    if let Some(t) = &o.trained {
-        m += &format!(
-            "Trained classifier ({}, {} examples from {} labelled recordings, {}): **{}** (segments: {}) — learned from the user's labels, beside the training-free verdict above.\n\n",
-            t.classifier,
-            t.examples,
-            t.recordings,
-            t.file,
-            t.class,
-            t.segments.join(", ")
-        );
-    }
-    if let Some(g) = &d.bearing_guess {
-        m += &format!(
-            "Bearing not given — **{}**. Comb found at {:.3} × fr ({:.2} Hz; p under healthy {:.1e} over {} independent orders {:.1}–{:.1} × fr, modulation depth {:.2}); {}. ± fr sidebands: p {:.1e}{}{}\n\n{}\n\n",
-            g.note,
-            g.fault_order,
-            g.fault_hz,
-            g.p_healthy,
-            g.independent_orders,
-            g.orders_searched[0],
-            g.orders_searched[1],
-            g.modulation_depth,
-            g.basis,
-            g.shaft_sidebands_p,
-            g.cage_sidebands.map_or(String::new(), |[nu, p]| format!(
-                "; best cage sidebands ± {nu:.3} × fr: p {p:.1e}"
-            )),
-            g.second_comb.map_or(String::new(), |[o, p]| format!(
-                "; second comb {o:.3} × fr (p {p:.1e})"
-            )),
-            g.interpretations
-                .iter()
-                .map(|i| format!("- {i}"))
-                .collect::<Vec<_>>()
-                .join("\n")
-        );
-    }
-    m += &speed_line(op);
-    m += &format!(
+    m
+}
+
+/// The trained classifier's class, beside the training-free verdict.
+fn trained_section(t: &super::TrainedClass) -> String {
+    format!(
+        "Trained classifier ({}, {} examples from {} labelled recordings, {}): **{}** (segments: {}) — learned from the user's labels, beside the training-free verdict above.\n\n",
+        t.classifier,
+        t.examples,
+        t.recordings,
+        t.file,
+        t.class,
+        t.segments.join(", ")
+    )
+}
+
+/// The bearing guessed from the comb when none was given, and its interpretations.
+fn bearing_guess_section(g: &diagnosis::BearingGuess) -> String {
+    format!(
+        "Bearing not given — **{}**. Comb found at {:.3} × fr ({:.2} Hz; p under healthy {:.1e} over {} independent orders {:.1}–{:.1} × fr, modulation depth {:.2}); {}. ± fr sidebands: p {:.1e}{}{}\n\n{}\n\n",
+        g.note,
+        g.fault_order,
+        g.fault_hz,
+        g.p_healthy,
+        g.independent_orders,
+        g.orders_searched[0],
+        g.orders_searched[1],
+        g.modulation_depth,
+        g.basis,
+        g.shaft_sidebands_p,
+        g.cage_sidebands.map_or(String::new(), |[nu, p]| format!(
+            "; best cage sidebands ± {nu:.3} × fr: p {p:.1e}"
+        )),
+        g.second_comb.map_or(String::new(), |[o, p]| format!(
+            "; second comb {o:.3} × fr (p {p:.1e})"
+        )),
+        g.interpretations
+            .iter()
+            .map(|i| format!("- {i}"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    )
+}
+
+/// The facts of the run after the speed line: reference, operating point, fault frequencies,
+/// samples, residual, its energy or kurtosis ratio, and the band.
+fn facts_section(o: &Outcome) -> String {
+    let d = &o.diagnosis;
+    let op = &d.operating_point;
+    let s = &d.statistics;
+    let mut m = format!(
         "- reference: {} ({})\n- operating point: {:.1} rpm (fr = {:.3} Hz), fs = {} Hz, bearing {}{}\n\
          - fault frequencies (Hz): BPFO {:.2}, BPFI {:.2}, BSF (ball-defect rate, 2× spin) {:.2}, FTF {:.2}\n\
          - samples: {}; spectra are of the squared envelope, so line prominences are power ratios (dB) and do not depend on the unit\n\
@@ -151,28 +180,17 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         d.kurtogram_band.high_hz,
         d.kurtogram_band.spectral_kurtosis
     );
-    m += &format!("Rule: {}.\n\n", d.thresholds.rule);
-    m += "| hypothesis | p under healthy | modulation depth | reported | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | in baseline (dB) | evidence (dB) |\n|---|---:|---:|---|---|---|---:|---:|---:|---:|---:|\n";
+    m
+}
+
+/// The evidence table: one row per line of every hypothesis (harmonics, then sidebands), the
+/// hypothesis' columns on its first row only.
+fn evidence_table(d: &diagnosis::Diagnosis) -> String {
+    let mut m = "| hypothesis | p under healthy | modulation depth | reported | band (Hz) | line | expected (Hz) | found (Hz) | prominence (dB) | in baseline (dB) | evidence (dB) |\n|---|---:|---:|---|---|---|---:|---:|---:|---:|---:|\n".to_string();
     for e in &d.evidence {
-        let sig = e.significance.as_ref();
         for (i, l) in e.harmonics.iter().chain(&e.sidebands).enumerate() {
             let head = if i == 0 {
-                let why = match sig {
-                    Some(g) if g.explained_by.is_some() => format!(
-                        "no, its lines belong to {}",
-                        g.explained_by.map_or("", |h| h.name())
-                    ),
-                    _ if e.detected => "**yes**".to_string(),
-                    _ => "no".to_string(),
-                };
-                format!(
-                    "{} | {} | {} | {why} | {:.0}–{:.0}",
-                    e.hypothesis.name(),
-                    sig.map_or("—".to_string(), |g| format!("{:.1e}", g.p_healthy)),
-                    sig.map_or("—".to_string(), |g| format!("{:.2}", g.modulation_depth)),
-                    e.band_hz[0],
-                    e.band_hz[1]
-                )
+                hypothesis_cells(e)
             } else {
                 " | | | | ".to_string()
             };
@@ -190,7 +208,34 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
             );
         }
     }
-    m += "\nShaft harmonics in the band's envelope spectrum: ";
+    m
+}
+
+/// A hypothesis' own cells of the evidence table: name, p under healthy, modulation depth,
+/// whether it is reported (and why not), band.
+fn hypothesis_cells(e: &diagnosis::HypothesisEvidence) -> String {
+    let sig = e.significance.as_ref();
+    let why = match sig {
+        Some(g) if g.explained_by.is_some() => format!(
+            "no, its lines belong to {}",
+            g.explained_by.map_or("", |h| h.name())
+        ),
+        _ if e.detected => "**yes**".to_string(),
+        _ => "no".to_string(),
+    };
+    format!(
+        "{} | {} | {} | {why} | {:.0}–{:.0}",
+        e.hypothesis.name(),
+        sig.map_or("—".to_string(), |g| format!("{:.1e}", g.p_healthy)),
+        sig.map_or("—".to_string(), |g| format!("{:.2}", g.modulation_depth)),
+        e.band_hz[0],
+        e.band_hz[1]
+    )
+}
+
+/// The shaft harmonics of the band's envelope spectrum and their prominences.
+fn shaft_harmonics_line(d: &diagnosis::Diagnosis) -> String {
+    let mut m = "\nShaft harmonics in the band's envelope spectrum: ".to_string();
     m += &d
         .shaft_harmonics
         .iter()

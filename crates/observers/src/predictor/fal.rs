@@ -2,7 +2,7 @@
 
 use super::Predictor;
 use super::arx::dot;
-use super::{ArxLaguerrePredictor, LinearModel};
+use super::{ArxLaguerrePredictor, StateSpace};
 use crate::error::ObserverError;
 use crate::law::Correction;
 
@@ -44,9 +44,9 @@ impl FalPredictor {
         }
     }
 
-    /// The ARX-Laguerre part of the model as this crate's [`LinearModel`].
-    pub fn base_model(fal: &fuzzy_ts::FuzzyArxLaguerre) -> Result<LinearModel, ObserverError> {
-        LinearModel::from_state_space(&fal.base().state_space())
+    /// The ARX-Laguerre part of the model as this crate's [`StateSpace`].
+    pub fn base_model(fal: &fuzzy_ts::FuzzyArxLaguerre) -> Result<StateSpace, ObserverError> {
+        Ok(fal.base().state_space().validated()?)
     }
 }
 

@@ -44,4 +44,6 @@ mod model;
 pub use arx::ArxLaguerrePredictor;
 pub use fal::FalPredictor;
 pub use mode::{ModalParams, SecondOrderPredictor, discretize_mode};
-pub use model::{LAGUERRE_STRUCTURE_TOLERANCE, LaguerreStructure, LinearModel};
+#[allow(deprecated)]
+pub use model::LinearModel;
+pub use model::{LAGUERRE_STRUCTURE_TOLERANCE, LaguerreStructure, StateSpace};
