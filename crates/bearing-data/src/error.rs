@@ -215,6 +215,28 @@ pub enum DataError {
     },
 }
 
+/// A [`sampled_signal::Signal`] that cannot be built, with this crate's messages: an invalid
+/// rate is [`DataError::InvalidParameter`] `fs_hz`, no samples [`DataError::Empty`], a non-finite
+/// sample [`DataError::NonFinite`] in `signal`.
+impl From<sampled_signal::SignalError> for DataError {
+    fn from(e: sampled_signal::SignalError) -> Self {
+        match e {
+            sampled_signal::SignalError::InvalidRate { fs_hz } => DataError::InvalidParameter {
+                name: "fs_hz",
+                value: fs_hz,
+                reason: "sampling rate must be finite and > 0",
+            },
+            sampled_signal::SignalError::Empty => DataError::Empty {
+                what: "signal has no samples",
+            },
+            sampled_signal::SignalError::NonFinite { index, .. } => DataError::NonFinite {
+                what: "signal".into(),
+                index,
+            },
+        }
+    }
+}
+
 /// Shorthand for `Result<T, DataError>`.
 pub type Result<T> = std::result::Result<T, DataError>;
 

@@ -27,7 +27,8 @@
 //! [`read_mat_tree`] walks those itself), `flate2` (zlib for MATLAB's compressed elements; already
 //! in the build through the PNG encoder), `sha2` (RustCrypto SHA-256, the digest the
 //! public mirrors pin), `csv` (robust quoting/trimming/comments for users' text files),
-//! `thiserror` (the one typed error enum), `serde` (labels, rpm and the label enums derive
+//! `thiserror` (the one typed error enum), `sampled-signal` (the workspace's one checked
+//! sampled-signal type, [`Signal`], which [`read_csv`] returns), `serde` (labels, rpm and the label enums derive
 //! `Serialize`/`Deserialize` so reports can write them); optionally (feature `bearing-model`,
 //! off by default) `bearing-model`, for the `From` conversions of a [`FaultLabel`] to the
 //! workspace's fault vocabulary (`bearing_model::FaultClass`, `Option<bearing_model::FaultLocation>`).
@@ -85,5 +86,5 @@ pub use recording::{
     Labels, LoadOptions, Recording, Rpm, RpmSource, cwru_dir, load_record, parse_record,
     record_path,
 };
-pub use text::{Column, CsvOptions, HeaderRow, Signal, read_csv, read_csv_file};
+pub use text::{Column, CsvOptions, HeaderRow, Signal, SignalError, read_csv, read_csv_file};
 pub use unit::{CWRU_STATEMENT, SampleUnit};

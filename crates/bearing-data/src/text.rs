@@ -54,48 +54,11 @@ impl CsvOptions {
     }
 }
 
-/// A single-channel signal with its sampling rate: non-empty, all samples finite.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Signal {
-    fs_hz: f64,
-    samples: Vec<f64>,
-}
-
-impl Signal {
-    /// Wrap samples; errors on an invalid rate, no samples or a non-finite sample.
-    pub fn new(fs_hz: f64, samples: Vec<f64>) -> Result<Self> {
-        if !(fs_hz.is_finite() && fs_hz > 0.0) {
-            return Err(DataError::InvalidParameter {
-                name: "fs_hz",
-                value: fs_hz,
-                reason: "sampling rate must be finite and > 0",
-            });
-        }
-        if samples.is_empty() {
-            return Err(DataError::Empty {
-                what: "signal has no samples",
-            });
-        }
-        crate::error::check_samples(|| "signal".into(), &samples, 0)?;
-        Ok(Self { fs_hz, samples })
-    }
-    /// Sampling rate in Hz.
-    pub fn fs_hz(&self) -> f64 {
-        self.fs_hz
-    }
-    /// The samples.
-    pub fn samples(&self) -> &[f64] {
-        &self.samples
-    }
-    /// Take the samples.
-    pub fn into_samples(self) -> Vec<f64> {
-        self.samples
-    }
-    /// Duration in seconds.
-    pub fn duration_s(&self) -> f64 {
-        self.samples.len() as f64 / self.fs_hz
-    }
-}
+/// A single-channel signal with its sampling rate: non-empty, all samples finite, the rate finite
+/// and > 0 — the workspace's one sampled-signal type, [`sampled_signal::Signal`] (re-exported
+/// here and as `bearing_data::Signal`); its [`SignalError`] becomes a [`DataError`] with the
+/// messages this crate has always given (`From<SignalError> for DataError`).
+pub use sampled_signal::{Signal, SignalError};
 
 fn truncate(s: &str) -> String {
     s.chars().take(40).collect()
@@ -103,7 +66,7 @@ fn truncate(s: &str) -> String {
 
 /// Read one column of a CSV / plain-text file. Lines starting with `#` are comments; fields are
 /// trimmed. Errors: no data rows, a non-numeric or non-finite field, a missing column.
-pub fn read_csv<R: Read>(reader: R, opts: &CsvOptions) -> Result<Signal> {
+pub fn read_csv<R: Read>(reader: R, opts: &CsvOptions) -> Result<Signal<'static>> {
     if !(opts.fs_hz.is_finite() && opts.fs_hz > 0.0) {
         return Err(DataError::InvalidParameter {
             name: "fs_hz",
@@ -185,11 +148,11 @@ pub fn read_csv<R: Read>(reader: R, opts: &CsvOptions) -> Result<Signal> {
             what: "CSV has no data rows",
         });
     }
-    Signal::new(opts.fs_hz, samples)
+    Ok(Signal::new(samples, opts.fs_hz)?)
 }
 
 /// [`read_csv`] on a file.
-pub fn read_csv_file(path: &Path, opts: &CsvOptions) -> Result<Signal> {
+pub fn read_csv_file(path: &Path, opts: &CsvOptions) -> Result<Signal<'static>> {
     let f = std::fs::File::open(path).map_err(|source| DataError::Io {
         path: path.to_path_buf(),
         source,

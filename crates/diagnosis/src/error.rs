@@ -153,14 +153,11 @@ impl From<classify::ClassifyError> for DiagnosisError {
 /// Result with [`DiagnosisError`].
 pub type Result<T> = std::result::Result<T, DiagnosisError>;
 
-/// First non-finite sample of `x`, as an error naming `what`.
+/// First non-finite sample of `x` ([`sampled_signal::first_non_finite`]), as an error naming
+/// `what`.
 pub(crate) fn check_finite(what: &'static str, x: &[f64]) -> Result<()> {
-    match x.iter().position(|v| !v.is_finite()) {
-        Some(index) => Err(DiagnosisError::NonFinite {
-            what,
-            index,
-            value: x[index],
-        }),
+    match sampled_signal::first_non_finite(x) {
+        Some((index, value)) => Err(DiagnosisError::NonFinite { what, index, value }),
         None => Ok(()),
     }
 }

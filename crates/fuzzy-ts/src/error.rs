@@ -52,9 +52,11 @@ pub enum FuzzyError {
 /// Result alias of this crate.
 pub type Result<T> = std::result::Result<T, FuzzyError>;
 
+/// The first non-finite value of `x` ([`sampled_signal::first_non_finite`]), as this crate's
+/// error.
 pub(crate) fn check_finite(which: &'static str, x: &[f64]) -> Result<()> {
-    match x.iter().position(|v| !v.is_finite()) {
-        Some(index) => Err(FuzzyError::NonFinite { which, index }),
+    match sampled_signal::first_non_finite(x) {
+        Some((index, _)) => Err(FuzzyError::NonFinite { which, index }),
         None => Ok(()),
     }
 }

@@ -13,6 +13,7 @@
 //! - `laguerre-id`: the ARX-Laguerre model the fuzzy term augments (eq. 5.19).
 //! - `serde`: configurations and fitted models are serialisable for reports.
 //! - `thiserror`: the single typed error enum [`FuzzyError`].
+//! - `sampled-signal`: the workspace's one finite check of a slice (`first_non_finite`).
 //!
 //! # Example
 //! ```

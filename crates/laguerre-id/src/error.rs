@@ -83,10 +83,11 @@ pub enum IdentError {
 /// Result alias of this crate.
 pub type Result<T> = std::result::Result<T, IdentError>;
 
-/// Index of the first non-finite value of `x`, as an error.
+/// Index of the first non-finite value of `x` ([`sampled_signal::first_non_finite`]), as an
+/// error.
 pub(crate) fn check_finite(which: &'static str, x: &[f64]) -> Result<()> {
-    match x.iter().position(|v| !v.is_finite()) {
-        Some(index) => Err(IdentError::NonFinite { which, index }),
+    match sampled_signal::first_non_finite(x) {
+        Some((index, _)) => Err(IdentError::NonFinite { which, index }),
         None => Ok(()),
     }
 }

@@ -18,6 +18,7 @@
 //!   inside the pole search; fast and numerically sound.
 //! - `serde`: models and configs are serialisable for reports.
 //! - `thiserror`: the single typed error enum [`IdentError`].
+//! - `sampled-signal`: the workspace's one finite check of a slice (`first_non_finite`).
 //!
 //! The per-sample path uses fixed-size arrays (`[f64; MAX_STATES]`), no faer, no allocation.
 //!

@@ -67,12 +67,12 @@ pub enum FeatureError {
 /// Shorthand result type.
 pub type Result<T> = std::result::Result<T, FeatureError>;
 
-/// Check that a slice is non-empty and finite.
+/// Check that a slice is non-empty and finite ([`sampled_signal::first_non_finite`]).
 pub(crate) fn check_finite(x: &[f64]) -> Result<()> {
     if x.is_empty() {
         return Err(FeatureError::Empty);
     }
-    if let Some((index, &value)) = x.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+    if let Some((index, value)) = sampled_signal::first_non_finite(x) {
         return Err(FeatureError::NonFinite { index, value });
     }
     Ok(())

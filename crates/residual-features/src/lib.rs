@@ -15,6 +15,7 @@
 //!   the complex FFT is needed for the analytic signal).
 //! - `serde`: configurations and feature tables are saved with results.
 //! - `thiserror`: the crate's one error enum.
+//! - `sampled-signal`: the workspace's one finite check of a slice (`first_non_finite`).
 //!
 //! # Example
 //! ```
