@@ -8,7 +8,7 @@
 
 use bearing_model::{FaultClass, Noise, Scenario};
 use criterion::{Criterion, criterion_group, criterion_main};
-use diagnosis::{Baseline, BearingSpec, diagnose};
+use diagnosis::{Baseline, BearingSpec, Signal, diagnose};
 
 fn bench(c: &mut Criterion) {
     let rpm = 1797.0;
@@ -23,7 +23,8 @@ fn bench(c: &mut Criterion) {
     };
     let healthy = rec(FaultClass::None, 1);
     let faulty = rec(FaultClass::Outer, 2);
-    let baseline = Baseline::prepare(&healthy.accel, healthy.fs_hz).unwrap();
+    let baseline = Baseline::prepare(&Signal::new(&healthy.accel, healthy.fs_hz).unwrap()).unwrap();
+    let recording = Signal::new(&faulty.accel, faulty.fs_hz).unwrap();
     let spec = BearingSpec::parse("6205").unwrap();
     // the same baseline without its residual: no envelope lines of the healthy machine to
     // compare with (a machine-model baseline with no synthesised recording attached)
@@ -55,16 +56,7 @@ fn bench(c: &mut Criterion) {
         ("diagnose 10 s 12 kHz with prepared baseline", &baseline),
     ] {
         c.bench_function(name, |bench| {
-            bench.iter(|| {
-                diagnose(
-                    std::hint::black_box(&faulty.accel),
-                    faulty.fs_hz,
-                    rpm,
-                    &spec,
-                    Some(b),
-                )
-                .unwrap()
-            })
+            bench.iter(|| diagnose(std::hint::black_box(&recording), rpm, &spec, Some(b)).unwrap())
         });
     }
 }
@@ -88,7 +80,8 @@ fn bench_rates(c: &mut Criterion) {
             })
             .synthesize()
             .unwrap();
-        let baseline = Baseline::prepare(&healthy.accel, fs).unwrap();
+        let baseline = Baseline::prepare(&Signal::new(&healthy.accel, fs).unwrap()).unwrap();
+        let recording = Signal::new(&faulty.accel, fs).unwrap();
         c.bench_function(
             &format!(
                 "machine with a shaft comb, 10 s {} kHz, prepared baseline",
@@ -97,8 +90,7 @@ fn bench_rates(c: &mut Criterion) {
             |bench| {
                 bench.iter(|| {
                     diagnose(
-                        std::hint::black_box(&faulty.accel),
-                        fs,
+                        std::hint::black_box(&recording),
                         rpm,
                         &spec,
                         Some(&baseline),

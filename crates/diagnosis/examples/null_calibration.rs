@@ -28,7 +28,7 @@ fn main() {
             .collect();
         // the speed is known: a range that only the declared speed fits (no blind search)
         let opts = DiagnoseOptions::declared(rpm).with_rpm_range(rpm * 0.999, rpm * 1.001);
-        let d = diagnose_with_options(&x, fs, &spec, None, &opts).unwrap();
+        let d = diagnose_with_options(&sig(&x, fs), &spec, None, &opts).unwrap();
         for (i, e) in d.evidence.iter().enumerate() {
             let p = e.significance.as_ref().unwrap().p_healthy;
             ps.push(p);
@@ -51,4 +51,9 @@ fn main() {
         hits[2] as f64 / m,
         hits[3] as f64 / m
     );
+}
+
+/// `x` at `fs` Hz as a checked signal (the tests' recordings are finite and non-empty).
+fn sig(x: &[f64], fs: f64) -> diagnosis::Signal<'_> {
+    diagnosis::Signal::new(x, fs).unwrap()
 }

@@ -9,28 +9,30 @@ use crate::report::band_choice;
 use crate::{
     ArWhitener, Baseline, BearingSpec, Diagnosis, DiagnosisError, EnvelopeSpectrum, HARMONICS,
     Hypothesis, HypothesisEvidence, Line, MIN_TURNS, OperatingPoint, Reference, Result, Scores,
-    SecondaryRead, Statistics, Thresholds, candidate_bands, check_fs, error, min_band_width_hz,
-    moments, speed, whiten,
+    SecondaryRead, Signal, Statistics, Thresholds, candidate_bands, check_fs, error,
+    min_band_width_hz, moments, speed, whiten,
 };
 use bearing_model::FaultOrders;
 
-/// Diagnose one recording `x` sampled at `fs_hz`, shaft declared at `rpm`, on `bearing`, against
-/// an optional prepared healthy `baseline` (self-referenced otherwise): the speed is searched
+/// Diagnose one recording (its samples and sampling rate, a checked [`Signal`]), shaft declared at
+/// `rpm`, on `bearing`, against an optional prepared healthy `baseline` (self-referenced
+/// otherwise): the speed is searched
 /// within ± [`crate::options::DEFAULT_SPEED_SEARCH`] of `rpm` and the false-alarm probability is
 /// [`detect::DEFAULT_FALSE_ALARM`] ([`diagnose_with_options`] sets both).
 ///
 /// # Errors
-/// Typed, one-line [`DiagnosisError`]s for a bad sampling rate or speed, a recording shorter than
-/// [`MIN_TURNS`] shaft turns, non-finite samples, a baseline at another sampling rate, a constant
-/// signal. Never panics, never returns NaN.
+/// Typed, one-line [`DiagnosisError`]s for a sampling rate or speed out of range, a recording
+/// shorter than [`MIN_TURNS`] shaft turns, a baseline at another sampling rate, a constant
+/// signal. Never panics, never returns NaN. (No samples, a non-finite sample or a rate that is
+/// not finite and > 0 cannot make a [`Signal`]: `DiagnosisError::from` a [`crate::SignalError`]
+/// says so in this crate's words.)
 pub fn diagnose(
-    x: &[f64],
-    fs_hz: f64,
+    signal: &Signal<'_>,
     rpm: f64,
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
 ) -> Result<Diagnosis> {
-    diagnose_with_options(x, fs_hz, bearing, baseline, &DiagnoseOptions::declared(rpm))
+    diagnose_with_options(signal, bearing, baseline, &DiagnoseOptions::declared(rpm))
 }
 
 /// [`diagnose`] with the speed given as a declared value and/or a range to search, and the
@@ -41,13 +43,21 @@ pub fn diagnose(
 /// [`DiagnosisError::SpeedNotFound`] when no speed is declared and the recording shows no shaft
 /// comb in a range too wide to search the fault lines over.
 pub fn diagnose_with_options(
-    x: &[f64],
-    fs_hz: f64,
+    signal: &Signal<'_>,
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    with_engine(|engine| diagnose_in(engine, x, fs_hz, bearing, baseline, options))
+    with_engine(|engine| {
+        diagnose_in(
+            engine,
+            signal.samples(),
+            signal.fs_hz(),
+            bearing,
+            baseline,
+            options,
+        )
+    })
 }
 
 /// Run `f` with this thread's spectral engine: FFT plans and Hann windows kept between
@@ -130,7 +140,7 @@ pub(crate) fn analyse(
     let (whitener, reference) = match baseline {
         Some(b) => (b.whitener.clone(), Reference::Baseline),
         None => (
-            ArWhitener::fit(x, fs_hz, "recording")?,
+            ArWhitener::fit_slice(x, fs_hz, "recording")?,
             Reference::SelfReference,
         ),
     };

@@ -61,6 +61,12 @@ pub enum DiagnosisError {
         /// Samples needed.
         needed: usize,
     },
+    /// No samples.
+    #[error("{what} has no samples")]
+    Empty {
+        /// `"recording"` or `"baseline"`.
+        what: &'static str,
+    },
     /// A NaN or infinite sample.
     #[error("{what} has a non-finite sample {value} at index {index}")]
     NonFinite {
@@ -152,6 +158,33 @@ impl From<classify::ClassifyError> for DiagnosisError {
 
 /// Result with [`DiagnosisError`].
 pub type Result<T> = std::result::Result<T, DiagnosisError>;
+
+impl DiagnosisError {
+    /// Why samples and a rate do not make a [`crate::Signal`], for the recording or baseline
+    /// `what`, with the messages this crate gives: a rate that is not finite and > 0 is
+    /// [`DiagnosisError::SampleRateOutOfRange`], no samples [`DiagnosisError::Empty`], a NaN or
+    /// infinite sample [`DiagnosisError::NonFinite`].
+    pub fn signal(what: &'static str, e: sampled_signal::SignalError) -> Self {
+        match e {
+            sampled_signal::SignalError::InvalidRate { fs_hz } => Self::SampleRateOutOfRange {
+                fs_hz,
+                min: crate::MIN_FS_HZ,
+                max: crate::MAX_FS_HZ,
+            },
+            sampled_signal::SignalError::Empty => Self::Empty { what },
+            sampled_signal::SignalError::NonFinite { index, value } => {
+                Self::NonFinite { what, index, value }
+            }
+        }
+    }
+}
+
+/// [`DiagnosisError::signal`] of the recording.
+impl From<sampled_signal::SignalError> for DiagnosisError {
+    fn from(e: sampled_signal::SignalError) -> Self {
+        Self::signal("recording", e)
+    }
+}
 
 /// First non-finite sample of `x` ([`sampled_signal::first_non_finite`]), as an error naming
 /// `what`.

@@ -54,20 +54,23 @@
 //! - `residual-features`: the FFT, band envelopes and Welch spectra.
 //! - `classify` (only with the feature `trained`, which brings linfa with it): the optional
 //!   trained classifier (its Gini tree and linear SVM, and `Dataset`).
+//! - `sampled-signal`: [`Signal`], the checked recording (samples and rate) every entry point
+//!   takes, and the one finite check of a slice.
 //! - `serde` / `serde_json`: reports and the trained classifier's file; `thiserror`: the one
 //!   error enum.
 //!
 //! # Example
 //! ```
 //! use bearing_model::{FaultClass, Noise, Scenario};
-//! use diagnosis::{Baseline, BearingSpec, diagnose};
+//! use diagnosis::{Baseline, BearingSpec, Signal, diagnose};
 //! let rpm = 1797.0;
 //! let healthy = Scenario::cwru(FaultClass::None, 0.014, rpm)?
 //!     .with_noise(Noise::SnrDb(20.0)).with_duration(1.0).with_seed(1).simulate()?;
 //! let faulty = Scenario::cwru(FaultClass::Outer, 0.014, rpm)?
 //!     .with_noise(Noise::SnrDb(20.0)).with_duration(1.0).with_seed(2).simulate()?;
-//! let baseline = Baseline::prepare(&healthy.accel, healthy.fs_hz)?;
-//! let d = diagnose(&faulty.accel, faulty.fs_hz, rpm, &BearingSpec::parse("6205")?, Some(&baseline))?;
+//! let baseline = Baseline::prepare(&Signal::new(&healthy.accel, healthy.fs_hz)?)?;
+//! let recording = Signal::new(&faulty.accel, faulty.fs_hz)?;
+//! let d = diagnose(&recording, rpm, &BearingSpec::parse("6205")?, Some(&baseline))?;
 //! assert_eq!(d.verdict, "outer");
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -78,6 +81,8 @@ pub mod evidence;
 mod lines;
 pub mod options;
 pub use residual_features::speed;
+/// A recording's samples at their rate, checked (`sampled-signal`, the workspace's one type).
+pub use sampled_signal::{Signal, SignalError};
 #[cfg(feature = "trained")]
 pub mod trained;
 pub mod unknown;
@@ -241,14 +246,16 @@ impl std::fmt::Debug for SpectraCache {
 }
 
 impl Baseline {
-    /// Fit the AR model on a healthy recording sampled at `fs_hz`.
+    /// Fit the AR model on a healthy recording (its samples and rate; build its [`Signal`] with
+    /// `DiagnosisError::signal("baseline", e)` as the error, so it is named the baseline).
     ///
     /// # Errors
-    /// Non-finite samples, a baseline shorter than [`whiten::MIN_FIT_SAMPLES`], a sampling rate
-    /// out of range, a constant signal.
-    pub fn prepare(x: &[f64], fs_hz: f64) -> Result<Self> {
+    /// A baseline shorter than [`whiten::MIN_FIT_SAMPLES`], a sampling rate out of range, a
+    /// constant signal.
+    pub fn prepare(signal: &Signal<'_>) -> Result<Self> {
+        let (x, fs_hz) = (signal.samples(), signal.fs_hz());
         check_fs(fs_hz)?;
-        let whitener = ArWhitener::fit(x, fs_hz, "baseline")?;
+        let whitener = ArWhitener::fit(signal, "baseline")?;
         let e = whitener.residual(x);
         let (residual_rms, residual_kurtosis) = moments(&e, "baseline")?;
         Ok(Self {

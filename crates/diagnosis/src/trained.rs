@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::{
     Baseline, BearingSpec, Diagnosis, DiagnosisError, Hypothesis, MIN_TURNS, Reference, Result,
-    diagnose,
+    Signal, diagnose,
 };
 use classify::{ClassifierSpec, Dataset, RecordingInfo, TrainedClassifier};
 
@@ -72,18 +72,19 @@ impl Diagnosis {
 /// Consecutive pieces of `seconds` each (the last partial one dropped), every piece at least
 /// [`MIN_TURNS`] shaft turns long at the slowest speed a diagnosis searches around `rpm` (and
 /// the longest whitening filter's start-up); the whole recording when it holds less than two
-/// pieces.
-pub fn segments(x: &[f64], fs_hz: f64, rpm: f64, seconds: f64) -> Vec<&[f64]> {
+/// pieces. Each piece borrows the recording's samples.
+pub fn segments<'s>(signal: &'s Signal<'_>, rpm: f64, seconds: f64) -> Vec<Signal<'s>> {
+    let fs_hz = signal.fs_hz();
     let slowest = rpm * (1.0 - crate::options::DEFAULT_SPEED_SEARCH);
     let len = (seconds * fs_hz).round() as usize;
     let turns = len.saturating_sub(crate::whiten::ORDERS[crate::whiten::ORDERS.len() - 1]) as f64
         / fs_hz
         * slowest
         / 60.0;
-    if !(turns >= MIN_TURNS && len > 0) || x.len() < 2 * len {
-        return vec![x];
+    if !(turns >= MIN_TURNS && len > 0) || signal.len() < 2 * len {
+        return vec![signal.borrowed()];
     }
-    x.chunks_exact(len).collect()
+    signal.chunks_exact(len).collect()
 }
 
 /// One labelled example: a diagnosis's evidence and what the recording is known to be.
@@ -213,15 +214,14 @@ impl TrainedDiagnoser {
     /// The diagnosis's errors on a segment, and as [`TrainedDiagnoser::classify`].
     pub fn classify_recording(
         &self,
-        x: &[f64],
-        fs_hz: f64,
+        signal: &Signal<'_>,
         rpm: f64,
         bearing: &BearingSpec,
         baseline: Option<&Baseline>,
     ) -> Result<(String, Vec<String>)> {
-        let per: Vec<String> = segments(x, fs_hz, rpm, self.segment_seconds)
+        let per: Vec<String> = segments(signal, rpm, self.segment_seconds)
             .into_iter()
-            .map(|seg| self.classify(&diagnose(seg, fs_hz, rpm, bearing, baseline)?))
+            .map(|seg| self.classify(&diagnose(&seg, rpm, bearing, baseline)?))
             .collect::<Result<_>>()?;
         let best = self
             .classes

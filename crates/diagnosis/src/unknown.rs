@@ -96,18 +96,18 @@ struct CombReading {
     p: f64,
 }
 
-/// Diagnose `x` (sampled at `fs_hz`) on a bearing whose geometry is unknown (see the module
-/// documentation).
+/// Diagnose a recording on a bearing whose geometry is unknown (see the module documentation).
 ///
 /// # Errors
 /// As [`crate::diagnose_with_options`].
 pub fn diagnose_unknown_bearing(
-    x: &[f64],
-    fs_hz: f64,
+    signal: &crate::Signal<'_>,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    crate::driver::with_engine(|engine| unknown_in(engine, x, fs_hz, baseline, options))
+    crate::driver::with_engine(|engine| {
+        unknown_in(engine, signal.samples(), signal.fs_hz(), baseline, options)
+    })
 }
 
 fn unknown_in(

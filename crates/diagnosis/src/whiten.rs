@@ -72,13 +72,19 @@ fn ident(what: &'static str) -> impl Fn(IdentError) -> DiagnosisError {
 }
 
 impl ArWhitener {
-    /// Fit on `x` (finite, at least [`MIN_FIT_SAMPLES`] samples): the first two thirds of the
-    /// first [`MAX_FIT_SAMPLES`] samples fit each order of [`ORDERS`], the last third scores it.
+    /// Fit on a recording's samples (at least [`MIN_FIT_SAMPLES`]; `what` names it in errors):
+    /// the first two thirds of the first [`MAX_FIT_SAMPLES`] samples fit each order of
+    /// [`ORDERS`], the last third scores it.
     ///
     /// # Errors
     /// [`DiagnosisError::BaselineTooShort`] below [`MIN_FIT_SAMPLES`];
     /// [`DiagnosisError::Degenerate`] for a constant or rank-deficient signal.
-    pub fn fit(x: &[f64], fs_hz: f64, what: &'static str) -> Result<Self> {
+    pub fn fit(signal: &crate::Signal<'_>, what: &'static str) -> Result<Self> {
+        Self::fit_slice(signal.samples(), signal.fs_hz(), what)
+    }
+
+    /// [`ArWhitener::fit`] on samples `x` at `fs_hz` (checked finite here: the crate's own calls).
+    pub(crate) fn fit_slice(x: &[f64], fs_hz: f64, what: &'static str) -> Result<Self> {
         crate::error::check_finite(what, x)?;
         if x.len() < MIN_FIT_SAMPLES {
             return Err(DiagnosisError::BaselineTooShort {

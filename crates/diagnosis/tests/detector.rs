@@ -12,7 +12,7 @@ use diagnosis::{
 use rand::SeedableRng;
 
 mod common;
-use common::{add_comb, ring_downs, show, significance, white};
+use common::{add_comb, ring_downs, show, sig, significance, white};
 
 /// α: the false-alarm probability per recording the detector is run at by default.
 const ALPHA: f64 = DEFAULT_FALSE_ALARM;
@@ -38,7 +38,7 @@ fn count_quiet(
     let mut quiet_count = 0;
     for seed in 1..=n {
         let (x, fs, rpm) = record(seed);
-        let d = diagnose(&x, fs, rpm, spec, None).unwrap();
+        let d = diagnose(&sig(&x, fs), rpm, spec, None).unwrap();
         if quiet(&d) {
             quiet_count += 1;
         } else {
@@ -169,7 +169,7 @@ fn typed(name: &str, rpm: f64, fs: f64, location: FaultLocation, seeds: &[u64]) 
         let r = machine_fault(g, rpm, fs, location, seed)
             .synthesize()
             .unwrap();
-        let d = diagnose(&r.accel, fs, rpm, &spec, None).unwrap();
+        let d = diagnose(&sig(&r.accel, fs), rpm, &spec, None).unwrap();
         show(&format!("{name} {location:?} seed {seed}"), &d);
         if d.verdict == location.name() {
             right += 1;
@@ -240,7 +240,7 @@ fn a_declared_speed_6_percent_low_is_corrected_by_the_shaft_comb() {
         (6, FaultLocation::Inner),
     ] {
         let x = with_comb(machine_fault(g, rpm, fs, location, seed), 5.0, false);
-        let d = diagnose(&x, fs, 0.94 * rpm, &spec, None).unwrap();
+        let d = diagnose(&sig(&x, fs), 0.94 * rpm, &spec, None).unwrap();
         show(&format!("declared 6 % low, {location:?}"), &d);
         let sp = d.operating_point.speed.as_ref().unwrap();
         assert_eq!(sp.source, SpeedSource::SpectrumComb, "{sp:?}");
@@ -270,7 +270,7 @@ fn a_speed_range_is_searched_and_bad_ranges_are_refused() {
         });
     let x = with_comb(recipe, 0.0, false);
     let search = DiagnoseOptions::search(300.0, 3600.0);
-    let d = diagnose_with_options(&x, fs, &spec, None, &search).unwrap();
+    let d = diagnose_with_options(&sig(&x, fs), &spec, None, &search).unwrap();
     show("search 300-3600", &d);
     let sp = d.operating_point.speed.as_ref().unwrap();
     assert_eq!(sp.source, SpeedSource::SpectrumComb, "{sp:?}");
@@ -281,7 +281,7 @@ fn a_speed_range_is_searched_and_bad_ranges_are_refused() {
 
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(77);
     let noise = white(x.len(), 1.0, &mut rng);
-    let e = diagnose_with_options(&noise, fs, &spec, None, &search).unwrap_err();
+    let e = diagnose_with_options(&sig(&noise, fs), &spec, None, &search).unwrap_err();
     assert!(
         matches!(
             e,
@@ -301,7 +301,7 @@ fn a_speed_range_is_searched_and_bad_ranges_are_refused() {
         DiagnoseOptions::declared(1500.0).with_rpm_range(1600.0, 1700.0),
         DiagnoseOptions::declared(1500.0).with_false_alarm(0.0),
     ] {
-        let e = diagnose_with_options(&x, fs, &spec, None, &bad).unwrap_err();
+        let e = diagnose_with_options(&sig(&x, fs), &spec, None, &bad).unwrap_err();
         assert!(
             matches!(e, DiagnosisError::InvalidOptions { .. }),
             "{bad:?}: {e}"
@@ -326,8 +326,13 @@ fn a_loose_machine_s_half_orders_do_not_halve_the_searched_speed() {
             severity_db: 0.0,
         });
     let x = with_comb(recipe, 0.0, true);
-    let d = diagnose_with_options(&x, fs, &spec, None, &DiagnoseOptions::search(300.0, 3600.0))
-        .unwrap();
+    let d = diagnose_with_options(
+        &sig(&x, fs),
+        &spec,
+        None,
+        &DiagnoseOptions::search(300.0, 3600.0),
+    )
+    .unwrap();
     show("loose machine, search 300-3600", &d);
     let sp = d.operating_point.speed.as_ref().unwrap();
     assert!((sp.rpm_used / rpm - 1.0).abs() < 0.005, "{sp:?}");
@@ -344,7 +349,7 @@ fn records_shorter_than_20_turns_at_the_slowest_speed_are_refused() {
     let x = white(fs as usize * 2, 1.0, &mut rng);
     let slowest_hz = 0.9 * rpm / 60.0;
     let samples = |turns: f64| (turns / slowest_hz * fs) as usize;
-    let e = diagnose(&x[..samples(19.0)], fs, rpm, &spec, None).unwrap_err();
+    let e = diagnose(&sig(&x[..samples(19.0)], fs), rpm, &spec, None).unwrap_err();
     match &e {
         DiagnosisError::TooShort {
             turns, min_turns, ..
@@ -356,10 +361,11 @@ fn records_shorter_than_20_turns_at_the_slowest_speed_are_refused() {
     }
     assert!(e.to_string().contains("at least 20 turns"), "{e}");
     // 21 turns at 0.9 × 1800 rpm are 23.3 at the declared speed
-    assert!(diagnose(&x[..samples(21.0)], fs, rpm, &spec, None).is_ok());
+    assert!(diagnose(&sig(&x[..samples(21.0)], fs), rpm, &spec, None).is_ok());
     // a range searched from 1000 rpm needs 20 turns at 1000 rpm: 1.2 s
     let from_1000 = DiagnoseOptions::declared(rpm).with_rpm_range(1000.0, 2000.0);
-    let e = diagnose_with_options(&x[..samples(21.0)], fs, &spec, None, &from_1000).unwrap_err();
+    let e =
+        diagnose_with_options(&sig(&x[..samples(21.0)], fs), &spec, None, &from_1000).unwrap_err();
     assert!(matches!(e, DiagnosisError::TooShort { .. }), "{e}");
 }
 
@@ -375,7 +381,7 @@ fn the_report_keeps_its_old_keys_and_has_the_new_ones() {
     let r = machine_fault(g, 1797.0, 12_000.0, FaultLocation::Outer, 1)
         .synthesize()
         .unwrap();
-    let d = diagnose(&r.accel, 12_000.0, 1797.0, &spec, None).unwrap();
+    let d = diagnose(&sig(&r.accel, 12_000.0), 1797.0, &spec, None).unwrap();
     show("json", &d);
     assert_eq!(d.verdict, "outer");
     let v = serde_json::to_value(&d).unwrap();
@@ -596,7 +602,7 @@ fn one_fault_or_uncertain(d: &Diagnosis, location: Hypothesis) {
 fn coincident_families_give_one_fault_or_uncertain_never_both() {
     let spec = BearingSpec::parse("UC204").unwrap();
     let x = uc204_in_a_rotating_load(spec.orders.bpfo * 20.0, 41);
-    let d = diagnose(&x, 20_000.0, 1200.0, &spec, None).unwrap();
+    let d = diagnose(&sig(&x, 20_000.0), 1200.0, &spec, None).unwrap();
     show("UC204 outer race in a rotating load", &d);
     // the scenario: the other races' templates do read the outer race's sidebands
     let inner = significance(&d, "inner");
@@ -611,7 +617,7 @@ fn coincident_families_give_one_fault_or_uncertain_never_both() {
 fn coincident_families_of_an_inner_race_fault_give_inner_or_uncertain() {
     let spec = BearingSpec::parse("UC204").unwrap();
     let x = uc204_in_a_rotating_load(spec.orders.bpfi * 20.0, 42);
-    let d = diagnose(&x, 20_000.0, 1200.0, &spec, None).unwrap();
+    let d = diagnose(&sig(&x, 20_000.0), 1200.0, &spec, None).unwrap();
     show("UC204 inner race in a load zone", &d);
     one_fault_or_uncertain(&d, Hypothesis::Inner);
 }

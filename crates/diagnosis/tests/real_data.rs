@@ -30,14 +30,25 @@ fn outer_130_inner_209_against_97_and_inner_105_self() {
     let opts = LoadOptions::default();
     let normal = load_record(&dir, 97, &opts).unwrap();
     let base12 = normal.de_at(12_000.0).unwrap();
-    let baseline = Baseline::prepare(&base12, 12_000.0).unwrap();
+    let baseline = Baseline::prepare(&sig(&base12, 12_000.0)).unwrap();
     let spec = BearingSpec::parse("6205").unwrap();
     for (n, want) in [(130, "outer"), (209, "inner")] {
         let r = load_record(&dir, n, &opts).unwrap();
-        let d = diagnose(r.de(), r.fs_hz(), r.rpm().value, &spec, Some(&baseline)).unwrap();
+        let d = diagnose(
+            &sig(r.de(), r.fs_hz()),
+            r.rpm().value,
+            &spec,
+            Some(&baseline),
+        )
+        .unwrap();
         assert_eq!(d.verdict, want, "{n}.mat");
     }
     let r = load_record(&dir, 105, &opts).unwrap();
-    let d = diagnose(r.de(), r.fs_hz(), r.rpm().value, &spec, None).unwrap();
+    let d = diagnose(&sig(r.de(), r.fs_hz()), r.rpm().value, &spec, None).unwrap();
     assert_eq!(d.verdict, "inner", "105.mat self-referenced");
+}
+
+/// `x` at `fs` Hz as a checked signal (the tests' recordings are finite and non-empty).
+fn sig(x: &[f64], fs: f64) -> diagnosis::Signal<'_> {
+    diagnosis::Signal::new(x, fs).unwrap()
 }

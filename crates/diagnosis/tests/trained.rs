@@ -4,7 +4,9 @@
 
 use bearing_model::{FaultClass, Noise, Scenario, Slip};
 use diagnosis::trained::{EVIDENCE_FEATURES, segments};
-use diagnosis::{BearingSpec, DiagnosisError, Labelled, Reference, TrainedDiagnoser, diagnose};
+use diagnosis::{
+    BearingSpec, DiagnosisError, Labelled, Reference, Signal, TrainedDiagnoser, diagnose,
+};
 
 const RPM: f64 = 1797.0;
 const FS: f64 = 12_000.0;
@@ -36,10 +38,11 @@ fn trained_on_one_seed_classifies_another() {
     for (class, label) in CLASSES {
         let x = sim(class, 11);
         // 1 s pieces: 30 turns at 1797 rpm, 27 at the slowest speed searched (20 needed)
-        let parts = segments(&x, FS, RPM, 1.0);
+        let x = Signal::new(&x, FS).unwrap();
+        let parts = segments(&x, RPM, 1.0);
         assert_eq!(parts.len(), 4, "4 s in 1 s pieces");
         for seg in parts {
-            let d = diagnose(seg, FS, RPM, &spec, None).unwrap();
+            let d = diagnose(&seg, RPM, &spec, None).unwrap();
             let f = d.evidence_features();
             assert_eq!(f.len(), EVIDENCE_FEATURES.len());
             assert!(f.iter().all(|v| v.is_finite()));
@@ -67,13 +70,17 @@ fn trained_on_one_seed_classifies_another() {
     assert_eq!(back, t);
     for (class, label) in CLASSES {
         let x = sim(class, 23);
-        let (got, per) = back.classify_recording(&x, FS, RPM, &spec, None).unwrap();
+        let (got, per) = back
+            .classify_recording(&Signal::new(&x, FS).unwrap(), RPM, &spec, None)
+            .unwrap();
         assert_eq!(got, label, "{class:?}: segments {per:?}");
         assert_eq!(per.len(), 4);
     }
     // a diagnosis against a baseline is not what it was trained on
-    let b = diagnosis::Baseline::prepare(&sim(FaultClass::None, 5), FS).unwrap();
-    let d = diagnose(&sim(FaultClass::Outer, 23), FS, RPM, &spec, Some(&b)).unwrap();
+    let healthy = Signal::new(sim(FaultClass::None, 5), FS).unwrap();
+    let b = diagnosis::Baseline::prepare(&healthy).unwrap();
+    let outer = Signal::new(sim(FaultClass::Outer, 23), FS).unwrap();
+    let d = diagnose(&outer, RPM, &spec, Some(&b)).unwrap();
     assert!(matches!(
         back.classify(&d),
         Err(DiagnosisError::ReferenceMismatch { .. })
@@ -84,7 +91,7 @@ fn trained_on_one_seed_classifies_another() {
         .step_by(2)
         .copied()
         .collect();
-    let d6 = diagnose(&x6, FS / 2.0, RPM, &spec, None).unwrap();
+    let d6 = diagnose(&Signal::new(&x6, FS / 2.0).unwrap(), RPM, &spec, None).unwrap();
     let e = back.classify(&d6).unwrap_err();
     assert!(matches!(e, DiagnosisError::ClassifierRate { .. }), "{e}");
     // foreign or damaged files are refused with what is wrong
@@ -118,14 +125,15 @@ fn trained_on_one_seed_classifies_another() {
 /// Pieces hold at least `MIN_TURNS` (20) shaft turns; the tail is dropped.
 #[test]
 fn segments_keep_twenty_turns_and_drop_the_tail() {
-    let x = vec![0.0; 50_000];
-    let s = segments(&x, FS, RPM, 1.0);
+    let x = Signal::new(vec![0.0; 50_000], FS).unwrap();
+    let s = segments(&x, RPM, 1.0);
     assert_eq!(s.len(), 4);
     assert!(s.iter().all(|p| p.len() == 12_000));
     // 0.5 s is 15 turns at 1797 rpm (the former minimum of 10 took it): the whole recording
-    assert_eq!(segments(&x, FS, RPM, 0.5).len(), 1);
+    assert_eq!(segments(&x, RPM, 0.5).len(), 1);
     // less than two pieces: the whole recording
-    assert_eq!(segments(&x[..20_000], FS, RPM, 1.0).len(), 1);
+    let short = Signal::new(&x.samples()[..20_000], FS).unwrap();
+    assert_eq!(segments(&short, RPM, 1.0).len(), 1);
 }
 
 /// Every piece `segments` cuts is long enough for `diagnose` at the same declared speed: 20
@@ -134,10 +142,10 @@ fn segments_keep_twenty_turns_and_drop_the_tail() {
 #[test]
 fn segments_are_long_enough_for_diagnose() {
     let spec = BearingSpec::parse("6205").unwrap();
-    let x = sim(FaultClass::None, 3);
+    let x = Signal::new(sim(FaultClass::None, 3), FS).unwrap();
     for seconds in [0.7, 0.75, 0.8, 1.0] {
-        for seg in segments(&x, FS, RPM, seconds) {
-            let r = diagnose(seg, FS, RPM, &spec, None);
+        for seg in segments(&x, RPM, seconds) {
+            let r = diagnose(&seg, RPM, &spec, None);
             assert!(r.is_ok(), "{seconds} s pieces: {:?}", r.err());
         }
     }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, bail};
-use diagnosis::{Labelled, Reference, TrainedDiagnoser};
+use diagnosis::{DiagnosisError, Labelled, Reference, TrainedDiagnoser};
 use rayon::prelude::*;
 
 use crate::diagnose::{
@@ -69,11 +69,12 @@ pub fn examples(
         .rpm
         .or(l.rpm)
         .context("--rpm is required (the file stores no speed)")?;
-    diagnosis::trained::segments(&l.samples, l.fs_hz, rpm, seconds)
+    let signal = diagnosis::Signal::new(&l.samples, l.fs_hz).map_err(DiagnosisError::from)?;
+    diagnosis::trained::segments(&signal, rpm, seconds)
         .into_iter()
         .map(|seg| {
             let part = Loaded {
-                samples: seg.to_vec(),
+                samples: seg.into_samples(),
                 ..l.clone()
             };
             let o = diagnose_loaded(&part, plan, baseline)?;

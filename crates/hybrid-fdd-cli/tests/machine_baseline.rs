@@ -218,7 +218,8 @@ fn machine_baseline_discounts_the_envelope_lines_its_model_holds() {
     // the same whitener without a healthy envelope: nothing compared, the lines are a fault
     let mut bare = prepared.0.clone();
     bare.residual = None;
-    let d = diagnosis::diagnose(&rec.samples, FS, RPM, &plan.bearing, Some(&bare)).unwrap();
+    let recording = diagnosis::Signal::new(&rec.samples, FS).unwrap();
+    let d = diagnosis::diagnose(&recording, RPM, &plan.bearing, Some(&bare)).unwrap();
     assert!(
         d.evidence
             .iter()

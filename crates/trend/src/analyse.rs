@@ -529,11 +529,15 @@ fn measure(
     let mut depth = BTreeMap::new();
     if c.diagnosis {
         let options = diagnosis::DiagnoseOptions::declared(r.rpm).with_false_alarm(c.false_alarm);
-        let d = if bearing.name == "unknown" {
-            diagnosis::diagnose_unknown_bearing(&r.samples, r.fs_hz, reference, &options)
-        } else {
-            diagnosis::diagnose_with_options(&r.samples, r.fs_hz, bearing, reference, &options)
-        };
+        let d = diagnosis::Signal::new(&r.samples, r.fs_hz)
+            .map_err(diagnosis::DiagnosisError::from)
+            .and_then(|signal| {
+                if bearing.name == "unknown" {
+                    diagnosis::diagnose_unknown_bearing(&signal, reference, &options)
+                } else {
+                    diagnosis::diagnose_with_options(&signal, bearing, reference, &options)
+                }
+            });
         match d {
             Ok(d) => {
                 for h in diagnosis::Hypothesis::ALL {
@@ -855,7 +859,10 @@ fn diagnosis_reference(
         .flat_map(|r| r.samples.iter().copied())
         .take(cap)
         .collect();
-    match diagnosis::Baseline::prepare(&joined, fs) {
+    let prepared = diagnosis::Signal::new(joined, fs)
+        .map_err(|e| diagnosis::DiagnosisError::signal("baseline", e))
+        .and_then(|signal| diagnosis::Baseline::prepare(&signal));
+    match prepared {
         Ok(b) => Some(b),
         Err(e) => {
             notes.push(format!(

@@ -119,7 +119,11 @@ fn collect_p(v: &serde_json::Value, path: &str, out: &mut BTreeMap<String, f64>)
 
 /// Diagnose `x` as the entry declares it.
 fn diagnose(x: &[f64], fs: f64, e: &Entry) -> Result<Outcome, String> {
-    let d = diagnosis::diagnose(x, fs, e.rpm_declared, &e.spec, None).map_err(|e| e.to_string())?;
+    let signal = diagnosis::Signal::new(x, fs)
+        .map_err(diagnosis::DiagnosisError::from)
+        .map_err(|e| e.to_string())?;
+    let d =
+        diagnosis::diagnose(&signal, e.rpm_declared, &e.spec, None).map_err(|e| e.to_string())?;
     let mut p_fields = BTreeMap::new();
     if let Ok(v) = serde_json::to_value(&d) {
         collect_p(&v, "", &mut p_fields);

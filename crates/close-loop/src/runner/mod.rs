@@ -190,7 +190,10 @@ pub fn close_loop_from(
 /// and a distinguishing sideband; `crates/diagnosis`), with their scores in dB; empty when it
 /// cannot run (a segment too short for its bands).
 fn detected_faults(x: &[f64], fs: f64, op: &OperatingPoint) -> Vec<(FaultLocation, f64)> {
-    let Ok(d) = diagnosis::diagnose(x, fs, op.rpm, &op.bearing, None) else {
+    let Ok(d) = diagnosis::Signal::new(x, fs)
+        .map_err(diagnosis::DiagnosisError::from)
+        .and_then(|signal| diagnosis::diagnose(&signal, op.rpm, &op.bearing, None))
+    else {
         return Vec::new();
     };
     // a location significant by itself is a candidate even when the diagnosis' verdict

@@ -4,6 +4,11 @@
 
 use diagnosis::Diagnosis;
 
+/// `x` at `fs` Hz as a checked signal (the tests' recordings are finite and non-empty).
+pub fn sig(x: &[f64], fs: f64) -> diagnosis::Signal<'_> {
+    diagnosis::Signal::new(x, fs).unwrap()
+}
+
 /// Prints what a diagnosis rests on (stderr, shown for a failing test): the verdict, the
 /// speed used and how it was found, and per hypothesis its probability under "healthy", the
 /// modulation depth of its harmonics, its band, and whether a stronger fault explains it.

@@ -308,7 +308,10 @@ impl BaselineSource {
                 None,
             )
         };
-        let mut b = Baseline::prepare(&x, fs_b).with_context(|| format!("baseline {name}"))?;
+        let mut b = diagnosis::Signal::new(x, fs_b)
+            .map_err(|e| diagnosis::DiagnosisError::signal("baseline", e))
+            .and_then(|signal| Baseline::prepare(&signal))
+            .with_context(|| format!("baseline {name}"))?;
         if let Some(edge) = limit {
             b = b
                 .band_limited(edge)

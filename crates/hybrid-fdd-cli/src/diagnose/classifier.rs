@@ -58,8 +58,9 @@ pub fn apply_classifier(
         None => (l.samples.clone(), l.fs_hz),
     };
     let b = baseline.map(|src| src.at(fs, rpm)).transpose()?;
+    let signal = diagnosis::Signal::new(x, fs).map_err(diagnosis::DiagnosisError::from)?;
     let (class, segments) =
-        t.classify_recording(&x, fs, rpm, &plan.bearing, b.as_ref().map(|b| &b.0))?;
+        t.classify_recording(&signal, rpm, &plan.bearing, b.as_ref().map(|b| &b.0))?;
     o.trained = Some(TrainedClass {
         class,
         segments,

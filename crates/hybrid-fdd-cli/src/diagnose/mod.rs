@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use bearing_data::SampleUnit;
-use diagnosis::{BearingSpec, DiagnoseOptions, Diagnosis};
+use diagnosis::{BearingSpec, DiagnoseOptions, Diagnosis, DiagnosisError};
 
 pub use args::{Args, RecordingFlags};
 pub use baseline::{
@@ -131,11 +131,13 @@ pub fn diagnose_loaded_with(
         0.5 * (lo + hi)
     });
     let unknown = plan.bearing.name == UNKNOWN_BEARING;
+    // no samples, a non-finite one or a bad rate: the diagnosis' own one-line error
+    let signal = diagnosis::Signal::new(&l.samples, l.fs_hz).map_err(DiagnosisError::from)?;
     let run = |b: Option<&diagnosis::Baseline>| {
         if unknown {
-            diagnosis::diagnose_unknown_bearing(&l.samples, l.fs_hz, b, &options)
+            diagnosis::diagnose_unknown_bearing(&signal, b, &options)
         } else {
-            diagnosis::diagnose_with_options(&l.samples, l.fs_hz, &plan.bearing, b, &options)
+            diagnosis::diagnose_with_options(&signal, &plan.bearing, b, &options)
         }
     };
     let (d, note) = match baseline {
