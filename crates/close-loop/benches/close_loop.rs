@@ -11,7 +11,7 @@ use close_loop::path::StructuralPath;
 use close_loop::physics::PhysicsModel;
 use close_loop::scenario::{add_noise, add_tone};
 use close_loop::{
-    BearingSpec, DeclaredFault, DeclaredModel, LoopConfig, OperatingPoint, close_loop,
+    BearingSpec, DeclaredFault, DeclaredModel, LoopConfig, OperatingPoint, Signal, close_loop,
 };
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::path::Path;
@@ -56,10 +56,10 @@ fn bench(c: &mut Criterion) {
         DeclaredFault::Inner,
     )
     .unwrap();
-    let y = fault_record(&op);
+    let y = Signal::new(fault_record(&op), FS).unwrap();
     let cfg = LoopConfig::default().check().unwrap();
     g.bench_function("loop, 10 s at 12 kHz, physics inner + tone", |b| {
-        b.iter(|| close_loop(&model, &y, FS, &op, &cfg).unwrap())
+        b.iter(|| close_loop(&model, &y, &op, &cfg).unwrap())
     });
     let op = OperatingPoint::new(
         1797.0,
@@ -67,7 +67,7 @@ fn bench(c: &mut Criterion) {
         DeclaredFault::None,
     )
     .unwrap();
-    let y = healthy_record();
+    let y = Signal::new(healthy_record(), FS).unwrap();
     let cfg = LoopConfig {
         max_effects: 16,
         ..LoopConfig::default()
@@ -75,7 +75,7 @@ fn bench(c: &mut Criterion) {
     .check()
     .unwrap();
     g.bench_function("calibration, healthy 10 s at 12 kHz", |b| {
-        b.iter(|| close_loop(&model, &y, FS, &op, &cfg).unwrap())
+        b.iter(|| close_loop(&model, &y, &op, &cfg).unwrap())
     });
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     match bearing_data::DataLocation::resolve(None, &root)
@@ -96,9 +96,9 @@ fn bench(c: &mut Criterion) {
                 DeclaredFault::Inner,
             )
             .unwrap();
-            let y = r.de().to_vec();
+            let y = Signal::new(r.de(), FS).unwrap();
             g.bench_function("loop, measured 171.mat (10 s at 12 kHz)", |b| {
-                b.iter(|| close_loop(&model, &y, FS, &op, &cfg).unwrap())
+                b.iter(|| close_loop(&model, &y, &op, &cfg).unwrap())
             });
         }
         _ => eprintln!("measured-record case skipped: no shared data"),

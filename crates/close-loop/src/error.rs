@@ -32,6 +32,9 @@ pub enum CloseLoopError {
         /// Index of the first bad sample.
         index: usize,
     },
+    /// The recording has no samples.
+    #[error("the recording has no samples")]
+    EmptyRecording,
     /// The recording has zero variance.
     #[error("the recording is constant (zero variance)")]
     ZeroSignal,
@@ -111,4 +114,19 @@ pub enum CloseLoopError {
         /// The parser's message.
         reason: String,
     },
+}
+
+/// A [`crate::Signal`] that cannot be built, with this crate's messages: an invalid rate is
+/// [`CloseLoopError::InvalidSamplingRate`], no samples [`CloseLoopError::EmptyRecording`], a
+/// non-finite sample [`CloseLoopError::NonFinite`].
+impl From<sampled_signal::SignalError> for CloseLoopError {
+    fn from(e: sampled_signal::SignalError) -> Self {
+        match e {
+            sampled_signal::SignalError::InvalidRate { fs_hz } => {
+                Self::InvalidSamplingRate { fs: fs_hz }
+            }
+            sampled_signal::SignalError::Empty => Self::EmptyRecording,
+            sampled_signal::SignalError::NonFinite { index, .. } => Self::NonFinite { index },
+        }
+    }
 }

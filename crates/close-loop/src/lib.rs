@@ -22,6 +22,8 @@
 //! - `bearing-model`: the 5-DOF physics model behind [`physics::PhysicsModel`].
 //! - `bearing-data`: [`SampleUnit`], the recording's unit the reports state (the input layer's
 //!   one unit type).
+//! - `sampled-signal`: [`Signal`], the checked recording (samples and rate) the entry points
+//!   ([`close_loop`], [`close_loop_from`], [`machine::calibrate`]) take.
 //!
 //! The declared model comes in through the [`DeclaredModel`] trait, so this crate needs no
 //! simulator of its own; [`scenario::PhenomenologicalModel`] is a small impact-train model used by
@@ -55,6 +57,8 @@ pub use report::{
     AcceptedOn, EffectEntry, KINEMATIC_LINE_TOLERANCE, Ledger, Spectra, VerificationPass,
 };
 pub use runner::{MIN_NPERSEG, Outcome, close_loop, close_loop_from, fit_len, min_samples};
+/// A recording's samples at their rate, checked (`sampled-signal`, the workspace's one type).
+pub use sampled_signal::{Signal, SignalError};
 
 /// The README's examples, compiled as doctests.
 #[doc = include_str!("../README.md")]

@@ -43,7 +43,7 @@ fn arx_laguerre_declared_model_finds_an_undeclared_tone() {
     .unwrap();
     let model = ArxLaguerreDeclared::identify(&y[..fit_len(y.len(), &cfg)]).unwrap();
     assert_eq!(model.residual_observer(FS), ResidualObserver::ArxLaguerre);
-    let o = close_loop(&model, &y, FS, &op, &cfg).unwrap();
+    let o = close_loop(&model, &sig(&y, FS), &op, &cfg).unwrap();
     eprintln!("{}", o.ledger.to_markdown("arx-laguerre"));
     assert_eq!(o.ledger.declared.model, "arx-laguerre");
     // The identified model absorbed the tone as a broad bump (measured: the loop first cuts it,
@@ -80,4 +80,9 @@ fn arx_laguerre_simulation_is_seeded_and_finite() {
     // white input: the identified model predicts little, so the simulation has about unit RMS
     let r = close_loop::metric::rms(&a);
     assert!((r - 1.0).abs() < 0.15, "{r}");
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

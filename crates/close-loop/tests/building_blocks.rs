@@ -167,17 +167,16 @@ fn bad_input_gets_typed_errors() {
     .unwrap();
     let short = small_recording(min_samples(&cfg) - 1);
     assert!(matches!(
-        close_loop(&model, &short, 12_000.0, &op, &cfg),
+        close_loop(&model, &sig(&short, 12_000.0), &op, &cfg),
         Err(CloseLoopError::TooShort { .. })
     ));
     // the advertised minimum is enough for every stage, the structural path's identification on
     // the fitting part included (it once asked for 2305 samples and then failed on 1200 < 2048)
     let just = small_recording(min_samples(&cfg));
-    close_loop(&model, &just, 12_000.0, &op, &cfg).unwrap();
+    close_loop(&model, &sig(&just, 12_000.0), &op, &cfg).unwrap();
     close_loop(
         &close_loop::physics::PhysicsModel::default(),
-        &just,
-        12_000.0,
+        &sig(&just, 12_000.0),
         &op,
         &cfg,
     )
@@ -194,7 +193,7 @@ fn bad_input_gets_typed_errors() {
     bad_op.rpm = 0.0;
     let y = small_recording(12_000);
     assert_eq!(
-        close_loop(&model, &y, 12_000.0, &bad_op, &cfg).unwrap_err(),
+        close_loop(&model, &sig(&y, 12_000.0), &bad_op, &cfg).unwrap_err(),
         CloseLoopError::InvalidRpm { rpm: 0.0 }
     );
     assert!(matches!(
@@ -223,16 +222,22 @@ fn bad_input_gets_typed_errors() {
     let mut nan = y.clone();
     nan[17] = f64::NAN;
     assert_eq!(
-        close_loop(&model, &nan, 12_000.0, &op, &cfg).unwrap_err(),
+        close_loop::Signal::new(&nan, 12_000.0)
+            .map_err(CloseLoopError::from)
+            .unwrap_err(),
         CloseLoopError::NonFinite { index: 17 }
     );
     assert_eq!(
-        close_loop(&model, &vec![1.0; 12_000], 12_000.0, &op, &cfg).unwrap_err(),
+        close_loop(&model, &sig(&vec![1.0; 12_000], 12_000.0), &op, &cfg).unwrap_err(),
         CloseLoopError::ZeroSignal
     );
     assert!(matches!(
-        close_loop(&model, &y, f64::NAN, &op, &cfg),
+        close_loop::Signal::new(&y, f64::NAN).map_err(CloseLoopError::from),
         Err(CloseLoopError::InvalidSamplingRate { .. })
+    ));
+    assert!(matches!(
+        close_loop::Signal::new(Vec::new(), 12_000.0).map_err(CloseLoopError::from),
+        Err(CloseLoopError::EmptyRecording)
     ));
     let bad = LoopConfig {
         fit_fraction: 0.95,
@@ -259,8 +264,7 @@ fn ledger_round_trips_through_json() {
     let y = small_recording(12_000);
     let out = close_loop(
         &PhenomenologicalModel::default().with_seed(3),
-        &y,
-        12_000.0,
+        &sig(&y, 12_000.0),
         &op,
         &cfg,
     )
@@ -285,8 +289,8 @@ fn loop_is_deterministic() {
     .unwrap();
     let y = small_recording(12_000);
     let m = PhenomenologicalModel::default().with_seed(3);
-    let a = close_loop(&m, &y, 12_000.0, &op, &cfg).unwrap();
-    let b = close_loop(&m, &y, 12_000.0, &op, &cfg).unwrap();
+    let a = close_loop(&m, &sig(&y, 12_000.0), &op, &cfg).unwrap();
+    let b = close_loop(&m, &sig(&y, 12_000.0), &op, &cfg).unwrap();
     assert_eq!(a, b);
 }
 
@@ -390,4 +394,9 @@ fn modulation_depths_at_their_search_bound_are_flagged() {
     let pinned = effect(0.99999 * MODULATION_MAX_DEPTH);
     assert_eq!(pinned.parameters()["at_search_bound"], 1.0);
     assert!(pinned.describe().contains("the depth is a lower bound"));
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

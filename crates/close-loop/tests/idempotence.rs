@@ -47,8 +47,8 @@ fn calibrated_97_12k(dir: &Path) -> &'static (Vec<f64>, f64, Outcome) {
         }
         .check()
         .unwrap();
-        let o =
-            close_loop::machine::calibrate_with(&model(), &y, 12_000.0, &op(rpm), &cfg).unwrap();
+        let o = close_loop::machine::calibrate_with(&model(), &sig(&y, 12_000.0), &op(rpm), &cfg)
+            .unwrap();
         (y, rpm, o)
     })
 }
@@ -62,7 +62,7 @@ fn from_model(machine: &MachineModel, y: &[f64], rpm: f64) -> Outcome {
     }
     .check()
     .unwrap();
-    close_loop::close_loop_from(&model(), Some(machine), y, 12_000.0, &op(rpm), &cfg).unwrap()
+    close_loop::close_loop_from(&model(), Some(machine), &sig(y, 12_000.0), &op(rpm), &cfg).unwrap()
 }
 
 fn kinds(o: &Outcome) -> Vec<String> {
@@ -141,4 +141,9 @@ fn simulated_recording_of_the_machine_model_12k() {
             kinds(&o)
         );
     }
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

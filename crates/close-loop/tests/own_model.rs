@@ -29,7 +29,7 @@ fn own(fault: DeclaredFault, rpm: f64, fs: f64, seconds: f64, noise: bool) {
         add_noise(&mut y, s, 3);
     }
     let cfg = LoopConfig::default().check().unwrap();
-    let o = close_loop(&PhysicsModel::default(), &y, fs, &op, &cfg).unwrap();
+    let o = close_loop(&PhysicsModel::default(), &sig(&y, fs), &op, &cfg).unwrap();
     assert_explained(&o, &format!("{fault} {rpm} rpm {fs} Hz noise {noise}"));
 }
 
@@ -84,7 +84,8 @@ fn own_model_faults_from_the_machine_model_calibrated_on_its_healthy_output() {
         .unwrap()
     };
     let machine =
-        close_loop::machine::calibrate(&sim(&healthy, 5, 4.0), fs, rpm, bearing, &cfg).unwrap();
+        close_loop::machine::calibrate(&sig(&sim(&healthy, 5, 4.0), fs), rpm, bearing, &cfg)
+            .unwrap();
     let machine = MachineModel::from_json(&machine.to_json().unwrap()).unwrap();
     for fault in [
         DeclaredFault::Outer,
@@ -94,8 +95,14 @@ fn own_model_faults_from_the_machine_model_calibrated_on_its_healthy_output() {
     ] {
         let op = OperatingPoint::new(rpm, BearingSpec::designated(bearing), fault).unwrap();
         let y = sim(&op, 43, 3.0);
-        let o =
-            close_loop_from(&PhysicsModel::default(), Some(&machine), &y, fs, &op, &cfg).unwrap();
+        let o = close_loop_from(
+            &PhysicsModel::default(),
+            Some(&machine),
+            &sig(&y, fs),
+            &op,
+            &cfg,
+        )
+        .unwrap();
         assert_explained(&o, &format!("{fault} from the machine model"));
     }
 }
@@ -121,7 +128,7 @@ fn plain_tone_and_shaft_line_are_named() {
     add_tone(&mut y, fs, 251.3, 0.45 * a, 0.3);
     add_tone(&mut y, fs, 2.0 * rpm / 60.0, 0.35 * a, 1.1);
     let cfg = LoopConfig::default().check().unwrap();
-    let o = close_loop(&PhysicsModel::default(), &y, fs, &op, &cfg).unwrap();
+    let o = close_loop(&PhysicsModel::default(), &sig(&y, fs), &op, &cfg).unwrap();
     let find = |f: f64| {
         o.ledger
             .effects
@@ -168,7 +175,7 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
     add_tone(&mut y, fs, 1234.5, 0.2 * a, 0.7);
     let cfg = LoopConfig::default().check().unwrap();
     let model = PhysicsModel::default();
-    let o = close_loop(&model, &y, fs, &op, &cfg).unwrap();
+    let o = close_loop(&model, &sig(&y, fs), &op, &cfg).unwrap();
     assert!(o.ledger.error_after <= 2.0, "{}", o.ledger.error_after);
     assert!(o.ledger.error_after < 0.5 * o.ledger.error_before);
     let m = &o.machine;
@@ -181,8 +188,9 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
     // the library call is the same calibration, verified from the saved model: the
     // verification pass adds nothing (its shaft force and line rebuilt), and the end error is
     // the saved model's own, within 1e-6 dB of the loop's
-    let lib = close_loop::machine::calibrate(&y, fs, 1797.0, bearing_model::Bearing::Skf6205, &cfg)
-        .unwrap();
+    let lib =
+        close_loop::machine::calibrate(&sig(&y, fs), 1797.0, bearing_model::Bearing::Skf6205, &cfg)
+            .unwrap();
     assert!((lib.provenance.error_after - m.provenance.error_after).abs() < 1e-6);
     let mut same = lib.clone();
     same.provenance.error_after = m.provenance.error_after;
@@ -231,11 +239,11 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
     let mut y2 = path.filter(&e2);
     add_tone(&mut y2, fs, 1797.0 / 60.0, 0.3 * a, 1.4);
     add_tone(&mut y2, fs, 1234.5, 0.2 * a, 2.0);
-    let o2 = close_loop_from(&model, Some(&back), &y2, fs, &op, &cfg).unwrap();
+    let o2 = close_loop_from(&model, Some(&back), &sig(&y2, fs), &op, &cfg).unwrap();
     assert!(o2.ledger.error_before <= 2.0, "{}", o2.ledger.error_before);
     // validation
     assert!(matches!(
-        close_loop_from(&model, Some(&back), &y2, 48_000.0, &op, &cfg),
+        close_loop_from(&model, Some(&back), &sig(&y2, 48_000.0), &op, &cfg),
         Err(CloseLoopError::MachineModelMismatch {
             what: "sampling rate",
             ..
@@ -248,7 +256,7 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
     )
     .unwrap();
     assert!(matches!(
-        close_loop_from(&model, Some(&back), &y2, fs, &op3, &cfg),
+        close_loop_from(&model, Some(&back), &sig(&y2, fs), &op3, &cfg),
         Err(CloseLoopError::MachineModelMismatch {
             what: "bearing",
             ..
@@ -271,4 +279,9 @@ fn calibrated_machine_model_round_trips_and_is_validated() {
         MachineModel::from_json("{\"format\": 3}"),
         Err(CloseLoopError::MachineModelFormat { .. })
     ));
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

@@ -45,7 +45,13 @@ fn run(y: &[f64]) -> Outcome {
 
 fn run_fault(y: &[f64], fault: DeclaredFault) -> Outcome {
     let cfg = LoopConfig::default().check().unwrap();
-    let out = close_loop(&PhysicsModel::default(), y, FS, &op_fault(RPM, fault), &cfg).unwrap();
+    let out = close_loop(
+        &PhysicsModel::default(),
+        &sig(y, FS),
+        &op_fault(RPM, fault),
+        &cfg,
+    )
+    .unwrap();
     eprintln!("{}", out.ledger.to_markdown("physics"));
     // a setting (speed ratio, slip, structural path) taken again names the step it replaces
     let e = &out.ledger.effects;
@@ -243,7 +249,7 @@ fn physics_modulation_at_the_shaft_rate_is_not_split_into_sideband_tones() {
     let mut y = modulate(&x, fs, fr, 0.5);
     add_noise(&mut y, sigma, 99);
     let cfg = LoopConfig::default().check().unwrap();
-    let o = close_loop(&truth, &y, fs, &op, &cfg).unwrap();
+    let o = close_loop(&truth, &sig(&y, fs), &op, &cfg).unwrap();
     eprintln!("{}", o.ledger.to_markdown("physics"));
     let e = first(&o, EffectKind::Modulation);
     assert!((e.frequency_hz.unwrap() / fr - 1.0).abs() < 0.005);
@@ -346,8 +352,7 @@ fn physics_contact_preload() {
     let again = close_loop::close_loop_from(
         &PhysicsModel::default(),
         Some(&m),
-        &y,
-        FS,
+        &sig(&y, FS),
         &op_fault(RPM, DeclaredFault::Inner),
         &cfg,
     )
@@ -438,4 +443,9 @@ fn physics_fault_nobody_declared_is_named() {
         assert_eq!(e.placement, close_loop::Placement::Physics);
         assert!(e.error_after < 0.5 * e.error_before, "{}", e.description);
     }
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

@@ -35,7 +35,7 @@ fn run_at(y: &[f64], fs: f64, rpm: f64, fault: DeclaredFault, mains: Option<f64>
     }
     .check()
     .unwrap();
-    close_loop(&PhysicsModel::default(), y, fs, &op, &cfg).unwrap()
+    close_loop(&PhysicsModel::default(), &sig(y, fs), &op, &cfg).unwrap()
 }
 
 fn near(o: &Outcome, f: f64) -> Option<&close_loop::EffectEntry> {
@@ -185,7 +185,7 @@ fn run_sized(
         fault,
     )
     .unwrap();
-    close_loop::close_loop_from(&model, Some(machine), y, fs, &op, cfg).unwrap()
+    close_loop::close_loop_from(&model, Some(machine), &sig(y, fs), &op, cfg).unwrap()
 }
 
 /// The default settings with the CLI's 60 Hz mains declared.
@@ -211,8 +211,13 @@ fn calibrate_97(dir: &Path, fs: f64) -> close_loop::machine::MachineModel {
     let cfg = LoopConfig::default().check().unwrap();
     let h = load_record(dir, 97, &LoadOptions::default()).unwrap();
     let x = h.de_at(fs).unwrap();
-    close_loop::machine::calibrate(&x, fs, h.rpm().value, bearing_model::Bearing::Skf6205, &cfg)
-        .unwrap()
+    close_loop::machine::calibrate(
+        &sig(&x, fs),
+        h.rpm().value,
+        bearing_model::Bearing::Skf6205,
+        &cfg,
+    )
+    .unwrap()
 }
 
 /// The loop on `y` (12 kHz, 6205, outer race declared at `rpm`) started from `machine`.
@@ -251,7 +256,14 @@ fn run_from_at(
         fault,
     )
     .unwrap();
-    close_loop::close_loop_from(&PhysicsModel::default(), Some(machine), y, fs, &op, cfg).unwrap()
+    close_loop::close_loop_from(
+        &PhysicsModel::default(),
+        Some(machine),
+        &sig(y, fs),
+        &op,
+        cfg,
+    )
+    .unwrap()
 }
 
 /// The shaft harmonics of `order` that `o` names.
@@ -1244,4 +1256,9 @@ fn outer_race_from_rig_12k(dir: &std::path::Path, number: u32, size_in: f64) -> 
         size_in,
         &mains_60(),
     )
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

@@ -39,7 +39,7 @@ fn one_thread_and_three_give_the_same_run() {
             .build()
             .unwrap();
         let o = pool
-            .install(|| close_loop::close_loop(&PhysicsModel::default(), &y, FS, &op, &cfg))
+            .install(|| close_loop::close_loop(&PhysicsModel::default(), &sig(&y, FS), &op, &cfg))
             .unwrap();
         (
             serde_json::to_string(&o.ledger).unwrap(),
@@ -51,4 +51,9 @@ fn one_thread_and_three_give_the_same_run() {
     assert!(one.2 >= 1, "the record should make the loop add something");
     assert_eq!(one.0, three.0, "ledgers differ");
     assert_eq!(one.1, three.1, "machine models differ");
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

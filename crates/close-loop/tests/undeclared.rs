@@ -45,7 +45,7 @@ fn recording(
 
 fn run(y: &[f64], fault: DeclaredFault) -> Outcome {
     let cfg = LoopConfig::default().check().unwrap();
-    let out = close_loop(&model(), y, FS, &op(fault), &cfg).unwrap();
+    let out = close_loop(&model(), &sig(y, FS), &op(fault), &cfg).unwrap();
     eprintln!("{}", out.ledger.to_markdown("test"));
     out
 }
@@ -236,9 +236,14 @@ fn defect_rate_is_named_when_the_shaft_lines_stay() {
     assert!((m.speed_ratio - 1.0).abs() < 1e-3, "{}", m.speed_ratio);
     assert!((m.defect_rate_ratio / 1.004 - 1.0).abs() < 0.001);
     let cfg = LoopConfig::default().check().unwrap();
-    let again =
-        close_loop::close_loop_from(&model(), Some(&m), &y, FS, &op(DeclaredFault::Outer), &cfg)
-            .unwrap();
+    let again = close_loop::close_loop_from(
+        &model(),
+        Some(&m),
+        &sig(&y, FS),
+        &op(DeclaredFault::Outer),
+        &cfg,
+    )
+    .unwrap();
     assert!(
         again.ledger.error_before < 0.6 * o.ledger.error_before,
         "{} vs {}",
@@ -331,4 +336,9 @@ fn two_effects_at_once() {
         .find(|e| e.kind == EffectKind::Tone)
         .unwrap();
     assert!((t.frequency_hz.unwrap() / 777.7 - 1.0).abs() < 0.01);
+}
+
+/// `y` at `fs` Hz as a checked signal (the recordings here are finite and non-empty).
+fn sig(y: &[f64], fs: f64) -> close_loop::Signal<'_> {
+    close_loop::Signal::new(y, fs).unwrap()
 }

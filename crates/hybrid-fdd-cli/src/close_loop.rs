@@ -431,10 +431,11 @@ fn run_one_as(
             Box::new(ArxLaguerreDeclared::identify(&y[..n_fit])?)
         }
     };
+    let recording = close_loop::Signal::new(&y, fs).map_err(close_loop::CloseLoopError::from)?;
     let mut out = if calibrating {
-        close_loop::machine::calibrate_with(model.as_ref(), &y, fs, &op, &cfg)?
+        close_loop::machine::calibrate_with(model.as_ref(), &recording, &op, &cfg)?
     } else {
-        close_loop_from(model.as_ref(), prior, &y, fs, &op, &cfg)?
+        close_loop_from(model.as_ref(), prior, &recording, &op, &cfg)?
     };
     if fault == FaultClass::None {
         // a healthy machine model is a diagnosis baseline: it needs a structural path even when

@@ -67,8 +67,7 @@ fn prepared_from(
 fn calibrated_rig() -> close_loop::machine::MachineModel {
     let cfg = LoopConfig::default().check().unwrap();
     close_loop::machine::calibrate(
-        &rig(48_000, 1),
-        FS,
+        &close_loop::Signal::new(rig(48_000, 1), FS).unwrap(),
         RPM,
         bearing_model::Bearing::Skf6205,
         &cfg,

@@ -276,7 +276,9 @@ impl Prepared {
         let revolution = (fs * 60.0 / rpm).round().max(1.0) as usize;
         let (path, path_modes, calibration_error, path_order, path_lines) = if physics {
             let cfg = close_loop::LoopConfig::default().check()?;
-            let machine = close_loop::machine::calibrate(healthy, fs, rpm, bearing, &cfg)?;
+            let recording =
+                close_loop::Signal::new(healthy, fs).map_err(close_loop::CloseLoopError::from)?;
+            let machine = close_loop::machine::calibrate(&recording, rpm, bearing, &cfg)?;
             let (path, path_modes, path_order, path_lines) = match &machine.path {
                 Some(p) => (
                     machine.predictor_model()?,

@@ -300,8 +300,10 @@ fn machine_reference(
     rpm97: f64,
     cfg: &close_loop::CheckedConfig,
 ) -> anyhow::Result<BaselineSource> {
-    let mut m = close_loop::machine::calibrate(x, fs, rpm97, bearing_model::Bearing::Skf6205, cfg)
-        .with_context(|| format!("calibrating the machine model on 97.mat at {fs} Hz"))?;
+    let recording = close_loop::Signal::new(x, fs).map_err(close_loop::CloseLoopError::from)?;
+    let mut m =
+        close_loop::machine::calibrate(&recording, rpm97, bearing_model::Bearing::Skf6205, cfg)
+            .with_context(|| format!("calibrating the machine model on 97.mat at {fs} Hz"))?;
     m.units = "g".into();
     m.provenance.recording = "97.mat".into();
     Ok(BaselineSource::from_machine(

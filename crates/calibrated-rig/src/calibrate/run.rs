@@ -55,7 +55,8 @@ pub fn calibrate_rig(
     cfg: &close_loop::CheckedConfig,
     rule: &str,
 ) -> Result<RigModel, CloseLoopError> {
-    let machine = close_loop::machine::calibrate(healthy, fs, rpm, bearing, cfg)?;
+    let machine =
+        close_loop::machine::calibrate(&close_loop::Signal::new(healthy, fs)?, rpm, bearing, cfg)?;
     let (training, cross, top) = split_records(training)?;
     let training = training.as_slice();
     let nperseg = ((fs / 12.0).log2().round().exp2() as usize).max(close_loop::MIN_NPERSEG);

@@ -9,24 +9,23 @@ use crate::CloseLoopError;
 /// and stops on its own; 16 cut it short.
 pub const CALIBRATE_MAX_EFFECTS: usize = 24;
 
-/// Calibrate a machine model on a healthy recording `y` (sampled at `fs` Hz, shaft at `rpm`,
-/// `bearing` of the 5-DOF model): the loop from the declared healthy 5-DOF physics with default
+/// Calibrate a machine model on a healthy recording (a checked [`crate::Signal`], shaft at
+/// `rpm`, `bearing` of the 5-DOF model): the loop from the declared healthy 5-DOF physics with default
 /// slip, verified from the model as saved ([`calibrate_with`]), and the [`MachineModel`] it ends
-/// with (what `cargo xtask calibrate` writes). The loop fits on the first part of `y` and scores
-/// on the rest ([`crate::fit_len`]); pass only data the caller may fit on.
+/// with (what `cargo xtask calibrate` writes). The loop fits on the first part of the recording
+/// and scores on the rest ([`crate::fit_len`]); pass only data the caller may fit on.
 ///
 /// # Errors
 /// As [`crate::close_loop`].
 pub fn calibrate(
-    y: &[f64],
-    fs: f64,
+    signal: &crate::Signal<'_>,
     rpm: f64,
     bearing: bearing_model::Bearing,
     cfg: &crate::CheckedConfig,
 ) -> Result<MachineModel, CloseLoopError> {
     let rates = crate::BearingSpec::designated(bearing);
     let op = crate::OperatingPoint::new(rpm, rates, bearing_model::FaultClass::None)?;
-    Ok(calibrate_with(&declared_healthy(bearing), y, fs, &op, cfg)?.machine)
+    Ok(calibrate_with(&declared_healthy(bearing), signal, &op, cfg)?.machine)
 }
 
 /// The declared healthy 5-DOF physics [`calibrate`] starts from (default parameter set, slip
@@ -56,7 +55,7 @@ pub(crate) fn named_bearing(name: &str) -> Result<crate::BearingSpec, CloseLoopE
 /// Verification passes a calibration runs at most ([`calibrate_with`]).
 pub const MAX_VERIFICATION_PASSES: usize = 2;
 
-/// A calibration: the loop on `y` from the declared `model` ([`crate::close_loop`]; on a
+/// A calibration: the loop on the recording `signal` from the declared `model` ([`crate::close_loop`]; on a
 /// recording declared healthy the model is given a structural path if the loop added none,
 /// [`MachineModel::ensure_path`]), then a verification pass — the loop again on the same recording, started from the machine model
 /// as it is saved (JSON round trip, [`crate::close_loop_from`]). A clean recording must add
@@ -73,12 +72,12 @@ pub const MAX_VERIFICATION_PASSES: usize = 2;
 /// As [`crate::close_loop`].
 pub fn calibrate_with(
     model: &dyn crate::DeclaredModel,
-    y: &[f64],
-    fs: f64,
+    signal: &crate::Signal<'_>,
     op: &crate::OperatingPoint,
     cfg: &crate::CheckedConfig,
 ) -> Result<crate::Outcome, CloseLoopError> {
-    let mut out = crate::close_loop(model, y, fs, op, cfg)?;
+    let y = signal.samples();
+    let mut out = crate::close_loop(model, signal, op, cfg)?;
     if op.fault == bearing_model::FaultClass::None {
         // a healthy machine model always holds a path ([`MachineModel::ensure_path`]); it is
         // verified as it will be saved, path included
@@ -90,7 +89,7 @@ pub fn calibrate_with(
     let mut converged = false;
     for pass in 1..=MAX_VERIFICATION_PASSES {
         let saved = MachineModel::from_json(&out.machine.to_json()?)?;
-        let v = crate::close_loop_from(model, Some(&saved), y, fs, op, cfg)?;
+        let v = crate::close_loop_from(model, Some(&saved), signal, op, cfg)?;
         let added = v.ledger.effects.len();
         out.ledger.verification.push(crate::VerificationPass {
             pass,

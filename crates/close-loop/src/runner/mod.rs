@@ -9,7 +9,7 @@ use crate::report::{
     SECONDARY_METRIC, Spectra,
 };
 use crate::spectrum::Welch;
-use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint};
+use crate::{CheckedConfig, CloseLoopError, DeclaredModel, OperatingPoint, Signal};
 use bearing_model::FaultLocation;
 use rayon::prelude::*;
 
@@ -46,20 +46,22 @@ pub fn fit_len(n: usize, cfg: &CheckedConfig) -> usize {
     (n as f64 * cfg.get().fit_fraction).round() as usize
 }
 
-/// Run the loop on a recording `y` sampled at `fs` Hz, with the model told `op`.
+/// Run the loop on a recording (its samples and rate, a checked [`Signal`]), with the model told
+/// `op`.
 ///
 /// # Errors
-/// Bad input ([`CloseLoopError::TooShort`], [`CloseLoopError::NonFinite`],
-/// [`CloseLoopError::InvalidSamplingRate`], [`CloseLoopError::InvalidRpm`],
-/// [`CloseLoopError::ZeroSignal`]) or a failing model.
+/// Bad input ([`CloseLoopError::TooShort`], [`CloseLoopError::InvalidRpm`],
+/// [`CloseLoopError::ZeroSignal`]) or a failing model. (A rate that is not finite and > 0, no
+/// samples or a non-finite sample cannot make a [`Signal`]; `CloseLoopError::from` its
+/// [`crate::SignalError`] gives [`CloseLoopError::InvalidSamplingRate`],
+/// [`CloseLoopError::EmptyRecording`], [`CloseLoopError::NonFinite`].)
 pub fn close_loop(
     model: &dyn DeclaredModel,
-    y: &[f64],
-    fs: f64,
+    signal: &Signal<'_>,
     op: &OperatingPoint,
     cfg: &CheckedConfig,
 ) -> Result<Outcome, CloseLoopError> {
-    close_loop_from(model, None, y, fs, op, cfg)
+    close_loop_from(model, None, signal, op, cfg)
 }
 
 /// [`close_loop`] starting from a calibrated machine model: its speed ratio, structural path,
@@ -73,17 +75,15 @@ pub fn close_loop(
 pub fn close_loop_from(
     model: &dyn DeclaredModel,
     prior: Option<&MachineModel>,
-    y: &[f64],
-    fs: f64,
+    signal: &Signal<'_>,
     op: &OperatingPoint,
     cfg: &CheckedConfig,
 ) -> Result<Outcome, CloseLoopError> {
+    // the rate is finite and > 0, the samples non-empty and finite (`Signal`)
+    let (y, fs) = (signal.samples(), signal.fs_hz());
     let c = cfg.get();
     if let Some(m) = prior {
         m.check_compatible(fs, &op.bearing.name)?;
-    }
-    if !(fs.is_finite() && fs > 0.0) {
-        return Err(CloseLoopError::InvalidSamplingRate { fs });
     }
     if !(op.rpm.is_finite() && op.rpm > 0.0) {
         return Err(CloseLoopError::InvalidRpm { rpm: op.rpm });
@@ -94,9 +94,6 @@ pub fn close_loop_from(
             needed,
             found: y.len(),
         });
-    }
-    if let Some(index) = y.iter().position(|v| !v.is_finite()) {
-        return Err(CloseLoopError::NonFinite { index });
     }
     let mean = y.iter().sum::<f64>() / y.len() as f64;
     if y.iter().all(|v| (v - mean).abs() <= 1e-300) {
