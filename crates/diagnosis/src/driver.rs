@@ -8,9 +8,9 @@ use crate::options::{DiagnoseOptions, SpeedSource};
 use crate::report::band_choice;
 use crate::{
     ArWhitener, Baseline, BearingSpec, Diagnosis, DiagnosisError, EnvelopeSpectrum, HARMONICS,
-    Hypothesis, HypothesisEvidence, Line, MIN_TURNS, OperatingPoint, Reference, Result, Scores,
-    SecondaryRead, Statistics, Thresholds, candidate_bands, check_fs, error, min_band_width_hz,
-    moments, speed, whiten,
+    Hypothesis, HypothesisEvidence, MIN_TURNS, OperatingPointUsed, Reference, Result, Scores,
+    SearchedLine, SecondaryRead, Statistics, Thresholds, candidate_bands, check_fs, error,
+    min_band_width_hz, moments, speed, whiten,
 };
 use bearing_model::FaultOrders;
 
@@ -228,7 +228,7 @@ fn diagnose_in(
     let mut finding = a.finding;
     finding.read_at = Some(detection.stage);
     let rpm_used = finding.rpm_used;
-    let operating_point = OperatingPoint {
+    let operating_point = OperatingPointUsed {
         fs_hz,
         rpm: finding.declared_rpm.unwrap_or(rpm_used),
         shaft_hz: fr,
@@ -328,7 +328,7 @@ fn report(
     base_spectra: &[Option<EnvelopeSpectrum>],
     whitener: &ArWhitener,
     reference: Reference,
-    operating_point: OperatingPoint,
+    operating_point: OperatingPointUsed,
     statistics: Statistics,
     alpha: f64,
 ) -> Diagnosis {
@@ -429,7 +429,7 @@ fn report(
                 base_spectra[bi].as_ref(),
             )
         })
-        .collect::<Vec<Line>>();
+        .collect::<Vec<SearchedLine>>();
     let score = |h: Hypothesis| det.per_hypothesis[idx(h)].statistic_db;
     let p_min = det
         .per_hypothesis

@@ -38,8 +38,8 @@ use crate::detect::{MIN_MODULATION_DEPTH, Masks, Significance};
 use crate::driver::analyse;
 use crate::report::band_choice;
 use crate::{
-    Baseline, DiagnoseOptions, Diagnosis, HARMONICS, Hypothesis, HypothesisEvidence, Line,
-    OperatingPoint, Result, Scores, Thresholds, check_fs,
+    Baseline, DiagnoseOptions, Diagnosis, HARMONICS, Hypothesis, HypothesisEvidence,
+    OperatingPointUsed, Result, Scores, SearchedLine, Thresholds, check_fs,
 };
 use bearing_model::FaultOrders;
 
@@ -388,14 +388,14 @@ fn report(
         .iter()
         .map(|&h| {
             let own = (Some(h) == named).then_some(best).flatten();
-            let harmonics: Vec<Line> = own.map_or(Vec::new(), |c| {
+            let harmonics: Vec<SearchedLine> = own.map_or(Vec::new(), |c| {
                 c.reading
                     .terms
                     .iter()
                     .map(|t| {
                         let v = &views[c.band];
                         let k = t.bin;
-                        Line {
+                        SearchedLine {
                             label: format!(
                                 "comb×{}",
                                 match t.window.term {
@@ -511,7 +511,7 @@ fn report(
             ball: score(Hypothesis::Ball),
         },
         reference: a.reference,
-        operating_point: OperatingPoint {
+        operating_point: OperatingPointUsed {
             fs_hz,
             rpm: finding.declared_rpm.unwrap_or(rpm_used),
             shaft_hz: fr,

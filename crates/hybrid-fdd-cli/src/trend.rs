@@ -407,7 +407,7 @@ fn finish_recording(
     args: &Args,
     mut r: Raw,
     fallback: impl FnOnce() -> (Option<f64>, Option<String>),
-) -> anyhow::Result<(trend::Recording, String, Vec<String>)> {
+) -> anyhow::Result<(trend::TrendRecording, String, Vec<String>)> {
     let name = r.name;
     let mut notes = Vec::new();
     if let Some(to) = args.decimate_to
@@ -430,7 +430,7 @@ fn finish_recording(
         }
     };
     Ok((
-        trend::Recording {
+        trend::TrendRecording {
             name,
             time: r.time,
             samples: r.samples,
@@ -445,7 +445,7 @@ fn finish_recording(
 /// The run's unit, the configuration checked with it, and [`trend::analyse_with_progress`].
 fn analyse_read(
     parsed: Parsed,
-    read: Vec<(trend::Recording, String, Vec<String>)>,
+    read: Vec<(trend::TrendRecording, String, Vec<String>)>,
     axis: trend::TimeAxis,
     bar: &indicatif::ProgressBar,
 ) -> anyhow::Result<(trend::TrendReport, Vec<String>)> {
@@ -464,7 +464,7 @@ fn analyse_read(
         }
     };
     let cfg = trend::TrendConfig { unit, ..parsed.cfg }.check()?;
-    let recs: Vec<trend::Recording> = read.into_iter().map(|r| r.0).collect();
+    let recs: Vec<trend::TrendRecording> = read.into_iter().map(|r| r.0).collect();
     bar.set_message("analysing");
     let report = trend::analyse_with_progress(&recs, axis, &parsed.bearing, &cfg, &|| bar.inc(1))?;
     bar.finish_and_clear();
@@ -542,7 +542,7 @@ pub fn compute(args: &Args, report: Option<&Path>, progress: bool) -> anyhow::Re
     });
     let bar = progress_bar(2 * files.len(), progress);
     bar.set_message("reading");
-    type Read = (trend::Recording, String, Vec<String>);
+    type Read = (trend::TrendRecording, String, Vec<String>);
     let read: Vec<Read> = files
         .par_iter()
         .map(|(path, name, time, (start, duration))| {
@@ -638,7 +638,7 @@ pub fn compute_in_memory(
         .into_iter()
         .filter_map(|(i, t)| slots[i].take().map(|r| (r, t)))
         .collect();
-    let read: Vec<(trend::Recording, String, Vec<String>)> = ordered
+    let read: Vec<(trend::TrendRecording, String, Vec<String>)> = ordered
         .into_par_iter()
         .map(|(r, t)| {
             let raw = Raw {
