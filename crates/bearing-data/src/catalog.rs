@@ -115,9 +115,11 @@ impl SensorEnd {
     }
 }
 
-/// The faulted bearing's make.
+/// The faulted bearing's make (the CWRU record's drive-end bearing). Not a bearing geometry:
+/// the workspace's bearing types are `bearing_model::Bearing` (built-in geometries) and
+/// `bearing_model::BearingSpec`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum Bearing {
+pub enum BearingMake {
     /// SKF 6205-2RS JEM (drive end): all records except the 0.028 in faults.
     Skf6205,
     /// NTN-equivalent 6205 used by CWRU for the 0.028 in faults (records 3001–3008).
@@ -214,11 +216,11 @@ impl CatalogEntry {
     }
 
     /// The faulted bearing's make (NTN-equivalent for the 0.028 in faults).
-    pub fn bearing(&self) -> Bearing {
+    pub fn bearing(&self) -> BearingMake {
         if self.diameter_mils == Some(28) {
-            Bearing::Ntn6205Equivalent
+            BearingMake::Ntn6205Equivalent
         } else {
-            Bearing::Skf6205
+            BearingMake::Skf6205
         }
     }
 

@@ -61,7 +61,8 @@ mod text;
 mod unit;
 
 pub use catalog::{
-    Bearing, CatalogEntry, Channels, FaultLabel, OuterPosition, Query, SensorEnd, catalog, entry,
+    BearingMake, CatalogEntry, Channels, FaultLabel, OuterPosition, Query, SensorEnd, catalog,
+    entry,
 };
 
 /// The former name of [`FaultLabel`], kept so that code written against it still compiles.
@@ -71,6 +72,12 @@ pub use catalog::{
             converts to it (and to `bearing_model::FaultClass`) with `From`"
 )]
 pub type FaultLocation = FaultLabel;
+/// The former name of [`BearingMake`], kept so that code written against it still compiles.
+#[deprecated(
+    note = "renamed to `BearingMake`: a record's faulted bearing make (SKF or NTN-equivalent \
+            6205); the bearing types are `bearing_model::Bearing` and `bearing_model::BearingSpec`"
+)]
+pub type Bearing = BearingMake;
 pub use checksum::{FileStatus, Verify, check_file, sha256_hex, verify_bytes};
 pub use decimate::{Decimator, DecimatorParams, decimate, integer_factor};
 pub use error::{DataError, MAX_SAMPLE_MAGNITUDE, Result, check_samples};

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::catalog::{self, Bearing, CatalogEntry, FaultLabel, OuterPosition, SensorEnd};
+use crate::catalog::{self, BearingMake, CatalogEntry, FaultLabel, OuterPosition, SensorEnd};
 use crate::checksum::{Verify, verify_bytes};
 use crate::decimate::{Decimator, DecimatorParams, integer_factor};
 use crate::error::{DataError, Result};
@@ -50,7 +50,7 @@ pub struct Labels {
     /// The bearing end the fault was seeded at; `None` for normal.
     pub fault_end: Option<SensorEnd>,
     /// The faulted bearing's make.
-    pub bearing: Bearing,
+    pub bearing: BearingMake,
 }
 
 /// Options for [`load_record`].

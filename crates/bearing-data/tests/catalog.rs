@@ -3,7 +3,7 @@
 use std::collections::HashSet;
 
 use bearing_data::{
-    Bearing, Channels, DataError, DataLocation, FaultLabel, OuterPosition, Query, SensorEnd,
+    BearingMake, Channels, DataError, DataLocation, FaultLabel, OuterPosition, Query, SensorEnd,
     catalog, entry,
 };
 
@@ -44,7 +44,7 @@ fn quirks_are_in_the_catalog() {
     let e = entry(3002).unwrap();
     assert_eq!(e.channels, Channels::DE);
     assert_eq!(e.stored_rpm, None);
-    assert_eq!(e.bearing(), Bearing::Ntn6205Equivalent);
+    assert_eq!(e.bearing(), BearingMake::Ntn6205Equivalent);
     assert_eq!(entry(97).unwrap().channels, Channels::DE_FE);
     assert_eq!(entry(97).unwrap().fs_hz, 48_000);
     assert_eq!(entry(105).unwrap().channels, Channels::DE_FE_BA);
@@ -119,4 +119,13 @@ fn former_label_name_still_compiles() {
     assert_eq!(old, FaultLabel::InnerRace);
     assert_eq!(old.as_str(), "inner");
     assert_eq!(FaultLabel::parse("outer"), Some(FaultLabel::OuterRace));
+}
+
+/// Code written against the bearing make's former name, `Bearing`, still compiles (with a
+/// deprecation warning) and means the same type.
+#[test]
+fn former_bearing_make_name_still_compiles() {
+    #[allow(deprecated)]
+    let old: bearing_data::Bearing = bearing_data::Bearing::Skf6205;
+    assert_eq!(old, BearingMake::Skf6205);
 }

@@ -61,7 +61,9 @@ pub use params::{
     Uncertainty,
 };
 pub use scenario::Scenario;
-pub use simulate::{Integrator, Noise, Recording, SimConfig, simulate};
+#[allow(deprecated)]
+pub use simulate::Recording;
+pub use simulate::{Integrator, Noise, SimConfig, SimulatedRecording, simulate};
 pub use spec::BearingSpec;
 pub use state_space::{
     BallFrame, BearingModel, DofVector, Input, LinearParts, MAX_BALLS, N_DOF, STATE_DIM, State,

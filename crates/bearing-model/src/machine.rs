@@ -477,9 +477,9 @@ enum Stream {
 // drawn parameters
 
 /// One sinusoidal line: `amplitude · cos(multiple · φ(t) + phase)`, φ the component's base
-/// phase (shaft angle, mesh angle or mains angle).
+/// phase (shaft angle, mesh angle or mains angle): a tone at an order of that phase.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Line {
+pub struct OrderTone {
     /// Multiple of the base frequency (an order).
     pub multiple: f64,
     /// Relative amplitude (the component is scaled to its level as a whole).
@@ -487,6 +487,13 @@ pub struct Line {
     /// Phase, rad.
     pub phase_rad: f64,
 }
+
+/// The former name of [`OrderTone`], kept so that code written against it still compiles.
+#[deprecated(
+    note = "renamed to `OrderTone`: a sinusoid at a multiple of a component's base phase (other \
+            crates' lines are `diagnosis::SearchedLine` and `close_loop::effect::CoherentLine`)"
+)]
+pub type Line = OrderTone;
 
 /// Slow speed wander: `fr(t) = fr·(1 + w(t) − mean w)`, `w` a sum of slow sinusoids.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -525,7 +532,7 @@ pub struct ShaftComb {
     /// Power relative to the structural background, dB.
     pub level_db: f64,
     /// Integer orders 1 ..= K and, for a loose machine, half orders.
-    pub lines: Vec<Line>,
+    pub lines: Vec<OrderTone>,
 }
 
 /// Once-per-revolution impacts.
@@ -554,7 +561,7 @@ pub struct GearMesh {
     /// Teeth of the mating gear (its shaft turns at fr·z₁/z₂).
     pub z2: u32,
     /// Mesh harmonics (multiples of the mesh frequency).
-    pub harmonics: Vec<Line>,
+    pub harmonics: Vec<OrderTone>,
     /// Amplitude-modulation depths by the shaft and by the second shaft.
     pub am_depth: [f64; 2],
     /// Amplitude-modulation phases, rad.
@@ -564,7 +571,7 @@ pub struct GearMesh {
     /// Phase-modulation phases, rad.
     pub pm_phase: [f64; 2],
     /// The second shaft's own lines (multiples of fr₂), amplitudes relative to the mesh's.
-    pub second_shaft: Vec<Line>,
+    pub second_shaft: Vec<OrderTone>,
 }
 
 impl GearMesh {
@@ -582,7 +589,7 @@ pub struct Electrical {
     /// Mains frequency, Hz (50 or 60 plus a small drift).
     pub line_hz: f64,
     /// Harmonics of the mains frequency (multiple 2 is the magnetic pull).
-    pub harmonics: Vec<Line>,
+    pub harmonics: Vec<OrderTone>,
     /// Pole-pass frequency, Hz, when the 2× line is modulated by it.
     pub pole_pass_hz: Option<f64>,
     /// Depth of that modulation (sidebands at 2·f_line ± f_pp of half this relative amplitude).
@@ -713,12 +720,12 @@ impl ShaftComb {
         let top = rng.random_range(10..=20u32);
         let decay = uniform(rng, (1.5, 4.0));
         let mut lines = vec![
-            Line {
+            OrderTone {
                 multiple: 1.0,
                 amplitude: 1.0,
                 phase_rad: phase(rng),
             },
-            Line {
+            OrderTone {
                 multiple: 2.0,
                 amplitude: db(uniform(rng, (-10.0, 3.0))),
                 phase_rad: phase(rng),
@@ -727,7 +734,7 @@ impl ShaftComb {
         let a2 = lines[1].amplitude.min(1.0);
         for k in 3..=top {
             let d = -decay * f64::from(k - 2) + uniform(rng, (-3.0, 3.0));
-            lines.push(Line {
+            lines.push(OrderTone {
                 multiple: f64::from(k),
                 amplitude: a2 * db(d),
                 phase_rad: phase(rng),
@@ -739,7 +746,7 @@ impl ShaftComb {
             let d = uniform(rng, (-3.0, 3.0)) - 3.0 * f64::from(j);
             let p = phase(rng);
             if loose {
-                lines.push(Line {
+                lines.push(OrderTone {
                     multiple: f64::from(j) + 0.5,
                     amplitude: half * db(d),
                     phase_rad: p,
@@ -775,7 +782,7 @@ impl GearMesh {
         let n_h = rng.random_range(1..=3u32);
         let step = uniform(rng, (3.0, 12.0));
         let harmonics = (1..=n_h)
-            .map(|h| Line {
+            .map(|h| OrderTone {
                 multiple: f64::from(h),
                 amplitude: db(-step * f64::from(h - 1)),
                 phase_rad: phase(rng),
@@ -786,7 +793,7 @@ impl GearMesh {
         let pm_index = [uniform(rng, (0.05, 0.5)), uniform(rng, (0.05, 0.5))];
         let pm_phase = [phase(rng), phase(rng)];
         let second_shaft = (1..=2u32)
-            .map(|k| Line {
+            .map(|k| OrderTone {
                 multiple: f64::from(k),
                 amplitude: db(uniform(rng, (-20.0, -6.0))),
                 phase_rad: phase(rng),
@@ -830,7 +837,7 @@ impl Electrical {
                     k if k % 2 == 1 => uniform(rng, (-20.0, -6.0)),
                     _ => uniform(rng, (-30.0, -15.0)),
                 };
-                Line {
+                OrderTone {
                     multiple: f64::from(k),
                     amplitude: db(d),
                     phase_rad: phase(rng),
@@ -1080,7 +1087,7 @@ impl MachineParams {
     /// Every line of the shaft comb, the gear mesh and the electrical harmonics, and the
     /// components' levels.
     fn validate_lines_and_levels(&self) -> Result<()> {
-        let lines_ok = |name: &'static str, lines: &[Line]| -> Result<()> {
+        let lines_ok = |name: &'static str, lines: &[OrderTone]| -> Result<()> {
             for l in lines {
                 check_range(name, l.multiple, 0.0, 1e6, "0 ..= 1e6")?;
                 check_range(name, l.amplitude.abs(), 0.0, 1e6, "|a| <= 1e6")?;

@@ -14,7 +14,7 @@ use crate::error::{Result, check_positive};
 use crate::fault::{FaultClass, FaultSet, Spall};
 use crate::geometry::Bearing;
 use crate::params::{Housing, ModelSpec, ParamSet, ShaftHarmonic, Slip, Uncertainty};
-use crate::simulate::{Noise, Recording, SimConfig, simulate};
+use crate::simulate::{Noise, SimConfig, SimulatedRecording, simulate};
 use crate::state_space::BearingModel;
 
 /// CWRU EDM spall depth: 0.011 in.
@@ -148,7 +148,7 @@ impl Scenario {
         BearingModel::new(&self.spec)
     }
     /// Build and simulate.
-    pub fn simulate(&self) -> Result<Recording> {
+    pub fn simulate(&self) -> Result<SimulatedRecording> {
         simulate(&self.model()?, &self.sim)
     }
 }

@@ -180,9 +180,10 @@ impl SimConfig {
     }
 }
 
-/// A simulated recording.
+/// A simulated recording: the 5-DOF model's housing acceleration (and, when asked for, its
+/// states). A measured recording is `bearing_data::Recording`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Recording {
+pub struct SimulatedRecording {
     /// Sampling rate, Hz.
     pub fs_hz: f64,
     /// Housing acceleration the accelerometer sees (sprung-mass acceleration, anti-alias
@@ -199,7 +200,15 @@ pub struct Recording {
     pub noise_std: f64,
 }
 
-impl Recording {
+/// The former name of [`SimulatedRecording`], kept so that code written against it still
+/// compiles.
+#[deprecated(
+    note = "renamed to `SimulatedRecording`: the 5-DOF model's output (a measured recording is \
+            `bearing_data::Recording`)"
+)]
+pub type Recording = SimulatedRecording;
+
+impl SimulatedRecording {
     /// Time of sample `k`, s.
     pub fn time(&self, k: usize) -> f64 {
         k as f64 / self.fs_hz
@@ -250,7 +259,7 @@ fn fir_dot(a: &[f64], b: &[f64]) -> f64 {
 /// Simulate `model` per `cfg`: start from the static equilibrium at `−settle`, integrate
 /// (adaptive Dormand–Prince 5(4) by default, fixed-step RK4 as the reference), evaluate the
 /// sprung-mass acceleration on the internal grid, filter, decimate, add noise.
-pub fn simulate(model: &BearingModel, cfg: &SimConfig) -> Result<Recording> {
+pub fn simulate(model: &BearingModel, cfg: &SimConfig) -> Result<SimulatedRecording> {
     cfg.validate(model)?;
     let m = cfg.oversampling();
     let h = 1.0 / (cfg.fs_hz * m as f64);
@@ -307,7 +316,7 @@ pub fn simulate(model: &BearingModel, cfg: &SimConfig) -> Result<Recording> {
         }
     }
     debug_assert!(states.as_ref().is_none_or(|s| s.len() == n_out));
-    Ok(Recording {
+    Ok(SimulatedRecording {
         fs_hz: cfg.fs_hz,
         accel,
         states,

@@ -213,7 +213,7 @@ fn shaft_comb_has_integer_and_half_orders() {
     p.shaft_comb.level_db = 10.0;
     p.shaft_comb.lines.retain(|l| l.multiple.fract() == 0.0);
     for j in 0..3 {
-        p.shaft_comb.lines.push(bearing_model::machine::Line {
+        p.shaft_comb.lines.push(bearing_model::machine::OrderTone {
             multiple: j as f64 + 0.5,
             amplitude: 0.3,
             phase_rad: 0.0,

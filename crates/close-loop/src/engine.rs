@@ -2,7 +2,7 @@
 //! effects found so far, a calibrated measurement channel (gain and white floor), phase-coherent
 //! lines, and the two error metrics on a segment.
 
-use crate::effect::{Line, Mode, Modulation};
+use crate::effect::{CoherentLine, Mode, Modulation};
 use crate::metric::{regularised_lsd, rms};
 use crate::path::{PathMode, StructuralPath};
 use crate::spectrum::Welch;
@@ -42,14 +42,14 @@ pub(crate) struct State {
     pub defect_rate: f64,
     /// Steady-state responses to shaft forces that are in the simulation (`base`) already: they
     /// enter the time-domain residual, not the PSD.
-    pub physics_lines: Vec<Line>,
+    pub physics_lines: Vec<CoherentLine>,
     /// Shaft harmonics found on this recording and taken into the model (physics or sensor):
     /// (order, refined frequency in Hz, amplitude). The shaft's speed as the recording shows it
     /// when its comb cannot be read ([`crate::runner`]'s speed candidates).
     pub shaft_lines: Vec<(f64, f64, f64)>,
     pub modes: Vec<Mode>,
     pub mods: Vec<Modulation>,
-    pub lines: Vec<Line>,
+    pub lines: Vec<CoherentLine>,
     /// The structural path the broadband excitation rings (identified by the loop or given by
     /// a machine model); `None` until one is found.
     pub path: Option<Arc<PathPsd>>,
@@ -162,7 +162,7 @@ const RESIDUAL_MEMO_LEN: usize = 8;
 impl ResidualMemo {
     fn get_or_compute(
         &self,
-        lines: &[Line],
+        lines: &[CoherentLine],
         range: &Range<usize>,
         compute: impl FnOnce() -> Vec<f64>,
     ) -> Arc<Vec<f64>> {
@@ -189,9 +189,10 @@ impl ResidualMemo {
     }
 }
 
-/// Scores of a state.
+/// A state's scores on the held-out samples: the regularised LSD of its model PSD against the
+/// measured one, and the RMS of its residual relative to the measurement's.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Scores {
+pub(crate) struct HeldOutScores {
     pub lsd: f64,
     pub rms: f64,
 }
@@ -203,7 +204,7 @@ impl State {
     }
 
     /// Sensor lines and physics lines together: the model's phase-coherent prediction.
-    pub fn all_lines(&self) -> Vec<Line> {
+    pub fn all_lines(&self) -> Vec<CoherentLine> {
         self.lines
             .iter()
             .chain(&self.physics_lines)
@@ -337,7 +338,7 @@ impl Ctx<'_> {
     }
 
     /// The lines as a time signal over `range`.
-    pub fn lines_signal(&self, lines: &[Line], range: Range<usize>) -> Vec<f64> {
+    pub fn lines_signal(&self, lines: &[CoherentLine], range: Range<usize>) -> Vec<f64> {
         let mut out = vec![0.0; range.len()];
         for l in lines {
             l.add_to(&mut out, range.start, self.fs);
@@ -352,7 +353,7 @@ impl Ctx<'_> {
     /// within ±[`LINE_KERNEL_BINS`] bins of each line, where the Hann kernel holds all but
     /// −60 dB of the line's power. The same for every segment of the recording, so `_range` is
     /// only kept for the call sites' clarity.
-    pub fn lines_psd(&self, lines: &[Line], _range: Range<usize>) -> Vec<f64> {
+    pub fn lines_psd(&self, lines: &[CoherentLine], _range: Range<usize>) -> Vec<f64> {
         let nb = self.welch.n_bins();
         let mut out = vec![0.0; nb];
         if lines.is_empty() {
@@ -432,7 +433,7 @@ impl Ctx<'_> {
     }
 
     /// Held-out scores of a calibrated state.
-    pub fn held_scores(&self, st: &State) -> Scores {
+    pub fn held_scores(&self, st: &State) -> HeldOutScores {
         let shaped = self.shaped(st);
         let held = self.held();
         let lp = self.lines_psd(&st.lines, held.clone());
@@ -440,7 +441,7 @@ impl Ctx<'_> {
         let lsd = regularised_lsd(&self.s_held, &model, self.bins.clone(), self.eps);
         let r = self.held_residual(st);
         let ry = rms(&self.y[held]);
-        Scores {
+        HeldOutScores {
             lsd,
             rms: if ry > 0.0 { rms(&r) / ry } else { 0.0 },
         }
@@ -457,7 +458,7 @@ impl Ctx<'_> {
     }
 
     /// y − `lines` over `range`, through the memo.
-    fn residual(&self, lines: &[Line], range: Range<usize>) -> Arc<Vec<f64>> {
+    fn residual(&self, lines: &[CoherentLine], range: Range<usize>) -> Arc<Vec<f64>> {
         self.residuals.get_or_compute(lines, &range, || {
             let d = self.lines_signal(lines, range.clone());
             self.y[range.clone()]

@@ -3,7 +3,7 @@
 //! load-zone or cage modulated, ringing a structural resonance, plus a 1× shaft line, ball-pass
 //! lines and a broadband background), and helpers that add an undeclared effect to a signal.
 
-use crate::effect::{Line, Mode, Modulation};
+use crate::effect::{CoherentLine, Mode, Modulation};
 use crate::{CloseLoopError, DeclaredFault, DeclaredModel, OperatingPoint};
 use std::f64::consts::PI;
 
@@ -190,7 +190,7 @@ pub fn add_noise(x: &mut [f64], sigma: f64, seed: u64) {
 
 /// Add a line amplitude·cos(2πft + phase).
 pub fn add_tone(x: &mut [f64], fs: f64, frequency_hz: f64, amplitude: f64, phase: f64) {
-    let line = Line {
+    let line = CoherentLine {
         frequency_hz,
         a: amplitude * phase.cos(),
         b: -amplitude * phase.sin(),

@@ -8,8 +8,8 @@ use crate::options::{DiagnoseOptions, SpeedSource};
 use crate::report::band_choice;
 use crate::{
     ArWhitener, Baseline, BearingSpec, Diagnosis, DiagnosisError, EnvelopeSpectrum, HARMONICS,
-    Hypothesis, HypothesisEvidence, Line, MIN_TURNS, OperatingPoint, Reference, Result, Scores,
-    SecondaryRead, Signal, Statistics, Thresholds, candidate_bands, check_fs, error,
+    Hypothesis, HypothesisEvidence, MIN_TURNS, OperatingPointUsed, Reference, Result, Scores,
+    SearchedLine, SecondaryRead, Signal, Statistics, Thresholds, candidate_bands, check_fs, error,
     min_band_width_hz, moments, speed, whiten,
 };
 use bearing_model::FaultOrders;
@@ -238,7 +238,7 @@ fn diagnose_in(
     let mut finding = a.finding;
     finding.read_at = Some(detection.stage);
     let rpm_used = finding.rpm_used;
-    let operating_point = OperatingPoint {
+    let operating_point = OperatingPointUsed {
         fs_hz,
         rpm: finding.declared_rpm.unwrap_or(rpm_used),
         shaft_hz: fr,
@@ -338,7 +338,7 @@ fn report(
     base_spectra: &[Option<EnvelopeSpectrum>],
     whitener: &ArWhitener,
     reference: Reference,
-    operating_point: OperatingPoint,
+    operating_point: OperatingPointUsed,
     statistics: Statistics,
     alpha: f64,
 ) -> Diagnosis {
@@ -359,41 +359,9 @@ fn report(
             )
         })
         .collect();
-    let verdict = if !det.uncertain.is_empty() {
-        "uncertain".to_string()
-    } else if det.confirmed.is_empty() {
-        "normal".to_string()
-    } else {
-        det.confirmed
-            .iter()
-            .map(|h| h.name())
-            .collect::<Vec<_>>()
-            .join("+")
-    };
-    // the primary hypothesis: the most significant confirmed (or candidate) one, else the one
-    // closest to significance
-    let idx = |h: Hypothesis| Hypothesis::ALL.iter().position(|x| *x == h).unwrap_or(0);
-    let primary = det
-        .uncertain
-        .first()
-        .copied()
-        .or_else(|| {
-            det.confirmed.iter().copied().min_by(|&a, &b| {
-                det.per_hypothesis[idx(a)]
-                    .p_healthy
-                    .total_cmp(&det.per_hypothesis[idx(b)].p_healthy)
-            })
-        })
-        .unwrap_or_else(|| {
-            (0..det.per_hypothesis.len())
-                .min_by(|&a, &b| {
-                    det.per_hypothesis[a]
-                        .p_healthy
-                        .total_cmp(&det.per_hypothesis[b].p_healthy)
-                        .then(a.cmp(&b))
-                })
-                .map_or(Hypothesis::Inner, |i| Hypothesis::ALL[i])
-        });
+    let verdict = verdict(det);
+    let idx = hypothesis_index;
+    let primary = primary_hypothesis(det);
     let bi = det.per_hypothesis[idx(primary)].band_index;
     let sk_best = (0..spectra.len())
         .max_by(|&a, &b| {
@@ -403,43 +371,9 @@ fn report(
                 .then(b.cmp(&a))
         })
         .unwrap_or(0);
-    let secondary: Vec<SecondaryRead> = det
-        .confirmed
-        .iter()
-        .filter(|&&h| det.per_hypothesis[idx(h)].band_index != bi)
-        .map(|&h| {
-            let s = &det.per_hypothesis[idx(h)];
-            SecondaryRead {
-                hypothesis: h,
-                band: band_choice(
-                    &spectra[s.band_index],
-                    format!(
-                        "{} reads strongest in this band (p under healthy {:.2e} after the band search)",
-                        h.name(),
-                        s.p_healthy
-                    ),
-                ),
-                evidence: evidence[idx(h)].clone(),
-                envelope: spectra[s.band_index].clone(),
-            }
-        })
-        .collect();
+    let secondary = secondary_reads(det, spectra, &evidence, bi);
     let sp = &spectra[bi];
-    let shaft_harmonics = (1..=HARMONICS)
-        .map(|k| {
-            let f = k as f64 * fr;
-            let tol = (0.6 * sp.resolution_hz).max(0.005 * f);
-            sp.line(
-                format!("fr×{k}"),
-                f,
-                f - tol,
-                f + tol,
-                fr,
-                false,
-                base_spectra[bi].as_ref(),
-            )
-        })
-        .collect::<Vec<Line>>();
+    let shaft_harmonics = shaft_harmonics(sp, fr, base_spectra[bi].as_ref());
     let score = |h: Hypothesis| det.per_hypothesis[idx(h)].statistic_db;
     let p_min = det
         .per_hypothesis
@@ -481,4 +415,96 @@ fn report(
         false_alarm: alpha,
         bearing_guess: None,
     }
+}
+
+/// The index of `h` in [`Hypothesis::ALL`] (the order of a detection's per-hypothesis lists).
+fn hypothesis_index(h: Hypothesis) -> usize {
+    Hypothesis::ALL.iter().position(|x| *x == h).unwrap_or(0)
+}
+
+/// A detection's verdict: `uncertain`, `normal`, or the confirmed faults joined by `+`.
+fn verdict(det: &Detection) -> String {
+    if !det.uncertain.is_empty() {
+        "uncertain".to_string()
+    } else if det.confirmed.is_empty() {
+        "normal".to_string()
+    } else {
+        det.confirmed
+            .iter()
+            .map(|h| h.name())
+            .collect::<Vec<_>>()
+            .join("+")
+    }
+}
+
+/// The primary hypothesis: the most significant confirmed (or candidate) one, else the one
+/// closest to significance.
+fn primary_hypothesis(det: &Detection) -> Hypothesis {
+    let idx = hypothesis_index;
+    det.uncertain
+        .first()
+        .copied()
+        .or_else(|| {
+            det.confirmed.iter().copied().min_by(|&a, &b| {
+                det.per_hypothesis[idx(a)]
+                    .p_healthy
+                    .total_cmp(&det.per_hypothesis[idx(b)].p_healthy)
+            })
+        })
+        .unwrap_or_else(|| {
+            (0..det.per_hypothesis.len())
+                .min_by(|&a, &b| {
+                    det.per_hypothesis[a]
+                        .p_healthy
+                        .total_cmp(&det.per_hypothesis[b].p_healthy)
+                        .then(a.cmp(&b))
+                })
+                .map_or(Hypothesis::Inner, |i| Hypothesis::ALL[i])
+        })
+}
+
+/// The confirmed faults that read strongest outside the primary band `bi`, each in its own band.
+fn secondary_reads(
+    det: &Detection,
+    spectra: &[EnvelopeSpectrum],
+    evidence: &[HypothesisEvidence],
+    bi: usize,
+) -> Vec<SecondaryRead> {
+    let idx = hypothesis_index;
+    det.confirmed
+        .iter()
+        .filter(|&&h| det.per_hypothesis[idx(h)].band_index != bi)
+        .map(|&h| {
+            let s = &det.per_hypothesis[idx(h)];
+            SecondaryRead {
+                hypothesis: h,
+                band: band_choice(
+                    &spectra[s.band_index],
+                    format!(
+                        "{} reads strongest in this band (p under healthy {:.2e} after the band search)",
+                        h.name(),
+                        s.p_healthy
+                    ),
+                ),
+                evidence: evidence[idx(h)].clone(),
+                envelope: spectra[s.band_index].clone(),
+            }
+        })
+        .collect()
+}
+
+/// The shaft's first [`HARMONICS`] orders of `fr` in the primary band's spectrum `sp`, each
+/// searched within `max(0.6 bin, 0.5 %)` and compared with the baseline's spectrum `base`.
+fn shaft_harmonics(
+    sp: &EnvelopeSpectrum,
+    fr: f64,
+    base: Option<&EnvelopeSpectrum>,
+) -> Vec<SearchedLine> {
+    (1..=HARMONICS)
+        .map(|k| {
+            let f = k as f64 * fr;
+            let tol = (0.6 * sp.resolution_hz).max(0.005 * f);
+            sp.line(format!("fr×{k}"), f, f - tol, f + tol, fr, false, base)
+        })
+        .collect()
 }

@@ -8,8 +8,16 @@ use crate::detect::Significance;
 use crate::detect::linetest::BandReading;
 use crate::detect::template::{Sidebands, Template, Term, Window};
 use crate::detect::view::BandView;
-pub use crate::lines::{EnvelopeSpectrum, Line, PassedOver};
+pub use crate::lines::{EnvelopeSpectrum, PassedOver, SearchedLine};
 use crate::{Hypothesis, LINE_THRESHOLD_DB};
+
+/// The former name of [`SearchedLine`], kept so that code written against it still compiles.
+#[deprecated(
+    note = "renamed to `SearchedLine`: one searched line of the squared envelope spectrum \
+            (other crates' lines are `bearing_model::machine::OrderTone` and \
+            `close_loop::effect::CoherentLine`)"
+)]
+pub type Line = SearchedLine;
 
 /// The evidence for one fault hypothesis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -23,9 +31,9 @@ pub struct HypothesisEvidence {
     /// Spectral kurtosis of that band.
     pub band_spectral_kurtosis: f64,
     /// Harmonics 1..=3 of the fault frequency.
-    pub harmonics: Vec<Line>,
+    pub harmonics: Vec<SearchedLine>,
     /// Sidebands around harmonic 1 that tell the faults apart: ± fr (inner), ± FTF (ball).
-    pub sidebands: Vec<Line>,
+    pub sidebands: Vec<SearchedLine>,
     /// The detector's statistic `Σ_h E_h + ½ Σ_s E_s`, dB (E = a line's evidence ≥ 0, its
     /// prominence less the baseline's where the healthy machine holds the line; h harmonics, s
     /// sidebands).
@@ -57,7 +65,7 @@ pub(crate) fn from_detection(
         Hypothesis::Outer => "BPFO",
         Hypothesis::Ball => "BSF",
     };
-    let line = |w: &Window| -> Line {
+    let line = |w: &Window| -> SearchedLine {
         let label = match w.term {
             Term::Harmonic(k) => format!("{name}×{k}"),
             Term::Sideband(s) => match (t.sidebands, s < 0) {
@@ -75,7 +83,7 @@ pub(crate) fn from_detection(
         let found_hz = read.map_or(w.expected_hz, |_| k as f64 * view.df);
         let evidence_db = read.map_or(0.0, |r| r.value);
         let j = (found_hz / t.fr).round();
-        Line {
+        SearchedLine {
             label,
             expected_hz: w.expected_hz,
             search_hz: [w.lo_hz, w.hi_hz],
@@ -93,17 +101,17 @@ pub(crate) fn from_detection(
         }
     };
     let windows = t.windows(0.5 * view.df);
-    let harmonics: Vec<Line> = windows
+    let harmonics: Vec<SearchedLine> = windows
         .iter()
         .filter(|w| matches!(w.term, Term::Harmonic(_)))
         .map(line)
         .collect();
-    let sidebands: Vec<Line> = windows
+    let sidebands: Vec<SearchedLine> = windows
         .iter()
         .filter(|w| matches!(w.term, Term::Sideband(_)))
         .map(line)
         .collect();
-    let count = |v: &[Line]| v.iter().filter(|l| l.present).count();
+    let count = |v: &[SearchedLine]| v.iter().filter(|l| l.present).count();
     HypothesisEvidence {
         hypothesis: t.hypothesis,
         fault_hz: t.fault_hz,

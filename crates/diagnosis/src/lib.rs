@@ -43,7 +43,7 @@
 //!    of the stronger ones masked (a second fault stays significant; a fault's lines that another
 //!    fault's family explains do not); `uncertain` when two explain each other's lines equally
 //!    well. Against a baseline recording, a line the healthy machine already holds counts only
-//!    by what it has grown ([`Line::evidence_db`]). See `docs/equations/diagnosis.md`.
+//!    by what it has grown ([`SearchedLine::evidence_db`]). See `docs/equations/diagnosis.md`.
 //! 5. **Optional, with labels** (`trained`, cargo feature `trained`): a classifier trained on the
 //!    evidence of labelled recordings' segments, beside the training-free verdict.
 //!
@@ -99,11 +99,21 @@ pub use bearing_model::BearingSpec;
 pub use detect::{DEFAULT_FALSE_ALARM, Masks, Significance};
 pub use driver::{diagnose, diagnose_with_options};
 pub use error::{DiagnosisError, Result};
-pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, Line, PassedOver};
+#[allow(deprecated)]
+pub use evidence::Line;
+pub use evidence::{EnvelopeSpectrum, HypothesisEvidence, PassedOver, SearchedLine};
 pub use options::{DiagnoseOptions, SpeedFinding, SpeedSource};
 pub use report::{
-    BandChoice, Diagnosis, OperatingPoint, Scores, SecondaryRead, Statistics, Thresholds,
+    BandChoice, Diagnosis, OperatingPointUsed, Scores, SecondaryRead, Statistics, Thresholds,
 };
+
+/// The former name of [`OperatingPointUsed`], kept so that code written against it still
+/// compiles.
+#[deprecated(
+    note = "renamed to `OperatingPointUsed`: a report of what the diagnosis used (the declared \
+            input of a close-loop run is `close_loop::OperatingPoint`)"
+)]
+pub type OperatingPoint = OperatingPointUsed;
 #[cfg(feature = "trained")]
 pub use trained::{EVIDENCE_FEATURES, Labelled, TrainedDiagnoser};
 pub use unknown::{BearingGuess, diagnose_unknown_bearing};
@@ -187,7 +197,7 @@ pub struct Baseline {
     pub samples: usize,
     /// The baseline's own residual, kept to read the healthy machine's envelope lines in the
     /// same bands as the recording's (a line the baseline already holds is not fault
-    /// evidence, see `Line::evidence_db`). For a baseline from a model
+    /// evidence, see `SearchedLine::evidence_db`). For a baseline from a model
     /// ([`Baseline::from_whitener`]) `None` until a residual of a recording synthesised from
     /// the model is attached ([`Baseline::with_residual`]); not serialised.
     #[serde(skip)]

@@ -12,7 +12,7 @@ const BASELINE_RESOLUTION_TOL: f64 = 5e-3;
 
 /// One searched line of the squared envelope spectrum.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Line {
+pub struct SearchedLine {
     /// What it is, e.g. `BPFI×2`, `BPFI×1+fr`, `BSF×1−FTF`, `fr×1`.
     pub label: String,
     /// Kinematic frequency at the declared speed, Hz.
@@ -55,7 +55,7 @@ pub struct Line {
     pub passed_over: Option<PassedOver>,
 }
 
-/// A peak a [`Line`]'s search passed over because another fault's family explains it.
+/// A peak a [`SearchedLine`]'s search passed over because another fault's family explains it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PassedOver {
     /// Frequency of the passed-over peak, Hz.
@@ -66,7 +66,7 @@ pub struct PassedOver {
     pub by: Hypothesis,
 }
 
-impl Line {
+impl SearchedLine {
     /// Present, not explained by another hypothesis, consistent, and not a shaft-order line.
     pub fn counts(&self) -> bool {
         self.present && self.explained_by.is_none() && self.consistent && self.shaft_order.is_none()
@@ -157,7 +157,7 @@ impl EnvelopeSpectrum {
 
     /// Search `[lo, hi]` (widened to at least ± 0.6 bin around `expected`) for the largest
     /// eligible bin and measure its prominence; with a `baseline` spectrum (same band and
-    /// resolution), measure the same line there too (see [`Line::evidence_db`]).
+    /// resolution), measure the same line there too (see [`SearchedLine::evidence_db`]).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn line(
         &self,
@@ -168,7 +168,7 @@ impl EnvelopeSpectrum {
         fr: f64,
         guard: bool,
         baseline: Option<&EnvelopeSpectrum>,
-    ) -> Line {
+    ) -> SearchedLine {
         self.line_where(label, expected, lo, hi, fr, guard, baseline, &|_| false)
     }
 
@@ -184,7 +184,7 @@ impl EnvelopeSpectrum {
         guard: bool,
         baseline: Option<&EnvelopeSpectrum>,
         exclude: &dyn Fn(f64) -> bool,
-    ) -> Line {
+    ) -> SearchedLine {
         let df = self.resolution_hz;
         // when the kinematics put the line itself on a shaft harmonic (the 6203's ball-defect
         // rate is 3.987 fr), the guard would hide it: it applies only to lines clear of one
@@ -218,7 +218,7 @@ impl EnvelopeSpectrum {
             Some(b) if b >= LINE_THRESHOLD_DB => prominence_db - b,
             _ => prominence_db,
         };
-        Line {
+        SearchedLine {
             label,
             expected_hz: expected,
             search_hz: [lo, hi],

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::{
     ArWhitener, EnvelopeSpectrum, HARMONICS, Hypothesis, HypothesisEvidence, LINE_THRESHOLD_DB,
-    Line, Reference, SLIP_MAX, SPEED_OFFSET, SPEED_TOL, SpeedFinding, detect, speed,
+    Reference, SLIP_MAX, SPEED_OFFSET, SPEED_TOL, SearchedLine, SpeedFinding, detect, speed,
 };
 use bearing_model::FaultOrders;
 
@@ -31,9 +31,11 @@ impl Scores {
     }
 }
 
-/// The operating point the diagnosis used.
+/// The operating point the diagnosis used: a report of the sampling rate, the declared and the
+/// used speed, the measured speed and the bearing (the declared input of a close-loop run is
+/// `close_loop::OperatingPoint`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct OperatingPoint {
+pub struct OperatingPointUsed {
     /// Sampling rate, Hz.
     pub fs_hz: f64,
     /// Declared shaft speed, rpm.
@@ -219,7 +221,7 @@ pub struct Diagnosis {
     /// Baseline or self.
     pub reference: Reference,
     /// Speed, rate, bearing, fault frequencies.
-    pub operating_point: OperatingPoint,
+    pub operating_point: OperatingPointUsed,
     /// The AR whitening model used.
     pub whitening: ArWhitener,
     /// The band all hypotheses were read in (see `chosen_by`).
@@ -229,7 +231,7 @@ pub struct Diagnosis {
     /// Evidence per hypothesis (inner, outer, ball).
     pub evidence: Vec<HypothesisEvidence>,
     /// Shaft harmonics 1..=3 in `band`'s envelope spectrum.
-    pub shaft_harmonics: Vec<Line>,
+    pub shaft_harmonics: Vec<SearchedLine>,
     /// Energy and kurtosis against the reference.
     pub statistics: Statistics,
     /// The fixed decision constants.

@@ -38,8 +38,8 @@ use crate::detect::{MIN_MODULATION_DEPTH, Masks, Significance};
 use crate::driver::analyse;
 use crate::report::band_choice;
 use crate::{
-    Baseline, DiagnoseOptions, Diagnosis, HARMONICS, Hypothesis, HypothesisEvidence, Line,
-    OperatingPoint, Result, Scores, Thresholds, check_fs,
+    Baseline, DiagnoseOptions, Diagnosis, EnvelopeSpectrum, HARMONICS, Hypothesis,
+    HypothesisEvidence, OperatingPointUsed, Result, Scores, SearchedLine, Thresholds, check_fs,
 };
 use bearing_model::FaultOrders;
 
@@ -371,78 +371,88 @@ fn interpretations(o: f64) -> Vec<String> {
     out
 }
 
-/// The diagnosis of an unknown bearing: the guessed fault's lines as its evidence.
-fn report(
-    a: crate::driver::Analysis,
-    fs_hz: f64,
+/// The comb's lines in its band, as the guessed fault's harmonics.
+fn comb_lines(c: &CombReading, views: &[BandView]) -> Vec<SearchedLine> {
+    c.reading
+        .terms
+        .iter()
+        .map(|t| {
+            let v = &views[c.band];
+            let k = t.bin;
+            SearchedLine {
+                label: format!(
+                    "comb×{}",
+                    match t.window.term {
+                        Term::Harmonic(k) => k,
+                        Term::Sideband(_) => 0,
+                    }
+                ),
+                expected_hz: t.window.expected_hz,
+                search_hz: [t.window.lo_hz, t.window.hi_hz],
+                found_hz: k as f64 * v.df,
+                prominence_db: v.raw.get(k).copied().unwrap_or(0.0),
+                baseline_prominence_db: None,
+                evidence_db: t.value,
+                present: t.value >= crate::LINE_THRESHOLD_DB,
+                explained_by: None,
+                consistent: true,
+                shaft_order: None,
+                passed_over: None,
+            }
+        })
+        .collect()
+}
+
+/// The comb's reading as the detector's significance of the guessed fault, its fundamental
+/// `fundamental_hz` in the band `band_hz`.
+fn comb_significance(c: &CombReading, band_hz: [f64; 2], fundamental_hz: f64) -> Significance {
+    Significance {
+        band_index: c.band,
+        band_hz,
+        statistic_db: c.reading.statistic_db,
+        fisher: c.reading.fisher,
+        lines_read: c.reading.terms.len(),
+        fundamental_hz,
+        speed_slack: 0.0,
+        speed_ratio: 1.0,
+        p_band: c.reading.p,
+        modulation_depth: c.depth,
+        p_healthy: c.p,
+        null_size: 0,
+        significant: true,
+        explained_by: None,
+        p_given_stronger: None,
+        masks: Masks::default(),
+        shaft_comb_hz: None,
+    }
+}
+
+/// Each hypothesis' evidence: the named fault's is the comb found (`best`), read in band `bi`;
+/// the others' are empty.
+fn guessed_evidence(
+    spectra: &[EnvelopeSpectrum],
+    bi: usize,
     best: Option<&CombReading>,
-    guess: Option<BearingGuess>,
+    guess: Option<&BearingGuess>,
     views: &[BandView],
-    alpha: f64,
-) -> Diagnosis {
-    let fr = a.fr;
-    let named = guess.as_ref().and_then(|g| g.named);
-    let bi = best.map_or(0, |c| c.band);
-    let sp = &a.spectra[bi];
-    let evidence: Vec<HypothesisEvidence> = Hypothesis::ALL
+) -> Vec<HypothesisEvidence> {
+    let named = guess.and_then(|g| g.named);
+    let sp = &spectra[bi];
+    Hypothesis::ALL
         .iter()
         .map(|&h| {
             let own = (Some(h) == named).then_some(best).flatten();
-            let harmonics: Vec<Line> = own.map_or(Vec::new(), |c| {
-                c.reading
-                    .terms
-                    .iter()
-                    .map(|t| {
-                        let v = &views[c.band];
-                        let k = t.bin;
-                        Line {
-                            label: format!(
-                                "comb×{}",
-                                match t.window.term {
-                                    Term::Harmonic(k) => k,
-                                    Term::Sideband(_) => 0,
-                                }
-                            ),
-                            expected_hz: t.window.expected_hz,
-                            search_hz: [t.window.lo_hz, t.window.hi_hz],
-                            found_hz: k as f64 * v.df,
-                            prominence_db: v.raw.get(k).copied().unwrap_or(0.0),
-                            baseline_prominence_db: None,
-                            evidence_db: t.value,
-                            present: t.value >= crate::LINE_THRESHOLD_DB,
-                            explained_by: None,
-                            consistent: true,
-                            shaft_order: None,
-                            passed_over: None,
-                        }
-                    })
-                    .collect()
-            });
-            let sig = own.map(|c| Significance {
-                band_index: c.band,
-                band_hz: a.spectra[c.band].band_hz,
-                statistic_db: c.reading.statistic_db,
-                fisher: c.reading.fisher,
-                lines_read: c.reading.terms.len(),
-                fundamental_hz: guess.as_ref().map_or(0.0, |g| g.fault_hz),
-                speed_slack: 0.0,
-                speed_ratio: 1.0,
-                p_band: c.reading.p,
-                modulation_depth: c.depth,
-                p_healthy: c.p,
-                null_size: 0,
-                significant: true,
-                explained_by: None,
-                p_given_stronger: None,
-                masks: Masks::default(),
-                shaft_comb_hz: None,
+            let harmonics: Vec<SearchedLine> = own.map_or(Vec::new(), |c| comb_lines(c, views));
+            let sig = own.map(|c| {
+                comb_significance(
+                    c,
+                    spectra[c.band].band_hz,
+                    guess.map_or(0.0, |g| g.fault_hz),
+                )
             });
             HypothesisEvidence {
                 hypothesis: h,
-                fault_hz: guess
-                    .as_ref()
-                    .filter(|_| own.is_some())
-                    .map_or(0.0, |g| g.fault_hz),
+                fault_hz: guess.filter(|_| own.is_some()).map_or(0.0, |g| g.fault_hz),
                 band_hz: sp.band_hz,
                 band_spectral_kurtosis: sp.spectral_kurtosis,
                 harmonics_present: harmonics.iter().filter(|l| l.present).count(),
@@ -454,14 +464,18 @@ fn report(
                 significance: sig,
             }
         })
-        .collect();
+        .collect()
+}
+
+/// The fault orders the guess implies: the named fault's order (and, for a ball fault, the
+/// cage sidebands' order as the FTF), every other order 0.
+fn guessed_orders(guess: Option<&BearingGuess>) -> FaultOrders {
+    let named = guess.and_then(|g| g.named);
     let order = guess
-        .as_ref()
         .filter(|g| g.named.is_some())
         .map_or(0.0, |g| g.fault_order);
-    let orders = FaultOrders {
+    FaultOrders {
         ftf: guess
-            .as_ref()
             .and_then(|g| g.cage_sidebands)
             .filter(|_| named == Some(Hypothesis::Ball))
             .map_or(0.0, |[nu, _]| nu),
@@ -485,7 +499,24 @@ fn report(
         } else {
             0.0
         },
-    };
+    }
+}
+
+/// The diagnosis of an unknown bearing: the guessed fault's lines as its evidence.
+fn report(
+    a: crate::driver::Analysis,
+    fs_hz: f64,
+    best: Option<&CombReading>,
+    guess: Option<BearingGuess>,
+    views: &[BandView],
+    alpha: f64,
+) -> Diagnosis {
+    let fr = a.fr;
+    let named = guess.as_ref().and_then(|g| g.named);
+    let bi = best.map_or(0, |c| c.band);
+    let sp = &a.spectra[bi];
+    let evidence = guessed_evidence(&a.spectra, bi, best, guess.as_ref(), views);
+    let orders = guessed_orders(guess.as_ref());
     let score = |h: Hypothesis| {
         evidence
             .iter()
@@ -511,7 +542,7 @@ fn report(
             ball: score(Hypothesis::Ball),
         },
         reference: a.reference,
-        operating_point: OperatingPoint {
+        operating_point: OperatingPointUsed {
             fs_hz,
             rpm: finding.declared_rpm.unwrap_or(rpm_used),
             shaft_hz: fr,

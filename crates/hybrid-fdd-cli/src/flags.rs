@@ -43,6 +43,77 @@ impl Default for SignalFlags {
     }
 }
 
+/// The fault class `text` (the argument `value` of `arg`) names, by bearing-model's own parser;
+/// `Err(None)` when it names none, `Err(Some(e))` for a location named twice (the parser's own
+/// reason, worded as clap words a value a parser refused).
+fn fault_class(
+    cmd: &clap::Command,
+    arg: Option<&clap::Arg>,
+    value: &OsStr,
+    text: &str,
+) -> Result<FaultClass, Option<clap::Error>> {
+    match text.parse::<FaultClass>() {
+        Ok(c) => Ok(c),
+        Err(ModelError::RepeatedFaultLocation { .. }) => {
+            let parse = |s: &str| s.parse::<FaultClass>();
+            Err(Some(parse.parse_ref(cmd, arg, value).err().unwrap_or_else(
+                || clap::Error::new(ErrorKind::ValueValidation).with_cmd(cmd),
+            )))
+        }
+        Err(_) => Err(None),
+    }
+}
+
+/// The fault location `text` names (any case, surrounding blanks ignored).
+fn fault_location(text: &str) -> Option<FaultLocation> {
+    let t = text.trim();
+    FaultLocation::ALL
+        .into_iter()
+        .find(|l| l.name().eq_ignore_ascii_case(t))
+}
+
+/// Parse `value` of `arg` with `parse` (given the text; `Err(None)` when it names no value):
+/// a value that is no UTF-8 text or names none is clap's error listing `names` ([`invalid`]).
+fn parse_fault<T>(
+    cmd: &clap::Command,
+    arg: Option<&clap::Arg>,
+    value: &OsStr,
+    names: &[&'static str],
+    parse: impl Fn(&clap::Command, Option<&clap::Arg>, &OsStr, &str) -> Result<T, Option<clap::Error>>,
+) -> Result<T, clap::Error> {
+    let text = value
+        .to_str()
+        .ok_or_else(|| invalid(cmd, arg, value, names))?;
+    parse(cmd, arg, value, text).map_err(|e| e.unwrap_or_else(|| invalid(cmd, arg, value, names)))
+}
+
+/// `TypedValueParser` for the unit struct `$parser`, giving a `$value` (a type with `ALL` and
+/// `name`) by `$parse` ([`parse_fault`]), `--help` listing every name.
+macro_rules! fault_value_parser {
+    ($parser:ty, $value:ty, $parse:expr) => {
+        impl TypedValueParser for $parser {
+            type Value = $value;
+
+            fn parse_ref(
+                &self,
+                cmd: &clap::Command,
+                arg: Option<&clap::Arg>,
+                value: &OsStr,
+            ) -> Result<$value, clap::Error> {
+                parse_fault(cmd, arg, value, &<$value>::ALL.map(<$value>::name), $parse)
+            }
+
+            fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+                Some(Box::new(
+                    <$value>::ALL
+                        .into_iter()
+                        .map(|v| PossibleValue::new(v.name())),
+                ))
+            }
+        }
+    };
+}
+
 /// `--fault` as a fault class: bearing-model's own parser ([`FaultClass`]'s `FromStr`), so
 /// every spelling it accepts is taken (`none|normal|healthy`; any `+`, `-` or `,`-joined set of
 /// `inner|ir`, `outer|or`, `ball|b`, in any order and case). `--help` lists the eight classes;
@@ -51,41 +122,7 @@ impl Default for SignalFlags {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FaultClassParser;
 
-impl TypedValueParser for FaultClassParser {
-    type Value = FaultClass;
-
-    fn parse_ref(
-        &self,
-        cmd: &clap::Command,
-        arg: Option<&clap::Arg>,
-        value: &OsStr,
-    ) -> Result<FaultClass, clap::Error> {
-        let names = FaultClass::ALL.map(FaultClass::name);
-        let text = value
-            .to_str()
-            .ok_or_else(|| invalid(cmd, arg, value, &names))?;
-        match text.parse::<FaultClass>() {
-            Ok(c) => Ok(c),
-            Err(ModelError::RepeatedFaultLocation { .. }) => {
-                // the parser's own reason, worded as clap words a value a parser refused
-                let parse = |s: &str| s.parse::<FaultClass>();
-                Err(parse
-                    .parse_ref(cmd, arg, value)
-                    .err()
-                    .unwrap_or_else(|| clap::Error::new(ErrorKind::ValueValidation).with_cmd(cmd)))
-            }
-            Err(_) => Err(invalid(cmd, arg, value, &names)),
-        }
-    }
-
-    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
-        Some(Box::new(
-            FaultClass::ALL
-                .into_iter()
-                .map(|c| PossibleValue::new(c.name())),
-        ))
-    }
-}
+fault_value_parser!(FaultClassParser, FaultClass, fault_class);
 
 /// `--fault` as one fault location: `inner`, `outer` or `ball` (any case, surrounding blanks
 /// ignored), as bearing-model's [`FaultLocation::name`] spells them; anything else is clap's
@@ -93,35 +130,9 @@ impl TypedValueParser for FaultClassParser {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FaultLocationParser;
 
-impl TypedValueParser for FaultLocationParser {
-    type Value = FaultLocation;
-
-    fn parse_ref(
-        &self,
-        cmd: &clap::Command,
-        arg: Option<&clap::Arg>,
-        value: &OsStr,
-    ) -> Result<FaultLocation, clap::Error> {
-        let names = FaultLocation::ALL.map(FaultLocation::name);
-        value
-            .to_str()
-            .and_then(|t| {
-                let t = t.trim();
-                FaultLocation::ALL
-                    .into_iter()
-                    .find(|l| l.name().eq_ignore_ascii_case(t))
-            })
-            .ok_or_else(|| invalid(cmd, arg, value, &names))
-    }
-
-    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
-        Some(Box::new(
-            FaultLocation::ALL
-                .into_iter()
-                .map(|l| PossibleValue::new(l.name())),
-        ))
-    }
-}
+fault_value_parser!(FaultLocationParser, FaultLocation, |_, _, _, t| {
+    fault_location(t).ok_or(None)
+});
 
 /// clap's own error for a value outside `names` (`invalid value 'x' for '--flag <FLAG>'`, the
 /// possible values, the nearest as a tip), as its value-enum parser gives it.

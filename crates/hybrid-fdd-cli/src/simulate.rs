@@ -308,7 +308,7 @@ pub fn simulate_rig(
 }
 
 /// Write a recording as CSV: header `time_s,accel[,states…]`, one row per sample.
-pub fn write_csv(path: &Path, rec: &bearing_model::Recording) -> anyhow::Result<()> {
+pub fn write_csv(path: &Path, rec: &bearing_model::SimulatedRecording) -> anyhow::Result<()> {
     let f = std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
     let mut w = std::io::BufWriter::new(f);
     write!(w, "time_s,accel")?;
@@ -460,7 +460,7 @@ fn run_rig(args: &Args, rig: &calibrated_rig::RigModel) -> anyhow::Result<()> {
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let rec = bearing_model::Recording {
+    let rec = bearing_model::SimulatedRecording {
         fs_hz: args.fs,
         accel: y,
         states: None,

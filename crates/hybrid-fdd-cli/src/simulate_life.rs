@@ -290,7 +290,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             match lay {
                 Layout::Ims => write_ims(&path, &rec.samples)?,
                 Layout::Csv => {
-                    let r = bearing_model::Recording {
+                    let r = bearing_model::SimulatedRecording {
                         fs_hz: rec.fs_hz,
                         accel: rec.samples.clone(),
                         states: None,

@@ -407,7 +407,7 @@ fn finish_recording(
     args: &Args,
     mut r: Raw,
     fallback: impl FnOnce() -> (Option<f64>, Option<String>),
-) -> anyhow::Result<(trend::Recording, String, Vec<String>)> {
+) -> anyhow::Result<(trend::TrendRecording, String, Vec<String>)> {
     let name = r.name;
     let mut notes = Vec::new();
     if let Some(to) = args.decimate_to
@@ -430,7 +430,7 @@ fn finish_recording(
         }
     };
     Ok((
-        trend::Recording {
+        trend::TrendRecording {
             name,
             time: r.time,
             samples: r.samples,
@@ -445,7 +445,7 @@ fn finish_recording(
 /// The run's unit, the configuration checked with it, and [`trend::analyse_with_progress`].
 fn analyse_read(
     parsed: Parsed,
-    read: Vec<(trend::Recording, String, Vec<String>)>,
+    read: Vec<(trend::TrendRecording, String, Vec<String>)>,
     axis: trend::TimeAxis,
     bar: &indicatif::ProgressBar,
 ) -> anyhow::Result<(trend::TrendReport, Vec<String>)> {
@@ -464,7 +464,7 @@ fn analyse_read(
         }
     };
     let cfg = trend::TrendConfig { unit, ..parsed.cfg }.check()?;
-    let recs: Vec<trend::Recording> = read.into_iter().map(|r| r.0).collect();
+    let recs: Vec<trend::TrendRecording> = read.into_iter().map(|r| r.0).collect();
     bar.set_message("analysing");
     let report = trend::analyse_with_progress(&recs, axis, &parsed.bearing, &cfg, &|| bar.inc(1))?;
     bar.finish_and_clear();
@@ -542,7 +542,7 @@ pub fn compute(args: &Args, report: Option<&Path>, progress: bool) -> anyhow::Re
     });
     let bar = progress_bar(2 * files.len(), progress);
     bar.set_message("reading");
-    type Read = (trend::Recording, String, Vec<String>);
+    type Read = (trend::TrendRecording, String, Vec<String>);
     let read: Vec<Read> = files
         .par_iter()
         .map(|(path, name, time, (start, duration))| {
@@ -638,7 +638,7 @@ pub fn compute_in_memory(
         .into_iter()
         .filter_map(|(i, t)| slots[i].take().map(|r| (r, t)))
         .collect();
-    let read: Vec<(trend::Recording, String, Vec<String>)> = ordered
+    let read: Vec<(trend::TrendRecording, String, Vec<String>)> = ordered
         .into_par_iter()
         .map(|(r, t)| {
             let raw = Raw {
@@ -758,8 +758,6 @@ pub fn summary(
     channel: &str,
     run_notes: &[String],
 ) -> String {
-    let c = r.config.get();
-    let (ru, _) = r.axis.rate_unit();
     let mut s = format!(
         "# Trend of {} recordings\n\nSource: {source} ({}; channel `{channel}`; {} Hz). Bearing {}. Samples in {}. Time axis: {}.\n\n",
         r.rows.len(),
@@ -769,6 +767,46 @@ pub fn summary(
         r.unit.code(),
         r.time_unit
     );
+    alarm_section(&mut s, r);
+    thresholds_section(&mut s, r);
+    s.push_str("\n## Observers\n\n");
+    match &r.observers {
+        Some(o) => s.push_str(&format!(
+            "{} prepared once on the first {} samples of {} (the machine model calibrated from the {}'s declared healthy 5-DOF model, ARX-Laguerre and fuzzy ARX-Laguerre identified, gains from the bound measured there: `pipeline::Prepared`); each recording's residual mean square skips its first {:.0} % (the observers start from rest). `*_ms` is in the signal's unit squared, `*_ratio` is it over the signal's own mean square on the same samples.\n\n",
+            o.methods.join(", "),
+            o.fit_samples,
+            o.fit_recording,
+            o.declared_bearing,
+            100.0 * o.settle_fraction
+        )),
+        None => s.push_str("Not run.\n\n"),
+    }
+    s.push_str("## What is not seen\n\n- The baseline is assumed healthy; a machine already faulty in it raises the thresholds and hides the fault.\n- Load is not measured: a load step moves the amplitude indicators (RMS, peak, velocity, energies); only speed is normalised.\n- A sensor-gain change moves the amplitude indicators too; the dimensionless ones are immune. By default only the gain-immune indicators (crest, kurtosis, the evidence, the observers' residual share) raise the alarm (`--alarm-on all` for every indicator).\n- The severity level and its projection are a straight line through the indicator after the alarm, not a remaining-life model.\n- The velocity zone (ISO 20816-3) needs the unit and a machine group; on a bearing housing at high frequency it is a machine-condition measure, not a bearing-fault measure.\n");
+    let notes: Vec<&String> = run_notes.iter().chain(&r.notes).collect();
+    if !notes.is_empty() {
+        s.push_str("\n## Notes\n\n");
+        for n in notes {
+            s.push_str(&format!("- {n}\n"));
+        }
+    }
+    let row_notes: Vec<String> = r
+        .rows
+        .iter()
+        .filter(|row| !row.notes.is_empty())
+        .map(|row| format!("- {}: {}", row.name, row.notes.join("; ")))
+        .collect();
+    if !row_notes.is_empty() {
+        s.push_str("\n## Recordings with something not computed\n\n");
+        s.push_str(&row_notes.join("\n"));
+        s.push('\n');
+    }
+    s
+}
+
+/// `summary.md`'s alarm: when and on what, the fault named, the severity after it.
+fn alarm_section(s: &mut String, r: &trend::TrendReport) {
+    let c = r.config.get();
+    let (ru, _) = r.axis.rate_unit();
     s.push_str("## Alarm\n\n");
     match &r.alarm {
         Some(a) => {
@@ -826,6 +864,11 @@ pub fn summary(
         }
         None => s.push_str("No alarm: no indicator stayed above its threshold long enough.\n\n"),
     }
+}
+
+/// `summary.md`'s thresholds: how they are set, and each indicator's with its onset.
+fn thresholds_section(s: &mut String, r: &trend::TrendReport) {
+    let c = r.config.get();
     s.push_str(&format!(
         "## Thresholds\n\nFrom the first {} recordings (the baseline, assumed healthy): per indicator, median + k·σ̂ with σ̂ = 1.4826·MAD of the baseline values (floored at {} decades in log10, {} decades for the evidence), k = {}, in log10 for positive indicators and linear for the diagnosis' evidence −log10 p_healthy. Amplitudes are normalised to the baseline's median speed {:.1} rpm by (rpm/rpm_ref)^p (energies by its square), p in the table: {} unless the baseline's speeds span 10 % or more, when it is fitted per indicator on the baseline (log-log least squares, clamped to [0, 4]); the speed is the one the diagnosis found in each recording (± 10 % around the declared; the declared one where the recording was not diagnosed). Dimensionless indicators (crest, kurtosis, evidence, observer residual ratios) are neither normalised nor moved by a sensor-gain change.\n\n| indicator | unit | speed exponent p | baseline median | σ̂ | threshold | onset | fault at onset |\n|---|---|---|---|---|---|---|---|\n",
         c.baseline_count,
@@ -867,38 +910,6 @@ pub fn summary(
             i.name, i.unit
         ));
     }
-    s.push_str("\n## Observers\n\n");
-    match &r.observers {
-        Some(o) => s.push_str(&format!(
-            "{} prepared once on the first {} samples of {} (the machine model calibrated from the {}'s declared healthy 5-DOF model, ARX-Laguerre and fuzzy ARX-Laguerre identified, gains from the bound measured there: `pipeline::Prepared`); each recording's residual mean square skips its first {:.0} % (the observers start from rest). `*_ms` is in the signal's unit squared, `*_ratio` is it over the signal's own mean square on the same samples.\n\n",
-            o.methods.join(", "),
-            o.fit_samples,
-            o.fit_recording,
-            o.declared_bearing,
-            100.0 * o.settle_fraction
-        )),
-        None => s.push_str("Not run.\n\n"),
-    }
-    s.push_str("## What is not seen\n\n- The baseline is assumed healthy; a machine already faulty in it raises the thresholds and hides the fault.\n- Load is not measured: a load step moves the amplitude indicators (RMS, peak, velocity, energies); only speed is normalised.\n- A sensor-gain change moves the amplitude indicators too; the dimensionless ones are immune. By default only the gain-immune indicators (crest, kurtosis, the evidence, the observers' residual share) raise the alarm (`--alarm-on all` for every indicator).\n- The severity level and its projection are a straight line through the indicator after the alarm, not a remaining-life model.\n- The velocity zone (ISO 20816-3) needs the unit and a machine group; on a bearing housing at high frequency it is a machine-condition measure, not a bearing-fault measure.\n");
-    let notes: Vec<&String> = run_notes.iter().chain(&r.notes).collect();
-    if !notes.is_empty() {
-        s.push_str("\n## Notes\n\n");
-        for n in notes {
-            s.push_str(&format!("- {n}\n"));
-        }
-    }
-    let row_notes: Vec<String> = r
-        .rows
-        .iter()
-        .filter(|row| !row.notes.is_empty())
-        .map(|row| format!("- {}: {}", row.name, row.notes.join("; ")))
-        .collect();
-    if !row_notes.is_empty() {
-        s.push_str("\n## Recordings with something not computed\n\n");
-        s.push_str(&row_notes.join("\n"));
-        s.push('\n');
-    }
-    s
 }
 
 /// `trend.png`: every indicator over time as a small multiple, divided by its threshold (the

@@ -56,7 +56,7 @@ fn prepared_from(
     dir: &std::path::Path,
     name: &str,
     m: &close_loop::machine::MachineModel,
-) -> anyhow::Result<hybrid_fdd_cli::diagnose::Prepared> {
+) -> anyhow::Result<hybrid_fdd_cli::diagnose::BaselineAtRate> {
     let json = dir.join(format!("{name}.json"));
     std::fs::write(&json, m.to_json().unwrap()).unwrap();
     BaselineSource::load(&json, "DE", None).unwrap().at(FS, RPM)

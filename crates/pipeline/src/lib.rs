@@ -241,6 +241,98 @@ pub fn rms_ratio(x: &[f64], y: &[f64]) -> f64 {
     if d > 0.0 { rms(x) / d } else { 0.0 }
 }
 
+/// What [`Prepared`] keeps of the machine model calibrated on the healthy segment.
+struct CalibratedPath {
+    /// The model the physics observers run: the calibrated machine's predictor, or (when the
+    /// declared model already explained the segment and the loop added no path) a path
+    /// identified from the segment.
+    path: observers::StateSpace,
+    /// The path's structural modes (of positive frequency).
+    modes: usize,
+    /// The calibration's error before and after, and whether it added a path.
+    error: (f64, f64, bool),
+    /// The path's order.
+    order: usize,
+    /// The machine model's lines.
+    lines: usize,
+}
+
+/// The machine model calibrated on the healthy segment from `bearing`'s declared 5-DOF model,
+/// as the physics observers run it ([`CalibratedPath`]).
+fn calibrated_path(
+    healthy: &[f64],
+    fs: f64,
+    rpm: f64,
+    bearing: bearing_model::Bearing,
+) -> Result<CalibratedPath> {
+    let cfg = close_loop::LoopConfig::default().check()?;
+    let recording =
+        close_loop::Signal::new(healthy, fs).map_err(close_loop::CloseLoopError::from)?;
+    let machine = close_loop::machine::calibrate(&recording, rpm, bearing, &cfg)?;
+    let (path, path_modes, path_order, path_lines) = match &machine.path {
+        Some(p) => (
+            machine.predictor_model()?,
+            machine
+                .structural_modes
+                .iter()
+                .filter(|m| m.frequency_hz > 0.0)
+                .count(),
+            p.order(),
+            machine.lines.len(),
+        ),
+        // the declared model already explained the segment: the loop added no path,
+        // so the path is identified from the segment directly
+        None => {
+            let p = close_loop::path::identify_from_signal(healthy, fs, cfg.get().max_path_order)?;
+            let modes = p.modes().iter().filter(|m| m.frequency_hz > 0.0).count();
+            (observers::StateSpace::from_ar(&p.ar)?, modes, p.order(), 0)
+        }
+    };
+    let error = (
+        machine.provenance.error_before,
+        machine.provenance.error_after,
+        machine.path.is_some(),
+    );
+    Ok(CalibratedPath {
+        path,
+        modes: path_modes,
+        error,
+        order: path_order,
+        lines: path_lines,
+    })
+}
+
+/// The ARX-Laguerre model of `y_id` (input `u_id`, the machine model's prediction, when there
+/// is one) with the orders chosen by held-out one-step error, and every order pair's score.
+fn identify_arx_orders(
+    y_id: &[f64],
+    u_id: Option<&[f64]>,
+) -> Result<(laguerre_id::ArxLaguerreModel, Vec<laguerre_id::OrderScore>)> {
+    let poles = PoleChoice::DEFAULT_SEARCH;
+    let identify = laguerre_id::ArxLaguerreModel::identify_orders;
+    Ok(match u_id {
+        // N_a with the smallest input order, then N_b at that N_a: 9 fits instead of the
+        // joint grid's 18, which took `cargo xtask all` over its 60 s
+        // (docs/equations/xtask-chapters.md, "ARX-Laguerre on the calibrated machine model")
+        Some(u) => {
+            let by_a: Vec<(usize, usize)> = N_A_CANDIDATES
+                .iter()
+                .map(|&a| (a, N_B_CANDIDATES[0]))
+                .collect();
+            let (m_a, mut scores) = identify(y_id, Some(u), &by_a, ORDER_HOLDOUT, poles)?;
+            let by_b: Vec<(usize, usize)> =
+                N_B_CANDIDATES.iter().map(|&b| (m_a.n_a(), b)).collect();
+            let (m, scores_b) = identify(y_id, Some(u), &by_b, ORDER_HOLDOUT, poles)?;
+            scores.extend(scores_b.into_iter().filter(|s| s.0.1 != N_B_CANDIDATES[0]));
+            (m, scores)
+        }
+        None => {
+            let by_a: Vec<(usize, usize)> = N_A_CANDIDATES.iter().map(|&a| (a, 0)).collect();
+            identify(y_id, None, &by_a, ORDER_HOLDOUT, poles)?
+        }
+    })
+}
+
 impl Prepared {
     /// Identify the ARX-Laguerre model (N_a by held-out one-step error, pole by eq. 4.10's
     /// prediction-error search) and, when `fuzzy`, the fuzzy ARX-Laguerre model of eq. 5.19 on
@@ -275,39 +367,8 @@ impl Prepared {
     ) -> Result<Self> {
         let revolution = (fs * 60.0 / rpm).round().max(1.0) as usize;
         let (path, path_modes, calibration_error, path_order, path_lines) = if physics {
-            let cfg = close_loop::LoopConfig::default().check()?;
-            let recording =
-                close_loop::Signal::new(healthy, fs).map_err(close_loop::CloseLoopError::from)?;
-            let machine = close_loop::machine::calibrate(&recording, rpm, bearing, &cfg)?;
-            let (path, path_modes, path_order, path_lines) = match &machine.path {
-                Some(p) => (
-                    machine.predictor_model()?,
-                    machine
-                        .structural_modes
-                        .iter()
-                        .filter(|m| m.frequency_hz > 0.0)
-                        .count(),
-                    p.order(),
-                    machine.lines.len(),
-                ),
-                // the declared model already explained the segment: the loop added no path,
-                // so the path is identified from the segment directly
-                None => {
-                    let p = close_loop::path::identify_from_signal(
-                        healthy,
-                        fs,
-                        cfg.get().max_path_order,
-                    )?;
-                    let modes = p.modes().iter().filter(|m| m.frequency_hz > 0.0).count();
-                    (observers::StateSpace::from_ar(&p.ar)?, modes, p.order(), 0)
-                }
-            };
-            let err = (
-                machine.provenance.error_before,
-                machine.provenance.error_after,
-                machine.path.is_some(),
-            );
-            (Some(path), path_modes, Some(err), path_order, path_lines)
+            let c = calibrated_path(healthy, fs, rpm, bearing)?;
+            (Some(c.path), c.modes, Some(c.error), c.order, c.lines)
         } else {
             (None, 0, None, 0, 0)
         };
@@ -338,29 +399,7 @@ impl Prepared {
             0
         };
         let (y_id, u_id) = (&healthy[skip..], u_fit.as_ref().map(|u| &u[skip..]));
-        let poles = PoleChoice::DEFAULT_SEARCH;
-        let identify = laguerre_id::ArxLaguerreModel::identify_orders;
-        let (m, order_scores) = match u_id {
-            // N_a with the smallest input order, then N_b at that N_a: 9 fits instead of the
-            // joint grid's 18, which took `cargo xtask all` over its 60 s
-            // (docs/equations/xtask-chapters.md, "ARX-Laguerre on the calibrated machine model")
-            Some(u) => {
-                let by_a: Vec<(usize, usize)> = N_A_CANDIDATES
-                    .iter()
-                    .map(|&a| (a, N_B_CANDIDATES[0]))
-                    .collect();
-                let (m_a, mut scores) = identify(y_id, Some(u), &by_a, ORDER_HOLDOUT, poles)?;
-                let by_b: Vec<(usize, usize)> =
-                    N_B_CANDIDATES.iter().map(|&b| (m_a.n_a(), b)).collect();
-                let (m, scores_b) = identify(y_id, Some(u), &by_b, ORDER_HOLDOUT, poles)?;
-                scores.extend(scores_b.into_iter().filter(|s| s.0.1 != N_B_CANDIDATES[0]));
-                (m, scores)
-            }
-            None => {
-                let by_a: Vec<(usize, usize)> = N_A_CANDIDATES.iter().map(|&a| (a, 0)).collect();
-                identify(y_id, None, &by_a, ORDER_HOLDOUT, poles)?
-            }
-        };
+        let (m, order_scores) = identify_arx_orders(y_id, u_id)?;
         let input_nrmse = match u_id {
             Some(u) => {
                 let n_fit = ((1.0 - ORDER_HOLDOUT) * y_id.len() as f64).round() as usize;

@@ -227,114 +227,68 @@ pub fn load_shared(
     excitations: &ExcitationCache,
 ) -> Result<Rec> {
     match *k {
-        RecKey::Cwru { class, load, crack } => {
-            let (wlen, nwin) = (plan.window_len, plan.windows_per_rec);
-            let fit = (FIT_SECONDS * CWRU_FS) as usize;
-            let start = if class == 0 { fit } else { WARMUP };
-            let need = start + wlen * nwin;
-            match dir {
-                Some(dir) => {
-                    let number = cwru_number(class, load, crack)?;
-                    let bad = |source| PipelineError::Recording { number, source };
-                    let rec = bearing_data::load_record(dir, number, &LoadOptions::unverified())
-                        .map_err(bad)?;
-                    let rpm = rec.rpm().value;
-                    let mut sig = rec.de_at(CWRU_FS).map_err(bad)?.into_owned();
-                    let id = if rec.fs_hz() != CWRU_FS {
-                        format!("{number} ({} kHz → 12 kHz)", rec.fs_hz() / 1000.0)
-                    } else {
-                        number.to_string()
-                    };
-                    sig.truncate(need);
-                    let n_windows = ((sig.len().saturating_sub(start)) / wlen).min(nwin);
-                    Ok(Rec {
-                        id,
-                        fs: CWRU_FS,
-                        rpm,
-                        signal: sig,
-                        window_start: start,
-                        window_len: wlen,
-                        n_windows,
-                    })
-                }
-                None => {
-                    let rpm = [1797.0, 1772.0, 1750.0, 1730.0][load as usize % 4];
-                    let fault = ["none", "ball", "outer", "inner"][class as usize];
-                    let fc = [
-                        FaultClass::None,
-                        FaultClass::Ball,
-                        FaultClass::Outer,
-                        FaultClass::Inner,
-                    ][class as usize];
-                    let size_in = CWRU_CRACKS_IN[crack as usize];
-                    let seed =
-                        1000 + u64::from(class) * 100 + u64::from(load) * 10 + u64::from(crack);
-                    let sig =
-                        crate::simulate(SimKind::Cwru, fc, size_in, rpm, CWRU_FS, need, seed)?;
-                    Ok(Rec {
-                        id: format!(
-                            "sim:{fault}:{load}hp:{:.3}in",
-                            CWRU_CRACKS_IN[crack as usize]
-                        ),
-                        fs: CWRU_FS,
-                        rpm,
-                        signal: sig,
-                        window_start: start,
-                        window_len: wlen,
-                        n_windows: nwin,
-                    })
-                }
-            }
+        RecKey::Cwru { class, load, crack } => cwru_rec(dir, plan, class, load, crack),
+        RecKey::Multi { class, rpm, crack } => multi_rec(plan, class, rpm, crack, excitations),
+    }
+}
+
+/// The CWRU recording of `class`, `load` and `crack` ([`RecKey::Cwru`]): read from `dir`, or
+/// simulated CWRU-like without it.
+fn cwru_rec(
+    dir: Option<&Path>,
+    plan: &RecordingPlan,
+    class: u8,
+    load: u8,
+    crack: u8,
+) -> Result<Rec> {
+    let (wlen, nwin) = (plan.window_len, plan.windows_per_rec);
+    let fit = (FIT_SECONDS * CWRU_FS) as usize;
+    let start = if class == 0 { fit } else { WARMUP };
+    let need = start + wlen * nwin;
+    match dir {
+        Some(dir) => {
+            let number = cwru_number(class, load, crack)?;
+            let bad = |source| PipelineError::Recording { number, source };
+            let rec =
+                bearing_data::load_record(dir, number, &LoadOptions::unverified()).map_err(bad)?;
+            let rpm = rec.rpm().value;
+            let mut sig = rec.de_at(CWRU_FS).map_err(bad)?.into_owned();
+            let id = if rec.fs_hz() != CWRU_FS {
+                format!("{number} ({} kHz → 12 kHz)", rec.fs_hz() / 1000.0)
+            } else {
+                number.to_string()
+            };
+            sig.truncate(need);
+            let n_windows = ((sig.len().saturating_sub(start)) / wlen).min(nwin);
+            Ok(Rec {
+                id,
+                fs: CWRU_FS,
+                rpm,
+                signal: sig,
+                window_start: start,
+                window_len: wlen,
+                n_windows,
+            })
         }
-        RecKey::Multi { class, rpm, crack } => {
-            let wlen = MULTI_WINDOW;
-            let nwin = plan.multi_windows;
-            let fit = (FIT_SECONDS * MULTI_FS) as usize;
-            let start = if class == 0 { fit } else { WARMUP };
-            let need = start + wlen * nwin;
-            let fault = [
-                "none",
-                "inner",
-                "outer",
-                "ball",
-                "inner+ball",
-                "outer+ball",
-                "inner+outer",
-                "inner+outer+ball",
-            ][class as usize];
+        None => {
+            let rpm = [1797.0, 1772.0, 1750.0, 1730.0][load as usize % 4];
+            let fault = ["none", "ball", "outer", "inner"][class as usize];
             let fc = [
                 FaultClass::None,
-                FaultClass::Inner,
-                FaultClass::Outer,
                 FaultClass::Ball,
-                FaultClass::InnerBall,
-                FaultClass::OuterBall,
-                FaultClass::InnerOuter,
-                FaultClass::InnerOuterBall,
+                FaultClass::Outer,
+                FaultClass::Inner,
             ][class as usize];
-            let size_mm = MULTI_CRACKS_MM[crack as usize];
-            let seed = 2000 + u64::from(class) * 1000 + u64::from(rpm) + u64::from(crack) * 7;
-            // one excitation seed per speed and size, whatever the class: the spalls of a
-            // combined fault are those of the single-fault recordings
-            let excitation_seed = 9000 + u64::from(rpm) + u64::from(crack) * 7;
-            let sig = crate::simulate_substitute(
-                fc,
-                size_mm,
-                f64::from(rpm),
-                MULTI_FS,
-                need,
-                seed,
-                excitation_seed,
-                excitations,
-            )?;
+            let size_in = CWRU_CRACKS_IN[crack as usize];
+            let seed = 1000 + u64::from(class) * 100 + u64::from(load) * 10 + u64::from(crack);
+            let sig = crate::simulate(SimKind::Cwru, fc, size_in, rpm, CWRU_FS, need, seed)?;
             Ok(Rec {
-                id: if class == 0 {
-                    format!("sim:normal:{rpm}rpm")
-                } else {
-                    format!("sim:{fault}:{size_mm}mm:{rpm}rpm")
-                },
-                fs: MULTI_FS,
-                rpm: f64::from(rpm),
+                id: format!(
+                    "sim:{fault}:{load}hp:{:.3}in",
+                    CWRU_CRACKS_IN[crack as usize]
+                ),
+                fs: CWRU_FS,
+                rpm,
                 signal: sig,
                 window_start: start,
                 window_len: wlen,
@@ -342,6 +296,70 @@ pub fn load_shared(
             })
         }
     }
+}
+
+/// The simulated multi-fault substitute's recording of `class`, `rpm` and `crack`
+/// ([`RecKey::Multi`]), its spall excitations shared through `excitations`.
+fn multi_rec(
+    plan: &RecordingPlan,
+    class: u8,
+    rpm: u32,
+    crack: u8,
+    excitations: &ExcitationCache,
+) -> Result<Rec> {
+    let wlen = MULTI_WINDOW;
+    let nwin = plan.multi_windows;
+    let fit = (FIT_SECONDS * MULTI_FS) as usize;
+    let start = if class == 0 { fit } else { WARMUP };
+    let need = start + wlen * nwin;
+    let fault = [
+        "none",
+        "inner",
+        "outer",
+        "ball",
+        "inner+ball",
+        "outer+ball",
+        "inner+outer",
+        "inner+outer+ball",
+    ][class as usize];
+    let fc = [
+        FaultClass::None,
+        FaultClass::Inner,
+        FaultClass::Outer,
+        FaultClass::Ball,
+        FaultClass::InnerBall,
+        FaultClass::OuterBall,
+        FaultClass::InnerOuter,
+        FaultClass::InnerOuterBall,
+    ][class as usize];
+    let size_mm = MULTI_CRACKS_MM[crack as usize];
+    let seed = 2000 + u64::from(class) * 1000 + u64::from(rpm) + u64::from(crack) * 7;
+    // one excitation seed per speed and size, whatever the class: the spalls of a
+    // combined fault are those of the single-fault recordings
+    let excitation_seed = 9000 + u64::from(rpm) + u64::from(crack) * 7;
+    let sig = crate::simulate_substitute(
+        fc,
+        size_mm,
+        f64::from(rpm),
+        MULTI_FS,
+        need,
+        seed,
+        excitation_seed,
+        excitations,
+    )?;
+    Ok(Rec {
+        id: if class == 0 {
+            format!("sim:normal:{rpm}rpm")
+        } else {
+            format!("sim:{fault}:{size_mm}mm:{rpm}rpm")
+        },
+        fs: MULTI_FS,
+        rpm: f64::from(rpm),
+        signal: sig,
+        window_start: start,
+        window_len: wlen,
+        n_windows: nwin,
+    })
 }
 
 /// What one source (an observer, or the raw signal with `None`) yields over one recording of

@@ -378,54 +378,104 @@ fn envelope_speed(
 /// their speed (docs/equations/diagnosis.md).
 pub const ENVELOPE_BANDS: usize = 8;
 
-fn comb_speed(
-    engine: &mut SpectralEngine,
-    x: &[f64],
-    fs_hz: f64,
-    rpm: f64,
-    search: f64,
-    refine_resolution: f64,
-    coarse: bool,
-) -> Result<Option<SpeedEstimate>> {
-    let fr0 = rpm / 60.0;
-    // a 7-smooth length (≤ 2 % shorter) keeps the real FFT fast
-    let n = 2 * crate::smooth_floor(x.len() / 2);
-    if n < 64 {
-        return Ok(None);
+/// The log amplitude spectrum of a record a shaft comb is scored in, and what scoring it needs.
+struct CombSpectrum {
+    /// The record, its mean removed and cut to a 7-smooth length (what the refinement reads).
+    centred: Vec<f64>,
+    /// Declared shaft rate, Hz.
+    fr0: f64,
+    /// Bin width, Hz.
+    df: f64,
+    /// `log10` of each bin's squared amplitude (floored 240 dB under the largest).
+    l: Vec<f64>,
+    /// Cumulative sums of `l`: `cum[k] = Σ_{j<k} l[j]`.
+    cum: Vec<f64>,
+    /// Half-width of an order's background, bins (0.3 fr, at least 3).
+    half: usize,
+    /// Orders scored (those below the spectrum's top at the search's fastest speed).
+    orders: usize,
+}
+
+/// How a comb at one speed ratio reads: [`CombSpectrum::assess`].
+struct CombAssessment {
+    /// Its score over the median score within ± [`CONTRAST_HALF_WIDTH`] of its ratio.
+    contrast: f64,
+    /// Its first order's score.
+    first_order: f64,
+    /// Orders scoring at least [`COMB_MIN_ORDER_PRESENT`].
+    present: usize,
+    /// First order standing out and almost every scored order there.
+    complete: bool,
+    /// Complete, strong enough per order and contrasted enough.
+    accepted: bool,
+}
+
+impl CombSpectrum {
+    /// The spectrum of `x` (sampled at `fs_hz`) for a comb search at `rpm` ± `search`; `None`
+    /// when the record is too short, no order fits under the spectrum's top, or (unless
+    /// `coarse`) the comb cannot resolve the speed to half the lines' own tolerance.
+    fn read(
+        engine: &mut SpectralEngine,
+        x: &[f64],
+        fs_hz: f64,
+        rpm: f64,
+        search: f64,
+        coarse: bool,
+    ) -> Result<Option<Self>> {
+        let fr0 = rpm / 60.0;
+        // a 7-smooth length (≤ 2 % shorter) keeps the real FFT fast
+        let n = 2 * crate::smooth_floor(x.len() / 2);
+        if n < 64 {
+            return Ok(None);
+        }
+        let df = fs_hz / n as f64;
+        let mean = x[..n].iter().sum::<f64>() / n as f64;
+        let centred: Vec<f64> = x[..n].iter().map(|v| v - mean).collect();
+        let spec = engine.amplitude_spectrum(&centred, fs_hz, Taper::Hann)?;
+        let floor = spec.values.iter().fold(0.0_f64, |m, v| m.max(*v)) * 1e-12 + 1e-300;
+        let l: Vec<f64> = spec
+            .values
+            .iter()
+            .map(|a| (a * a + floor * floor).log10())
+            .collect();
+        let mut cum = vec![0.0; l.len() + 1];
+        for (k, v) in l.iter().enumerate() {
+            cum[k + 1] = cum[k] + v;
+        }
+        let half = ((0.3 * fr0 / df).round() as usize).max(3);
+        let top = l.len().saturating_sub(half + 2);
+        let orders = (1..=COMB_ORDERS)
+            .filter(|&k| (k as f64 * fr0 * (1.0 + search) / df).round() as usize <= top)
+            .count();
+        // the comb must resolve the speed to half the lines' own tolerance at its top order
+        if orders == 0 || (!coarse && df > 0.5 * SPEED_TOL * orders as f64 * fr0) {
+            return Ok(None);
+        }
+        Ok(Some(Self {
+            centred,
+            fr0,
+            df,
+            l,
+            cum,
+            half,
+            orders,
+        }))
     }
-    let df = fs_hz / n as f64;
-    let mean = x[..n].iter().sum::<f64>() / n as f64;
-    let centred: Vec<f64> = x[..n].iter().map(|v| v - mean).collect();
-    let spec = engine.amplitude_spectrum(&centred, fs_hz, Taper::Hann)?;
-    let floor = spec.values.iter().fold(0.0_f64, |m, v| m.max(*v)) * 1e-12 + 1e-300;
-    let l: Vec<f64> = spec
-        .values
-        .iter()
-        .map(|a| (a * a + floor * floor).log10())
-        .collect();
-    let mut cum = vec![0.0; l.len() + 1];
-    for (k, v) in l.iter().enumerate() {
-        cum[k + 1] = cum[k] + v;
-    }
-    let half = ((0.3 * fr0 / df).round() as usize).max(3);
-    let top = l.len().saturating_sub(half + 2);
-    let orders = (1..=COMB_ORDERS)
-        .filter(|&k| (k as f64 * fr0 * (1.0 + search) / df).round() as usize <= top)
-        .count();
-    // the comb must resolve the speed to half the lines' own tolerance at its top order
-    if orders == 0 || (!coarse && df > 0.5 * SPEED_TOL * orders as f64 * fr0) {
-        return Ok(None);
-    }
-    // an order within 1.5 bins of a multiple of a mains frequency (50 or 60 Hz) is no evidence
-    // of the shaft: the supply's harmonics sit there on any electrically driven machine
-    let mains = |f: f64| {
+
+    /// An order within 1.5 bins of a multiple of a mains frequency (50 or 60 Hz) is no evidence
+    /// of the shaft: the supply's harmonics sit there on any electrically driven machine.
+    fn mains(&self, f: f64) -> bool {
         MAINS_HZ.iter().any(|&m| {
             let k = (f / m).round();
-            k >= 1.0 && (f - k * m).abs() <= 1.5 * df
+            k >= 1.0 && (f - k * m).abs() <= 1.5 * self.df
         })
-    };
-    let order_score = |k: usize, r: f64| -> f64 {
-        if mains(k as f64 * fr0 * r) {
+    }
+
+    /// Order `k`'s score at speed ratio `r`: its peak (the largest of three bins) over its
+    /// background's mean `log10`, at least 0; 0 on a mains multiple.
+    fn order_score(&self, k: usize, r: f64) -> f64 {
+        let (fr0, df, l, cum, half) = (self.fr0, self.df, &self.l, &self.cum, self.half);
+        if self.mains(k as f64 * fr0 * r) {
             return 0.0;
         }
         let i = (k as f64 * fr0 * r / df).round() as usize;
@@ -433,23 +483,21 @@ fn comb_speed(
         let bg = (cum[hi] - cum[lo]) / (hi - lo) as f64;
         let peak = l[i - 1].max(l[i]).max(l[i + 1]);
         (peak - bg).max(0.0)
-    };
-    let score = |r: f64| -> f64 { (1..=orders).map(|k| order_score(k, r)).sum() };
-    // steps of a quarter bin at the highest order scored
-    let step = 0.25 * df / (orders as f64 * fr0);
-    let steps = (2.0 * search / step).ceil() as usize;
-    let scores: Vec<(f64, f64)> = (0..=steps)
-        .map(|j| {
-            let r = 1.0 - search + 2.0 * search * j as f64 / steps as f64;
-            (r, score(r))
-        })
-        .collect();
-    // the comb's contrast is against its own neighbourhood (± CONTRAST_HALF_WIDTH of the best
-    // ratio), so it does not grow with the width of the search; a shaft comb is complete: its
-    // first order stands out and almost every order is there (mains harmonics fill only the
-    // even orders of a comb at half the line frequency; a fault line family k·f ± m·fr forms a
-    // near-comb without the first order)
-    let assess = |r_best: f64, s_best: f64| {
+    }
+
+    /// The comb's score at speed ratio `r`: its orders' scores summed.
+    fn score(&self, r: f64) -> f64 {
+        (1..=self.orders).map(|k| self.order_score(k, r)).sum()
+    }
+
+    /// The comb at `r_best` (score `s_best`) against the search's `scores`. Its contrast is
+    /// against its own neighbourhood (± [`CONTRAST_HALF_WIDTH`] of the ratio), so it does not
+    /// grow with the width of the search; a shaft comb is complete: its first order stands out
+    /// and almost every order is there (mains harmonics fill only the even orders of a comb at
+    /// half the line frequency; a fault line family k·f ± m·fr forms a near-comb without the
+    /// first order).
+    fn assess(&self, scores: &[(f64, f64)], r_best: f64, s_best: f64) -> CombAssessment {
+        let (fr0, orders) = (self.fr0, self.orders);
         let mut sorted: Vec<f64> = scores
             .iter()
             .filter(|c| (c.0 - r_best).abs() <= CONTRAST_HALF_WIDTH)
@@ -458,12 +506,12 @@ fn comb_speed(
         sorted.sort_by(f64::total_cmp);
         let median = sorted[sorted.len() / 2];
         let contrast = s_best / median.max(1e-9);
-        let first_order = order_score(1, r_best);
+        let first_order = self.order_score(1, r_best);
         let scored = (1..=orders)
-            .filter(|&k| !mains(k as f64 * fr0 * r_best))
+            .filter(|&k| !self.mains(k as f64 * fr0 * r_best))
             .count();
         let present = (1..=orders)
-            .filter(|&k| order_score(k, r_best) >= COMB_MIN_ORDER_PRESENT)
+            .filter(|&k| self.order_score(k, r_best) >= COMB_MIN_ORDER_PRESENT)
             .count();
         let complete = first_order >= COMB_MIN_FIRST_ORDER
             && scored > 0
@@ -471,16 +519,19 @@ fn comb_speed(
         let accepted = complete
             && s_best >= COMB_MIN_PER_ORDER * scored as f64
             && contrast >= COMB_MIN_CONTRAST;
-        (contrast, first_order, present, complete, accepted)
-    };
-    let (mut r_best, mut s_best) =
-        scores.iter().copied().fold(
-            (1.0, f64::NEG_INFINITY),
-            |b, c| if c.1 > b.1 { c } else { b },
-        );
-    if search > WIDE_SEARCH {
-        // over a range wider than an octave the comb at 2·fr is as complete as fr's: of the
-        // best-scoring accepted combs, the lowest whose score is at least half the best
+        CombAssessment {
+            contrast,
+            first_order,
+            present,
+            complete,
+            accepted,
+        }
+    }
+
+    /// Over a range wider than an octave the comb at 2·fr is as complete as fr's: of the
+    /// best-scoring accepted combs (the [`WIDE_CANDIDATES`] highest local maxima of `scores`),
+    /// the lowest whose score is at least half the best; `None` when none is accepted.
+    fn lowest_strong_comb(&self, scores: &[(f64, f64)]) -> Option<(f64, f64)> {
         let mut peaks: Vec<(f64, f64)> = scores
             .windows(3)
             .filter(|w| w[1].1 >= w[0].1 && w[1].1 > w[2].1)
@@ -488,25 +539,26 @@ fn comb_speed(
             .collect();
         peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
         peaks.truncate(WIDE_CANDIDATES);
-        let accepted: Vec<(f64, f64)> =
-            peaks.into_iter().filter(|&(r, s)| assess(r, s).4).collect();
-        if let Some(top) = accepted.first().map(|c| c.1) {
-            let low = accepted
+        let accepted: Vec<(f64, f64)> = peaks
+            .into_iter()
+            .filter(|&(r, s)| self.assess(scores, r, s).accepted)
+            .collect();
+        let top = accepted.first().map(|c| c.1)?;
+        Some(
+            accepted
                 .iter()
                 .filter(|c| c.1 >= 0.5 * top)
                 .min_by(|a, b| a.0.total_cmp(&b.0))
                 .copied()
-                .unwrap_or(accepted[0]);
-            (r_best, s_best) = low;
-        }
+                .unwrap_or(accepted[0]),
+        )
     }
-    let (contrast, first_order, present, complete, accepted) = assess(r_best, s_best);
-    // the refined speed: each present order's line placed by the zoom DFT of the Hann-windowed
-    // record, the speed fitted over the largest set of orders that tell one speed
-    // the strongest line within the search around the declared shaft rate: a refined speed
-    // must put its first order on it (within a bin)
-    let strongest_1x = {
-        // around the declared rate, or around the comb found when the search reaches further
+
+    /// The strongest line within ± [`SPEED_SEARCH`] of the declared shaft rate, or of the comb
+    /// found at `r_best` when the `search` reaches further, Hz: a refined speed must put its
+    /// first order on it (within a bin).
+    fn strongest_1x(&self, search: f64, r_best: f64) -> Option<f64> {
+        let (fr0, df, l) = (self.fr0, self.df, &self.l);
         let c = if search > SPEED_SEARCH {
             fr0 * r_best
         } else {
@@ -517,18 +569,60 @@ fn comb_speed(
         (lo..=hi)
             .max_by(|&a, &b| l[a].total_cmp(&l[b]))
             .map(|j| j as f64 * df)
+    }
+}
+
+/// The shaft comb of `x` (sampled at `fs_hz`) searched over `rpm` ± `search` in quarter-bin
+/// steps of its top order, the best ratio assessed ([`CombSpectrum::assess`]) and, when the
+/// bins are at most `refine_resolution` × fr wide, refined by the zoom DFT ([`refine`]).
+fn comb_speed(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    rpm: f64,
+    search: f64,
+    refine_resolution: f64,
+    coarse: bool,
+) -> Result<Option<SpeedEstimate>> {
+    let Some(c) = CombSpectrum::read(engine, x, fs_hz, rpm, search, coarse)? else {
+        return Ok(None);
     };
-    let refined_rpm = if complete && df <= refine_resolution * fr0 {
+    let (fr0, df, orders) = (c.fr0, c.df, c.orders);
+    // steps of a quarter bin at the highest order scored
+    let step = 0.25 * df / (orders as f64 * fr0);
+    let steps = (2.0 * search / step).ceil() as usize;
+    let scores: Vec<(f64, f64)> = (0..=steps)
+        .map(|j| {
+            let r = 1.0 - search + 2.0 * search * j as f64 / steps as f64;
+            (r, c.score(r))
+        })
+        .collect();
+    let (mut r_best, mut s_best) =
+        scores.iter().copied().fold(
+            (1.0, f64::NEG_INFINITY),
+            |b, x| if x.1 > b.1 { x } else { b },
+        );
+    if search > WIDE_SEARCH
+        && let Some(low) = c.lowest_strong_comb(&scores)
+    {
+        (r_best, s_best) = low;
+    }
+    let a = c.assess(&scores, r_best, s_best);
+    // the refined speed: each present order's line placed by the zoom DFT of the Hann-windowed
+    // record, the speed fitted over the largest set of orders that tell one speed, its first
+    // order on the strongest line around the shaft rate
+    let strongest_1x = c.strongest_1x(search, r_best);
+    let refined_rpm = if a.complete && df <= refine_resolution * fr0 {
         refine(
-            &centred,
+            &c.centred,
             fs_hz,
             fr0,
             r_best,
             orders,
             &|k: usize, r: f64| {
-                !mains(k as f64 * fr0 * r) && order_score(k, r) >= COMB_MIN_ORDER_PRESENT
+                !c.mains(k as f64 * fr0 * r) && c.order_score(k, r) >= COMB_MIN_ORDER_PRESENT
             },
-            &|k: usize, r: f64| order_score(k, r) >= COMB_MIN_FIRST_ORDER,
+            &|k: usize, r: f64| c.order_score(k, r) >= COMB_MIN_FIRST_ORDER,
         )
         .filter(|r| strongest_1x.is_some_and(|f| (r * fr0 - f).abs() <= df))
         .map(|r| rpm * r)
@@ -539,11 +633,11 @@ fn comb_speed(
         refined_rpm,
         rpm: rpm * r_best,
         comb_score: s_best,
-        contrast,
+        contrast: a.contrast,
         orders,
-        first_order_score: first_order,
-        orders_present: present,
-        accepted,
+        first_order_score: a.first_order,
+        orders_present: a.present,
+        accepted: a.accepted,
         envelope_band_hz: None,
         resolution: 0.5 * df / (orders as f64 * fr0),
     }))

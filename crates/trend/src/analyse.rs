@@ -24,9 +24,10 @@ pub const OBSERVERS: [pipeline::Method; 4] = [
 /// baseline recordings joined end to end).
 pub const DIAGNOSIS_BASELINE_SECONDS: f64 = 10.0;
 
-/// One recording, in memory.
+/// One recording of a trend sequence, in memory: one channel's samples, its time on the run's
+/// axis and its declared speed (a recording as read from a file is `bearing_data::Recording`).
 #[derive(Debug, Clone)]
-pub struct Recording {
+pub struct TrendRecording {
     /// Its name (a file name), for reports and errors.
     pub name: String,
     /// Its time on the run's [`TimeAxis`].
@@ -417,7 +418,7 @@ struct Observers {
 /// Prepare the observers on the first `fit_seconds` of the baseline recordings joined end to
 /// end (the first recording's alone when it is that long).
 fn prepare_observers(
-    baseline: &[Recording],
+    baseline: &[TrendRecording],
     fit_seconds: f64,
     bearing: &diagnosis::BearingSpec,
     notes: &mut Vec<String>,
@@ -506,7 +507,7 @@ struct Measured {
 }
 
 fn measure(
-    r: &Recording,
+    r: &TrendRecording,
     cfg: &CheckedTrendConfig,
     bearing: &diagnosis::BearingSpec,
     reference: Option<&diagnosis::Baseline>,
@@ -664,7 +665,7 @@ fn speed_exponents(
 
 /// Check the recordings: enough of them, one sampling rate, finite samples, positive speed,
 /// increasing times.
-fn check(recs: &[Recording], baseline_count: usize) -> Result<()> {
+fn check(recs: &[TrendRecording], baseline_count: usize) -> Result<()> {
     if baseline_count < MIN_BASELINES {
         return Err(TrendError::TooFewBaselines {
             needed: MIN_BASELINES,
@@ -719,7 +720,7 @@ fn check(recs: &[Recording], baseline_count: usize) -> Result<()> {
 /// # Errors
 /// As [`analyse_with_progress`].
 pub fn analyse(
-    recs: &[Recording],
+    recs: &[TrendRecording],
     axis: TimeAxis,
     bearing: &diagnosis::BearingSpec,
     cfg: &CheckedTrendConfig,
@@ -744,7 +745,7 @@ pub fn analyse(
 /// the diagnosis or an observer cannot read is not an error: its value is `None` and the row's
 /// notes say why.
 pub fn analyse_with_progress(
-    recs: &[Recording],
+    recs: &[TrendRecording],
     axis: TimeAxis,
     bearing: &diagnosis::BearingSpec,
     cfg: &CheckedTrendConfig,
@@ -844,7 +845,7 @@ pub fn analyse_with_progress(
 /// [`DIAGNOSIS_BASELINE_SECONDS`]); `None`, with a note, when the diagnosis is off or the fit
 /// fails (every recording is then diagnosed self-referenced).
 fn diagnosis_reference(
-    baseline: &[Recording],
+    baseline: &[TrendRecording],
     fs: f64,
     diagnose: bool,
     notes: &mut Vec<String>,
@@ -972,7 +973,7 @@ fn alarm_indicators(named: Option<&[String]>, indicators: &[IndicatorInfo]) -> R
 struct Table<'a> {
     c: &'a TrendConfig,
     axis: TimeAxis,
-    recs: &'a [Recording],
+    recs: &'a [TrendRecording],
     indicators: &'a [IndicatorInfo],
     measured: &'a [Measured],
     normalised: &'a [Vec<Option<f64>>],
@@ -1090,7 +1091,7 @@ impl Table<'_> {
 /// The report's rows: each recording with its values, normalised values, exceedances, verdict
 /// and zone.
 fn rows_of(
-    recs: &[Recording],
+    recs: &[TrendRecording],
     measured: Vec<Measured>,
     normalised: Vec<Vec<Option<f64>>>,
     above: Vec<Vec<bool>>,

@@ -3,8 +3,8 @@
 //! alarm, and the severity trend after it (issue 57).
 //!
 //! ```no_run
-//! # fn recordings() -> Vec<trend::Recording> { vec![] }
-//! let recs: Vec<trend::Recording> = recordings(); // in time order, one channel each
+//! # fn recordings() -> Vec<trend::TrendRecording> { vec![] }
+//! let recs: Vec<trend::TrendRecording> = recordings(); // in time order, one channel each
 //! let cfg = trend::TrendConfig { baseline_count: 10, ..Default::default() }.check()?;
 //! let bearing = diagnosis::BearingSpec::parse("6205").expect("catalogue bearing");
 //! let report = trend::analyse(&recs, trend::TimeAxis::Seconds, &bearing, &cfg)?;
@@ -36,7 +36,8 @@ pub mod order;
 pub use alarm::{Domain, Severity, Threshold};
 pub use analyse::{
     ALARM_ON_ALL, Alarm, DIAGNOSIS_BASELINE_SECONDS, IndicatorInfo, OBSERVERS, ObserverSetup,
-    Onset, Recording, Row, RuleMet, Scale, Timing, TrendReport, analyse, analyse_with_progress,
+    Onset, Row, RuleMet, Scale, Timing, TrendRecording, TrendReport, analyse,
+    analyse_with_progress,
 };
 pub use config::{
     CheckedTrendConfig, DEFAULT_K, DEFAULT_LEVEL_FACTOR, DEFAULT_M, DEFAULT_N,
@@ -44,6 +45,13 @@ pub use config::{
     TrendConfig,
 };
 pub use error::{Result, TrendError};
+
+/// The former name of [`TrendRecording`], kept so that code written against it still compiles.
+#[deprecated(
+    note = "renamed to `TrendRecording`: one recording of a trend sequence, with its time and \
+            speed (a recording as read from a file is `bearing_data::Recording`)"
+)]
+pub type Recording = TrendRecording;
 pub use indicators::{MachineGroup, SignalIndicators, Unit, Zone};
 pub use order::{IndexEntry, NameTime, TimeAxis, order_names, parse_index, parse_name};
 

@@ -48,7 +48,7 @@ fn recording_at(seed: u64, gain: f64, impact: f64, rpm: f64) -> Vec<f64> {
         .collect()
 }
 
-fn run(recs: Vec<trend::Recording>, observers: bool) -> trend::TrendReport {
+fn run(recs: Vec<trend::TrendRecording>, observers: bool) -> trend::TrendReport {
     run_with(
         recs,
         trend::TrendConfig {
@@ -60,14 +60,14 @@ fn run(recs: Vec<trend::Recording>, observers: bool) -> trend::TrendReport {
     )
 }
 
-fn run_with(recs: Vec<trend::Recording>, cfg: trend::TrendConfig) -> trend::TrendReport {
+fn run_with(recs: Vec<trend::TrendRecording>, cfg: trend::TrendConfig) -> trend::TrendReport {
     let cfg = cfg.check().unwrap();
     let bearing = diagnosis::BearingSpec::parse("6205").unwrap();
     trend::analyse(&recs, trend::TimeAxis::Index, &bearing, &cfg).unwrap()
 }
 
-fn rec(k: usize, samples: Vec<f64>) -> trend::Recording {
-    trend::Recording {
+fn rec(k: usize, samples: Vec<f64>) -> trend::TrendRecording {
+    trend::TrendRecording {
         name: format!("{}.csv", k + 1),
         time: (k + 1) as f64,
         samples,
@@ -78,7 +78,7 @@ fn rec(k: usize, samples: Vec<f64>) -> trend::Recording {
 
 #[test]
 fn a_gain_step_fires_amplitudes_but_not_dimensionless_indicators() {
-    let recs: Vec<trend::Recording> = (0..14)
+    let recs: Vec<trend::TrendRecording> = (0..14)
         .map(|k| {
             let gain = if k >= 8 { 3.0 } else { 1.0 };
             rec(k, recording(100 + k as u64, gain, 0.0))
@@ -111,7 +111,7 @@ fn a_gain_step_fires_amplitudes_but_not_dimensionless_indicators() {
 fn a_speed_step_does_not_alarm_after_normalisation() {
     // the machine runs 20 % faster from recording 8 on, its vibration growing as speed^1.5
     // (the default exponent's premise); the declared speed follows
-    let recs: Vec<trend::Recording> = (0..14)
+    let recs: Vec<trend::TrendRecording> = (0..14)
         .map(|k| {
             let rpm = if k >= 8 { 1.2 * RPM } else { RPM };
             let mut r = rec(
@@ -144,7 +144,7 @@ fn a_speed_step_does_not_alarm_after_normalisation() {
 fn the_speed_exponent_is_fitted_on_a_baseline_that_spans_speeds() {
     // baseline at 1500..1900 rpm with amplitude ∝ speed^2, then the same law beyond
     let rpm = |k: usize| 1500.0 + 80.0 * (k % 6) as f64 + if k >= 8 { 300.0 } else { 0.0 };
-    let recs: Vec<trend::Recording> = (0..12)
+    let recs: Vec<trend::TrendRecording> = (0..12)
         .map(|k| {
             let mut r = rec(
                 k,
@@ -176,7 +176,7 @@ fn the_speed_exponent_is_fitted_on_a_baseline_that_spans_speeds() {
 #[test]
 fn a_growing_outer_race_fault_raises_the_alarm_and_is_named() {
     // healthy 0..8, then impacts growing from recording 8 on
-    let recs: Vec<trend::Recording> = (0..14)
+    let recs: Vec<trend::TrendRecording> = (0..14)
         .map(|k| {
             let impact = if k >= 8 { 0.5 * (k - 7) as f64 } else { 0.0 };
             rec(k, recording(200 + k as u64, 1.0, impact))
@@ -220,7 +220,7 @@ fn a_growing_outer_race_fault_raises_the_alarm_and_is_named() {
 
 #[test]
 fn the_observers_trend_on_a_healthy_model_of_the_baseline() {
-    let recs: Vec<trend::Recording> = (0..8)
+    let recs: Vec<trend::TrendRecording> = (0..8)
         .map(|k| {
             let impact = if k >= 6 { 2.0 } else { 0.0 };
             rec(k, recording(300 + k as u64, 1.0, impact))
@@ -259,7 +259,7 @@ fn too_few_recordings_and_mixed_rates_are_typed_errors() {
     .check()
     .unwrap();
     let bearing = diagnosis::BearingSpec::parse("6205").unwrap();
-    let recs: Vec<trend::Recording> = (0..4)
+    let recs: Vec<trend::TrendRecording> = (0..4)
         .map(|k| rec(k, recording(k as u64, 1.0, 0.0)))
         .collect();
     let e = trend::analyse(&recs, trend::TimeAxis::Index, &bearing, &cfg).unwrap_err();
@@ -270,7 +270,7 @@ fn too_few_recordings_and_mixed_rates_are_typed_errors() {
             found: 4
         }
     ));
-    let mut recs: Vec<trend::Recording> = (0..7)
+    let mut recs: Vec<trend::TrendRecording> = (0..7)
         .map(|k| rec(k, recording(k as u64, 1.0, 0.0)))
         .collect();
     recs[5].fs_hz = 24_000.0;
@@ -293,7 +293,7 @@ proptest::proptest! {
     /// gain and the seed.
     #[test]
     fn a_gain_step_leaves_dimensionless_exceedances_unchanged(seed in 0u64..10_000, gain in 0.05f64..20.0) {
-        let make = |g: f64| -> Vec<trend::Recording> {
+        let make = |g: f64| -> Vec<trend::TrendRecording> {
             (0..10)
                 .map(|k| {
                     let gain = if k >= 7 { g } else { 1.0 };
@@ -329,7 +329,7 @@ proptest::proptest! {
 /// amplitudes back and the same step raises it.
 #[test]
 fn a_gain_step_raises_no_default_alarm_but_does_over_every_indicator() {
-    let recs: Vec<trend::Recording> = (0..16)
+    let recs: Vec<trend::TrendRecording> = (0..16)
         .map(|k| {
             let gain = if k >= 9 { 1.6 } else { 1.0 };
             rec(k, recording(100 + k as u64, gain, 0.0))

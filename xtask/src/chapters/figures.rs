@@ -345,8 +345,8 @@ pub fn chapter_figures(
     cache: &Cache,
     diss: &[&DissTable],
     tabs: &[OurTable],
-    feats: &BTreeMap<(String, RecKey), Vec<f64>>,
-    traces_map: &BTreeMap<(String, RecKey), Vec<f64>>,
+    feats: &Series,
+    traces_map: &Series,
     methods: &[Method],
 ) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
@@ -366,14 +366,60 @@ pub fn chapter_figures(
     Ok(out)
 }
 
+/// Per-method, per-recording series (residual traces or window energies).
+type Series = BTreeMap<(String, RecKey), Vec<f64>>;
+
+/// The first 1200 samples (0.1 s at 12 kHz) of the residual trace of each class of `d` under
+/// each of `methods` (class `c`'s recording `key(c)`), labelled `label(method, c, key(c))`.
+fn residual_rows(
+    d: &DissTable,
+    methods: &[Method],
+    traces_map: &Series,
+    key: impl Fn(&str) -> RecKey,
+    label: impl Fn(&Method, &str, RecKey) -> anyhow::Result<String>,
+) -> anyhow::Result<Vec<(String, Vec<f64>)>> {
+    let mut rows = Vec::new();
+    for m in methods {
+        for c in &d.classes {
+            let k = key(c);
+            if let Some(tr) = traces_map.get(&(m.name().to_string(), k)) {
+                let n = tr.len().min(1200);
+                rows.push((label(m, c, k)?, tr[..n].to_vec()));
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The figure `title` of `method`'s residual window energies for each class of `d` (class
+/// `c`'s recording `key(c)`).
+fn energies_figure(
+    d: &DissTable,
+    method: Method,
+    feats: &Series,
+    key: impl Fn(&str) -> RecKey,
+    title: &str,
+) -> anyhow::Result<Vec<u8>> {
+    let series: Vec<(String, Vec<f64>)> = d
+        .classes
+        .iter()
+        .filter_map(|c| {
+            feats
+                .get(&(method.name().to_string(), key(c)))
+                .map(|v| (class_label(c), v.clone()))
+        })
+        .collect();
+    energies(title, &series)
+}
+
 /// Residual traces and energies on the CWRU fixed-load table `d`, largest crack: every method's
 /// residuals in chapter 5, the first method's elsewhere; the first method's energies.
 fn cwru_figures(
     ch: u8,
     cache: &Cache,
     d: &DissTable,
-    feats: &BTreeMap<(String, RecKey), Vec<f64>>,
-    traces_map: &BTreeMap<(String, RecKey), Vec<f64>>,
+    feats: &Series,
+    traces_map: &Series,
     methods: &[Method],
 ) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
@@ -393,24 +439,15 @@ fn cwru_figures(
     } else {
         vec![methods[0]]
     };
-    let mut rows = Vec::new();
-    for m in &shown {
-        for c in &d.classes {
-            let k = super::inputs::cwru_key(c, load, ci);
-            if let Some(tr) = traces_map.get(&(m.name().to_string(), k)) {
-                let n = tr.len().min(1200);
-                rows.push((
-                    format!(
-                        "{} residual, {} ({})",
-                        m.name(),
-                        class_label(c),
-                        cache.get(&k)?.id
-                    ),
-                    tr[..n].to_vec(),
-                ));
-            }
-        }
-    }
+    let key = |c: &str| super::inputs::cwru_key(c, load, ci);
+    let rows = residual_rows(d, &shown, traces_map, key, |m, c, k| {
+        Ok(format!(
+            "{} residual, {} ({})",
+            m.name(),
+            class_label(c),
+            cache.get(&k)?.id
+        ))
+    })?;
     out.push((
         format!("figures/{fig_residual}_residuals_cwru.png"),
         traces(
@@ -422,16 +459,6 @@ fn cwru_figures(
             super::inputs::CWRU_FS,
         )?,
     ));
-    let series: Vec<(String, Vec<f64>)> = d
-        .classes
-        .iter()
-        .filter_map(|c| {
-            let k = super::inputs::cwru_key(c, load, ci);
-            feats
-                .get(&(methods[0].name().to_string(), k))
-                .map(|v| (class_label(c), v.clone()))
-        })
-        .collect();
     let name = if ch == 5 {
         "fig5_7_energies_cwru.png".to_string()
     } else {
@@ -439,13 +466,16 @@ fn cwru_figures(
     };
     out.push((
         format!("figures/{name}"),
-        energies(
+        energies_figure(
+            d,
+            methods[0],
+            feats,
+            key,
             &format!(
                 "{} residual window energies, CWRU {load} hp, {} in",
                 methods[0].name(),
                 d.cracks[ci]
             ),
-            &series,
         )?,
     ));
     Ok(out)
@@ -456,8 +486,8 @@ fn cwru_figures(
 fn multi_fault_figures(
     ch: u8,
     d: &DissTable,
-    feats: &BTreeMap<(String, RecKey), Vec<f64>>,
-    traces_map: &BTreeMap<(String, RecKey), Vec<f64>>,
+    feats: &Series,
+    traces_map: &Series,
     methods: &[Method],
 ) -> anyhow::Result<Vec<(String, Vec<u8>)>> {
     let mut out = Vec::new();
@@ -466,21 +496,14 @@ fn multi_fault_figures(
         _ => 0,
     };
     let ci = d.cracks.len() - 1;
-    let mut rows = Vec::new();
-    for c in &d.classes {
-        let k = super::inputs::multi_key(c, rpm, ci);
-        if let Some(tr) = traces_map.get(&(methods[0].name().to_string(), k)) {
-            let n = tr.len().min(1200);
-            rows.push((
-                format!(
-                    "{} residual, {} (simulated)",
-                    methods[0].name(),
-                    class_label(c)
-                ),
-                tr[..n].to_vec(),
-            ));
-        }
-    }
+    let key = |c: &str| super::inputs::multi_key(c, rpm, ci);
+    let rows = residual_rows(d, &methods[..1], traces_map, key, |m, c, _| {
+        Ok(format!(
+            "{} residual, {} (simulated)",
+            m.name(),
+            class_label(c)
+        ))
+    })?;
     let fname = if ch == 4 {
         "fig4_10_residuals_multi_simulated.png"
     } else {
@@ -497,25 +520,18 @@ fn multi_fault_figures(
             super::inputs::MULTI_FS,
         )?,
     ));
-    let series: Vec<(String, Vec<f64>)> = d
-        .classes
-        .iter()
-        .filter_map(|c| {
-            let k = super::inputs::multi_key(c, rpm, ci);
-            feats
-                .get(&(methods[0].name().to_string(), k))
-                .map(|v| (class_label(c), v.clone()))
-        })
-        .collect();
     out.push((
         "figures/energies_multi_simulated.png".to_string(),
-        energies(
+        energies_figure(
+            d,
+            methods[0],
+            feats,
+            key,
             &format!(
                 "{} window energies, SIMULATED substitute {rpm} rpm, {} mm",
                 methods[0].name(),
                 d.cracks[ci]
             ),
-            &series,
         )?,
     ));
     Ok(out)

@@ -19,9 +19,9 @@ pub fn quantile(sorted: &[f64], q: f64) -> Option<f64> {
     Some(sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo]))
 }
 
-/// One line of a summary table.
+/// One row of a summary table: an indicator's (or a group's) outcomes over the runs.
 #[derive(Debug, Clone, Serialize)]
-pub struct Line {
+pub struct IndicatorSummary {
     /// Indicator, or the group's name.
     pub name: String,
     /// Runs with this indicator.
@@ -44,8 +44,8 @@ pub struct Line {
     pub none: usize,
 }
 
-/// The line of `name`'s outcomes over `runs`.
-pub fn line(name: &str, label: &str, runs: &[&RunResult]) -> Line {
+/// The summary of `name`'s outcomes over `runs`.
+pub fn indicator_summary(name: &str, label: &str, runs: &[&RunResult]) -> IndicatorSummary {
     let outs: Vec<_> = runs
         .iter()
         .filter_map(|r| r.outcomes.iter().find(|o| o.indicator == name))
@@ -65,7 +65,7 @@ pub fn line(name: &str, label: &str, runs: &[&RunResult]) -> Line {
         )
     });
     let count = |s: FaultStatus| outs.iter().filter(|o| o.fault == Some(s)).count();
-    Line {
+    IndicatorSummary {
         name: label.to_string(),
         runs: n,
         no_false_alarm: nfa,
@@ -95,7 +95,7 @@ fn fmt_q(q: Option<(f64, f64, f64)>, scale: f64) -> String {
 }
 
 /// A Markdown table of lines.
-pub fn table(first: &str, lines: &[Line]) -> String {
+pub fn table(first: &str, lines: &[IndicatorSummary]) -> String {
     let mut s = format!(
         "| {first} | no false alarm before onset | % | 95 % CI | detected after onset | delay, recordings: median [Q1–Q3] | delay, min | right fault at alarm | wrong | none |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
     );
@@ -233,13 +233,13 @@ pub fn paired_table(ps: &[Paired]) -> String {
 #[derive(Debug, Clone, Serialize)]
 pub struct Tables {
     /// Per indicator and the combined alarm, every run.
-    pub per_indicator: Vec<Line>,
+    pub per_indicator: Vec<IndicatorSummary>,
     /// The combined alarm per geometry.
-    pub combined_by_geometry: Vec<Line>,
+    pub combined_by_geometry: Vec<IndicatorSummary>,
     /// The combined alarm per location.
-    pub combined_by_location: Vec<Line>,
+    pub combined_by_location: Vec<IndicatorSummary>,
     /// Per geometry, every indicator.
-    pub per_geometry_indicator: BTreeMap<String, Vec<Line>>,
+    pub per_geometry_indicator: BTreeMap<String, Vec<IndicatorSummary>>,
     /// Observers against `signal_ms` and `kurtosis`.
     pub paired: Vec<Paired>,
 }
@@ -248,7 +248,7 @@ pub struct Tables {
 pub fn tables(runs: &[RunResult]) -> Tables {
     let ok: Vec<&RunResult> = runs.iter().filter(|r| r.error.is_none()).collect();
     let names = indicator_names(runs);
-    let per_indicator = names.iter().map(|n| line(n, n, &ok)).collect();
+    let per_indicator = names.iter().map(|n| indicator_summary(n, n, &ok)).collect();
     let mut combined_by_geometry = Vec::new();
     let mut per_geometry_indicator = BTreeMap::new();
     for g in GEOMETRIES {
@@ -256,10 +256,13 @@ pub fn tables(runs: &[RunResult]) -> Tables {
         if sel.is_empty() {
             continue;
         }
-        combined_by_geometry.push(line(COMBINED, g.name(), &sel));
+        combined_by_geometry.push(indicator_summary(COMBINED, g.name(), &sel));
         per_geometry_indicator.insert(
             g.name().to_string(),
-            names.iter().map(|n| line(n, n, &sel)).collect(),
+            names
+                .iter()
+                .map(|n| indicator_summary(n, n, &sel))
+                .collect(),
         );
     }
     let combined_by_location = bearing_model::FaultLocation::ALL
@@ -270,7 +273,7 @@ pub fn tables(runs: &[RunResult]) -> Tables {
                 .copied()
                 .filter(|r| r.location == l.name())
                 .collect();
-            (!sel.is_empty()).then(|| line(COMBINED, l.name(), &sel))
+            (!sel.is_empty()).then(|| indicator_summary(COMBINED, l.name(), &sel))
         })
         .collect();
     let mut paired_rows = Vec::new();

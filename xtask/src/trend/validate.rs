@@ -279,10 +279,10 @@ pub fn generate(
 
 /// The recordings as the trend reads them: named by their timestamp, times in seconds from the
 /// run's start, the declared (nominal) speed.
-pub fn recordings(recs: &[LifeRecording], truth: &LifeTruth) -> Vec<trend::Recording> {
+pub fn recordings(recs: &[LifeRecording], truth: &LifeTruth) -> Vec<trend::TrendRecording> {
     recs.iter()
         .zip(&truth.recordings)
-        .map(|(r, t)| trend::Recording {
+        .map(|(r, t)| trend::TrendRecording {
             name: t.timestamp.clone(),
             time: r.time_s,
             samples: r.samples.clone(),

@@ -2,7 +2,7 @@
 //!
 //! This file holds the vocabulary: the [`EffectKind`]s, the [`Placement`]s and the [`Effect`]
 //! enum with its kind, placement and characteristic frequency. `signal` holds the parametric
-//! forms a fitted effect applies ([`Line`], [`Mode`], [`Modulation`], to a time signal or a PSD)
+//! forms a fitted effect applies ([`CoherentLine`], [`Mode`], [`Modulation`], to a time signal or a PSD)
 //! and their search bounds; `report` the effect's report form ([`Effect::parameters`],
 //! [`Effect::describe`]).
 
@@ -12,8 +12,10 @@ mod report;
 mod signal;
 
 pub use report::MAX_PLAUSIBLE_CONTACT_ANGLE_DEG;
+#[allow(deprecated)]
+pub use signal::Line;
 pub use signal::{
-    Line, MODE_GAIN_RANGE, MODE_MAX_DAMPING, MODE_MIN_DAMPING, MODULATION_MAX_DEPTH, Mode,
+    CoherentLine, MODE_GAIN_RANGE, MODE_MAX_DAMPING, MODE_MIN_DAMPING, MODULATION_MAX_DEPTH, Mode,
     Modulation, depth_at_bound, mode_at_bound,
 };
 
@@ -114,14 +116,14 @@ pub enum Effect {
     /// A measurement-channel line not tied to the shaft.
     Tone {
         /// The fitted line.
-        line: Line,
+        line: CoherentLine,
     },
     /// A line at k × fr, read as a shaft force (unbalance, misalignment) seen through the structure.
     ShaftHarmonic {
         /// Order k (a half order k + ½ for looseness).
         order: f64,
         /// The fitted line at the sensor.
-        line: Line,
+        line: CoherentLine,
         /// fr used to name the order, Hz.
         shaft_hz: f64,
         /// The shaft force (amplitude N, phase rad) re-simulated in the physics model that
@@ -190,7 +192,7 @@ pub enum Effect {
         /// The orders present.
         orders: Vec<f64>,
         /// The fitted lines.
-        lines: Vec<Line>,
+        lines: Vec<CoherentLine>,
     },
     /// A re-simulated radial preload of the balls.
     ContactPreload {
@@ -255,7 +257,7 @@ pub enum Effect {
         /// Spacing, Hz.
         spacing_hz: f64,
         /// The fitted lines.
-        lines: Vec<Line>,
+        lines: Vec<CoherentLine>,
     },
     /// The structural path (AR model of the broadband response) identified from the data.
     StructuralPath {
@@ -380,7 +382,7 @@ impl Effect {
 }
 
 /// The line with the largest amplitude.
-fn strongest(lines: &[Line]) -> Option<&Line> {
+fn strongest(lines: &[CoherentLine]) -> Option<&CoherentLine> {
     lines
         .iter()
         .max_by(|a, b| a.amplitude().total_cmp(&b.amplitude()))
@@ -409,7 +411,7 @@ pub(crate) const MAX_HALF_ORDER: f64 = 5.5;
 /// Name a line: a shaft harmonic when it sits within `harmonic_tolerance` of an order k·fr
 /// (k = 1 … `max_harmonic_order`) or a half order (½ … 5½) and nearer to it than to a multiple of
 /// the declared line frequency; a tone otherwise.
-pub(crate) fn classify_line(line: Line, fr: f64, c: &crate::LoopConfig) -> Effect {
+pub(crate) fn classify_line(line: CoherentLine, fr: f64, c: &crate::LoopConfig) -> Effect {
     let f = line.frequency_hz;
     let k2 = (2.0 * f / fr).round();
     let order = k2 / 2.0;

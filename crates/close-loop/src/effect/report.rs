@@ -3,7 +3,9 @@
 //! [`Effect::parameters`] and [`Effect::describe`] dispatch on the variant; each variant's
 //! parameters and description are a function of its own below, in the order of the dispatch.
 
-use super::{Effect, Line, Mode, Modulation, depth_at_bound, dominant, mode_at_bound, strongest};
+use super::{
+    CoherentLine, Effect, Mode, Modulation, depth_at_bound, dominant, mode_at_bound, strongest,
+};
 use crate::path::PathMode;
 use std::collections::BTreeMap;
 
@@ -218,7 +220,7 @@ impl Effect {
 // ---- parameters, one function per variant ----
 
 /// A line's amplitude and phase (a tone's, a shaft harmonic's).
-fn line_parameters(m: &mut Parameters, line: &Line) {
+fn line_parameters(m: &mut Parameters, line: &CoherentLine) {
     m.insert("amplitude".into(), line.amplitude());
     m.insert("phase_rad".into(), line.phase());
 }
@@ -228,7 +230,7 @@ fn line_parameters(m: &mut Parameters, line: &Line) {
 fn shaft_harmonic_parameters(
     m: &mut Parameters,
     order: f64,
-    line: &Line,
+    line: &CoherentLine,
     shaft_hz: f64,
     force: Option<(f64, f64)>,
 ) {
@@ -312,7 +314,7 @@ fn shaft_comb_parameters(
     shaft_hz: f64,
     declared_shaft_hz: f64,
     orders: &[f64],
-    lines: &[Line],
+    lines: &[CoherentLine],
 ) {
     m.insert("orders".into(), orders.len() as f64);
     m.insert(
@@ -399,7 +401,7 @@ fn contact_preload_parameters(
 }
 
 /// A line comb: its spacing, how many lines, the lowest and highest, the strongest's amplitude.
-fn line_comb_parameters(m: &mut Parameters, spacing_hz: f64, lines: &[Line]) {
+fn line_comb_parameters(m: &mut Parameters, spacing_hz: f64, lines: &[CoherentLine]) {
     m.insert("spacing_hz".into(), spacing_hz);
     m.insert("lines".into(), lines.len() as f64);
     let lo = lines
@@ -430,7 +432,7 @@ fn structural_path_parameters(m: &mut Parameters, order: usize, modes: &[PathMod
 // ---- descriptions, one function per variant ----
 
 /// "shaft harmonic 2x at … Hz, amplitude …", with the shaft force behind it if one was fitted.
-fn describe_shaft_harmonic(order: f64, line: &Line, force: Option<(f64, f64)>) -> String {
+fn describe_shaft_harmonic(order: f64, line: &CoherentLine, force: Option<(f64, f64)>) -> String {
     format!(
         "shaft harmonic {order}x at {:.3} Hz, amplitude {:.4e}{}",
         line.frequency_hz,

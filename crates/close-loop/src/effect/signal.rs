@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 /// A phase-coherent line a·cos(2πft) + b·sin(2πft), t = sample index / fs from the recording start.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Line {
+pub struct CoherentLine {
     /// Frequency, Hz.
     pub frequency_hz: f64,
     /// Cosine coefficient.
@@ -16,7 +16,15 @@ pub struct Line {
     pub b: f64,
 }
 
-impl Line {
+/// The former name of [`CoherentLine`], kept so that code written against it still compiles.
+#[deprecated(
+    note = "renamed to `CoherentLine`: a phase-coherent line a·cos + b·sin at a frequency in Hz \
+            (other crates' lines are `diagnosis::SearchedLine` and \
+            `bearing_model::machine::OrderTone`)"
+)]
+pub type Line = CoherentLine;
+
+impl CoherentLine {
     /// Amplitude √(a² + b²).
     pub fn amplitude(&self) -> f64 {
         self.a.hypot(self.b)

@@ -2,13 +2,13 @@
 
 use super::Evaluated;
 use crate::DeclaredModel;
-use crate::effect::{Effect, Line, classify_line, nearest_mains};
+use crate::effect::{CoherentLine, Effect, classify_line, nearest_mains};
 use crate::engine::{Base, Ctx, ModelRef, State};
 use crate::spectrum::{PeakRefiner, hann_windowed, running_median};
 use std::sync::Arc;
 
 /// Least-squares a·cos + b·sin at `f` on `x` (sample 0 of `x` is sample 0 of the recording).
-pub(super) fn fit_line(x: &[f64], fs: f64, f: f64) -> Line {
+pub(super) fn fit_line(x: &[f64], fs: f64, f: f64) -> CoherentLine {
     let w = 2.0 * std::f64::consts::PI * f / fs;
     let (mut cc, mut cs, mut ss, mut xc, mut xs) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let (sw, cw) = w.sin_cos();
@@ -26,13 +26,13 @@ pub(super) fn fit_line(x: &[f64], fs: f64, f: f64) -> Line {
     }
     let det = cc * ss - cs * cs;
     if det.abs() < 1e-12 {
-        return Line {
+        return CoherentLine {
             frequency_hz: f,
             a: 0.0,
             b: 0.0,
         };
     }
-    Line {
+    CoherentLine {
         frequency_hz: f,
         a: (ss * xc - cs * xs) / det,
         b: (cc * xs - cs * xc) / det,
@@ -398,7 +398,7 @@ pub(super) fn line_comb_candidate(
 }
 
 /// Complex amplitude C = a − j·b of a line (a·cos + b·sin = Re(C·e^{jωt})).
-pub(super) fn phasor(l: &Line) -> rustfft::num_complex::Complex<f64> {
+pub(super) fn phasor(l: &CoherentLine) -> rustfft::num_complex::Complex<f64> {
     rustfft::num_complex::Complex::new(l.a, -l.b)
 }
 
@@ -419,7 +419,7 @@ pub(super) fn shaft_force_candidate(
     ctx: &Ctx<'_>,
     st: &State,
     order: u32,
-    measured: Line,
+    measured: CoherentLine,
     fr: f64,
 ) -> Option<Evaluated> {
     let model = ctx.model_of(st);
@@ -433,7 +433,7 @@ pub(super) fn shaft_force_candidate(
     if (f_sim - measured.frequency_hz).abs() > MAX_FORCE_LINE_OFFSET / t_fit {
         return None;
     }
-    let response = |m: &dyn DeclaredModel| -> Option<(Arc<Base>, Line)> {
+    let response = |m: &dyn DeclaredModel| -> Option<(Arc<Base>, CoherentLine)> {
         let b = ctx.make_base_with(m, st.base.ratio).ok()?;
         let d: Vec<f64> = b
             .signal

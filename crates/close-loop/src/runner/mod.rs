@@ -2,7 +2,7 @@
 //! one that lowers the held-out error by the margin → repeat; stop when none does.
 
 use crate::effect::Effect;
-use crate::engine::{Ctx, Scores, State};
+use crate::engine::{Ctx, HeldOutScores, State};
 use crate::machine::MachineModel;
 use crate::report::{
     AcceptedOn, Declared, EffectEntry, HeldOutSplit, Ledger, PRIMARY_METRIC, RejectedCandidate,
@@ -211,7 +211,12 @@ fn detected_faults(x: &[f64], fs: f64, op: &OperatingPoint) -> Vec<(FaultLocatio
 
 /// A candidate accepted in a round: the candidate, its held-out scores, why it was accepted and
 /// the held-out statistic that confirmed it (envelope step or modulation index), if any.
-type Judged = (Evaluated, Scores, AcceptedOn, Option<(&'static str, f64)>);
+type Judged = (
+    Evaluated,
+    HeldOutScores,
+    AcceptedOn,
+    Option<(&'static str, f64)>,
+);
 
 /// A candidate evaluated on the fitting segment.
 struct Evaluated {
@@ -225,7 +230,7 @@ struct Evaluated {
 struct Running {
     st: State,
     fit_lsd: f64,
-    held: Scores,
+    held: HeldOutScores,
     obs: Option<f64>,
     effects: Vec<EffectEntry>,
     rejected: Vec<RejectedCandidate>,
@@ -237,7 +242,7 @@ impl Running {
         &mut self,
         ctx: &Ctx<'_>,
         cand: Evaluated,
-        h: Scores,
+        h: HeldOutScores,
         on: AcceptedOn,
         extra: Option<(&'static str, f64)>,
     ) {
@@ -258,7 +263,7 @@ impl Running {
     }
 
     /// `cand` was judged and not kept: the ledger lists it.
-    fn reject(&mut self, cand: &Evaluated, h: &Scores) {
+    fn reject(&mut self, cand: &Evaluated, h: &HeldOutScores) {
         self.rejected.push(RejectedCandidate {
             kind: cand.effect.kind(),
             frequency_hz: cand.effect.frequency_hz(),
@@ -469,7 +474,7 @@ fn acceptance(
     ctx: &Ctx<'_>,
     run: &Running,
     cand: &Evaluated,
-    h: &Scores,
+    h: &HeldOutScores,
 ) -> Option<(AcceptedOn, Option<(&'static str, f64)>)> {
     let c = ctx.cfg.get();
     let (st, held) = (&run.st, &run.held);
@@ -578,7 +583,7 @@ fn envelope_phase(ctx: &Ctx<'_>, run: &mut Running, modulations: usize) {
 /// and the estimator's own scatter.
 struct Start<'a> {
     first: &'a State,
-    before: Scores,
+    before: HeldOutScores,
     obs_before: Option<f64>,
     noise: f64,
 }

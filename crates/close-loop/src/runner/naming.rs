@@ -3,7 +3,7 @@
 
 use super::{Evaluated, observer_rms};
 use crate::effect::Effect;
-use crate::engine::{Ctx, Scores, State};
+use crate::engine::{Ctx, HeldOutScores, State};
 use crate::report::{AcceptedOn, EffectEntry};
 use bearing_model::FaultLocation;
 
@@ -13,7 +13,7 @@ pub(super) struct Taken<'a> {
     pub(super) st: &'a mut State,
     pub(super) obs: &'a mut Option<f64>,
     pub(super) fit_lsd: &'a mut f64,
-    pub(super) held: &'a mut Scores,
+    pub(super) held: &'a mut HeldOutScores,
 }
 
 /// Record `cand` (held-out scores `h`, kept by `accepted_on`, with the held-out evidence `extra`
@@ -22,7 +22,7 @@ pub(super) fn take(
     ctx: &Ctx<'_>,
     t: Taken<'_>,
     cand: Evaluated,
-    h: Scores,
+    h: HeldOutScores,
     accepted_on: AcceptedOn,
     extra: Option<(&'static str, f64)>,
 ) {

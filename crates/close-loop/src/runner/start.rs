@@ -2,7 +2,7 @@
 //! the calibrated start the run keeps.
 
 use super::fit_line;
-use crate::effect::Line;
+use crate::effect::CoherentLine;
 use crate::engine::{Ctx, PathPsd, State};
 use crate::machine::MachineModel;
 use crate::{CloseLoopError, DeclaredModel};
@@ -95,7 +95,7 @@ pub(super) fn prior_state(ctx: &Ctx<'_>, m: &MachineModel) -> Result<State, Clos
     for l in &physics_lines {
         negated(l).add_to(&mut resid, 0, ctx.fs);
     }
-    let mut lines: Vec<Line> = Vec::new();
+    let mut lines: Vec<CoherentLine> = Vec::new();
     for (f, ml) in m.line_frequencies(fr).into_iter().zip(&m.lines) {
         if f > 0.0 && f < 0.5 * ctx.fs {
             let mut l = fit_line(&resid, ctx.fs, f);
@@ -174,9 +174,9 @@ pub(super) fn start_from(ctx: &Ctx<'_>, prior: Option<&MachineModel>, st0: State
     if b.1 < a.1 { b } else { a }
 }
 
-/// The line with the opposite sign (to subtract it with [`Line::add_to`]).
-fn negated(l: &Line) -> Line {
-    Line {
+/// The line with the opposite sign (to subtract it with [`CoherentLine::add_to`]).
+fn negated(l: &CoherentLine) -> CoherentLine {
+    CoherentLine {
         a: -l.a,
         b: -l.b,
         ..*l

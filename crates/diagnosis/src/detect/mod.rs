@@ -197,18 +197,53 @@ pub(crate) fn harmonics_depth(v: &BandView, r: &BandReading) -> f64 {
         .sqrt()
 }
 
-/// Read template `t` in every view at each speed ratio of `rhos` (1 when the speed is known),
-/// each ratio's lines against references off its own lattice; the search paid for by
-/// Bonferroni over the bands and the `independent` ratios. The reading kept is the most
-/// significant among those whose harmonics modulate the envelope deeply enough to be a
-/// defect's ([`MIN_MODULATION_DEPTH`]), else the most significant: a band where a weak
-/// smooth modulation stands out of a quiet spectrum must not hide the band where the impacts
-/// ring.
+/// A speed ratio searched, and the views read at it.
+struct Ratio {
+    /// The ratio to the declared speed.
+    rho: f64,
+    /// The views with the shaft's orders masked at the speed the ratio stands for, when the
+    /// bands show a shaft comb there ([`shaft_masked_at`]); `None`: the views as given.
+    masked: Option<Vec<BandView>>,
+}
+
+/// The ratio 1 alone (the speed known): the views as given.
+const AT_SPEED: [Ratio; 1] = [Ratio {
+    rho: 1.0,
+    masked: None,
+}];
+
+/// The speed ratios `rhos` of a search, each with its views: a searched speed is a hypothesis
+/// about the shaft too, so the comb the bands show at it is the shaft's, masked as at a
+/// measured speed ([`shaft_masked_at`], at the templates' shaft rate `fr`; a single ratio is
+/// no search and masks nothing). Built once per ratio for every hypothesis's scan.
+fn searched_ratios(views: &[BandView], all: &[Template], fr: f64, rhos: &[f64]) -> Vec<Ratio> {
+    let step = if rhos.len() > 1 {
+        rhos[1] - rhos[0]
+    } else {
+        0.0
+    };
+    rhos.iter()
+        .map(|&rho| Ratio {
+            rho,
+            masked: (step > 0.0)
+                .then(|| shaft_masked_at(views, all, fr, rho, step))
+                .flatten(),
+        })
+        .collect()
+}
+
+/// Read template `t` in every view at each speed ratio of `ratios` (1 when the speed is known),
+/// each ratio's lines against references off its own lattice, in the ratio's views (its shaft
+/// comb masked, see [`searched_ratios`]); the search paid for by Bonferroni over the bands and
+/// the `independent` ratios. The reading kept is the most significant among those whose
+/// harmonics modulate the envelope deeply enough to be a defect's ([`MIN_MODULATION_DEPTH`]),
+/// else the most significant: a band where a weak smooth modulation stands out of a quiet
+/// spectrum must not hide the band where the impacts ring.
 fn scan(
     t: &Template,
     all: &[Template],
     views: &[BandView],
-    rhos: &[f64],
+    ratios: &[Ratio],
     independent: usize,
 ) -> Scan {
     let mut best: Option<Scan> = None;
@@ -219,12 +254,8 @@ fn scan(
             s.reading.statistic_db,
         )
     };
-    let step = if rhos.len() > 1 {
-        rhos[1] - rhos[0]
-    } else {
-        0.0
-    };
-    for &rho in rhos {
+    for ratio in ratios {
+        let rho = ratio.rho;
         let tr = t.at_speed(rho);
         // the references are read off every hypothesis's lattice: a fault's own lines, and
         // those of a fault of another kind, are not what a healthy band holds
@@ -233,12 +264,7 @@ fn scan(
             .iter()
             .flat_map(|o| o.at_speed(rho).lattice(top))
             .collect();
-        // a searched speed is a hypothesis about the shaft too: the comb the bands show at it
-        // is the shaft's, masked as at a measured speed
-        let at_rho = (step > 0.0)
-            .then(|| shaft_masked_at(views, all, t.fr, rho, step))
-            .flatten();
-        let views = at_rho.as_deref().unwrap_or(views);
+        let views = ratio.masked.as_deref().unwrap_or(views);
         for (b, v) in views.iter().enumerate() {
             let r = LineTest::new(v, &lattice, tr.fr).read(&tr);
             let cand = Scan {
@@ -570,55 +596,22 @@ fn detect_at(
     let level = alpha / Hypothesis::ALL.len() as f64;
     let strong =
         |s: &Significance| s.p_healthy <= level && s.modulation_depth >= MIN_MODULATION_DEPTH;
+    // every template shares the shaft rate `fr`: the ratios' masked views are the same for all
+    let ratios = searched_ratios(&views, &base, fr, &rhos);
     let scans: Vec<Scan> = base
         .iter()
-        .map(|t| scan(t, &base, &views, &rhos, independent))
+        .map(|t| scan(t, &base, &views, &ratios, independent))
         .collect();
+    drop(ratios);
     // each hypothesis at the speed it read best at
     let templates: Vec<Template> = base
         .iter()
         .zip(&scans)
         .map(|(t, s)| t.at_speed(s.rho))
         .collect();
-    let rescan =
-        |t: &Template, vs: &[BandView]| scan(t, &templates, vs, &[1.0], independent).p_healthy;
     let mut per_hypothesis: Vec<Significance> = scans
         .iter()
-        .map(|s| {
-            let v = &views[s.band];
-            let depth = s.depth;
-            let fundamental_hz = s
-                .reading
-                .terms
-                .iter()
-                .find(|r| r.window.term == Term::Harmonic(1))
-                .map_or(0.0, |r| r.bin as f64 * v.df);
-            Significance {
-                band_index: s.band,
-                band_hz: spectra[s.band].band_hz,
-                statistic_db: s.reading.statistic_db,
-                fisher: s.reading.fisher,
-                lines_read: s.reading.terms.len(),
-                fundamental_hz,
-                speed_slack,
-                speed_ratio: s.rho,
-                p_band: s.reading.p,
-                modulation_depth: depth,
-                p_healthy: s.p_healthy,
-                null_size: s
-                    .reading
-                    .terms
-                    .iter()
-                    .map(|r| r.null_size)
-                    .min()
-                    .unwrap_or(0),
-                significant: false,
-                explained_by: None,
-                p_given_stronger: None,
-                masks: s.masks,
-                shaft_comb_hz: None,
-            }
-        })
+        .map(|s| significance(s, &views[s.band], spectra[s.band].band_hz, speed_slack))
         .collect();
     if let Some(range) = shaft_range {
         for ((sig, s), t) in per_hypothesis.iter_mut().zip(&scans).zip(&templates) {
@@ -631,9 +624,77 @@ fn detect_at(
             }
         }
     }
-    // significant hypotheses, strongest first: by the depth of the envelope modulation their
-    // lines carry (the probabilities of strong faults all reach their floors)
-    let mut order: Vec<usize> = (0..templates.len())
+    // significant hypotheses, strongest first
+    let order = strongest_first(&per_hypothesis, strong);
+    let (confirmed, uncertain) = confirm(
+        &order,
+        &mut per_hypothesis,
+        &templates,
+        &views,
+        independent,
+        level,
+    );
+    for &i in &confirmed {
+        per_hypothesis[i].significant = true;
+    }
+    let mut confirmed: Vec<Hypothesis> =
+        confirmed.iter().map(|&i| templates[i].hypothesis).collect();
+    confirmed.sort_by_key(|h| Hypothesis::ALL.iter().position(|x| x == h));
+    Detection {
+        per_hypothesis,
+        readings: scans.into_iter().map(|s| s.reading).collect(),
+        confirmed,
+        uncertain,
+        views,
+        templates,
+        stage: SpeedStage::Measured,
+    }
+}
+
+/// A hypothesis's scan `s` as its significance (not yet judged: `significant` false, nothing
+/// explaining it), its fundamental read in `v`, the view of its best band `band_hz`.
+fn significance(s: &Scan, v: &BandView, band_hz: [f64; 2], speed_slack: f64) -> Significance {
+    let fundamental_hz = s
+        .reading
+        .terms
+        .iter()
+        .find(|r| r.window.term == Term::Harmonic(1))
+        .map_or(0.0, |r| r.bin as f64 * v.df);
+    Significance {
+        band_index: s.band,
+        band_hz,
+        statistic_db: s.reading.statistic_db,
+        fisher: s.reading.fisher,
+        lines_read: s.reading.terms.len(),
+        fundamental_hz,
+        speed_slack,
+        speed_ratio: s.rho,
+        p_band: s.reading.p,
+        modulation_depth: s.depth,
+        p_healthy: s.p_healthy,
+        null_size: s
+            .reading
+            .terms
+            .iter()
+            .map(|r| r.null_size)
+            .min()
+            .unwrap_or(0),
+        significant: false,
+        explained_by: None,
+        p_given_stronger: None,
+        masks: s.masks,
+        shaft_comb_hz: None,
+    }
+}
+
+/// The indices of the `strong` hypotheses, strongest first: by the depth of the envelope
+/// modulation their lines carry (the probabilities of strong faults all reach their floors),
+/// then by probability under healthy, then in [`Hypothesis::ALL`] order.
+fn strongest_first(
+    per_hypothesis: &[Significance],
+    strong: impl Fn(&Significance) -> bool,
+) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..per_hypothesis.len())
         .filter(|&i| strong(&per_hypothesis[i]))
         .collect();
     order.sort_by(|&a, &b| {
@@ -647,9 +708,27 @@ fn detect_at(
             )
             .then(a.cmp(&b))
     });
+    order
+}
+
+/// Confirm the significant hypotheses of `order` (strongest first): the strongest is confirmed;
+/// each other one is confirmed when it stays significant (`≤ level`) with the confirmed ones'
+/// families masked, else it is explained by the strongest (`per_hypothesis` records both).
+/// Returns the confirmed indices and, when the strongest and another explain each other's lines
+/// and cannot be told apart ([`tell_apart`]), the two as uncertain.
+fn confirm(
+    order: &[usize],
+    per_hypothesis: &mut [Significance],
+    templates: &[Template],
+    views: &[BandView],
+    independent: usize,
+    level: f64,
+) -> (Vec<usize>, Vec<Hypothesis>) {
+    let rescan =
+        |t: &Template, vs: &[BandView]| scan(t, templates, vs, &AT_SPEED, independent).p_healthy;
     let mut confirmed: Vec<usize> = Vec::new();
     let mut uncertain = Vec::new();
-    for &i in &order {
+    for &i in order {
         if confirmed.is_empty() {
             confirmed.push(i);
             continue;
@@ -658,7 +737,7 @@ fn detect_at(
             .iter()
             .map(|&j| (templates[j], per_hypothesis[j].fundamental_hz))
             .collect();
-        let p = rescan(&templates[i], &masked_views(&views, &by));
+        let p = rescan(&templates[i], &masked_views(views, &by));
         per_hypothesis[i].p_given_stronger = Some(p);
         if p <= level {
             confirmed.push(i);
@@ -672,7 +751,7 @@ fn detect_at(
         if confirmed.len() == 1 && uncertain.is_empty() {
             let back = rescan(
                 &templates[first],
-                &masked_views(&views, &[(templates[i], per_hypothesis[i].fundamental_hz)]),
+                &masked_views(views, &[(templates[i], per_hypothesis[i].fundamental_hz)]),
             );
             if back > level {
                 match tell_apart(&per_hypothesis[first], &per_hypothesis[i]) {
@@ -690,21 +769,7 @@ fn detect_at(
             }
         }
     }
-    for &i in &confirmed {
-        per_hypothesis[i].significant = true;
-    }
-    let mut confirmed: Vec<Hypothesis> =
-        confirmed.iter().map(|&i| templates[i].hypothesis).collect();
-    confirmed.sort_by_key(|h| Hypothesis::ALL.iter().position(|x| x == h));
-    Detection {
-        per_hypothesis,
-        readings: scans.into_iter().map(|s| s.reading).collect(),
-        confirmed,
-        uncertain,
-        views,
-        templates,
-        stage: SpeedStage::Measured,
-    }
+    (confirmed, uncertain)
 }
 
 #[cfg(test)]
@@ -842,7 +907,7 @@ mod calibration {
                     .iter()
                     .map(|&g| Template::new(g, &o, fr, HARMONICS))
                     .collect();
-                ph.push(scan(&t, &all, &views, &[1.0], 1).p_healthy);
+                ph.push(scan(&t, &all, &views, &AT_SPEED, 1).p_healthy);
             }
         }
         let frac =

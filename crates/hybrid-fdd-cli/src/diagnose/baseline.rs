@@ -10,9 +10,17 @@ use diagnosis::Baseline;
 
 use super::loader::{FsFlag, load_with};
 
-/// A prepared baseline and a note saying how it was made (rate, decimation; for a machine
-/// model, the synthesis its healthy envelope comes from).
-pub type Prepared = Arc<(Baseline, String)>;
+/// A baseline prepared at one recording rate (and, for a machine model, one speed) and a note
+/// saying how it was made (rate, decimation; for a machine model, the synthesis its healthy
+/// envelope comes from). Not `pipeline::Prepared` (the observers' models of a healthy record).
+pub type BaselineAtRate = Arc<(Baseline, String)>;
+
+/// The former name of [`BaselineAtRate`], kept so that code written against it still compiles.
+#[deprecated(
+    note = "renamed to `BaselineAtRate`: a baseline prepared at one rate and speed, with its note \
+            (`pipeline::Prepared` is the observers' prepared models)"
+)]
+pub type Prepared = BaselineAtRate;
 
 /// Seed of a machine model's healthy synthesis (excitation, floor, line phases): fixed, so a
 /// diagnosis against a machine model is reproducible; chosen before any run on real data.
@@ -40,7 +48,7 @@ pub const MACHINE_SYNTHESIS_MAX_S: f64 = 60.0;
 
 /// A cache slot: filled once by whichever caller gets to it first; other callers of the same
 /// key wait on it, callers of other keys do not.
-type Slot = Arc<Mutex<Option<Prepared>>>;
+type Slot = Arc<Mutex<Option<BaselineAtRate>>>;
 
 /// Cache key of a rate and speed (speed `NO_RPM` for what does not depend on it).
 type Key = (u64, u64);
@@ -124,7 +132,10 @@ impl BaselineSource {
     /// the path's own filter and statistics. The rate is the model's (the library reports a
     /// recording at another rate as its typed mismatch error). No healthy envelope yet: that
     /// depends on the speed ([`Self::with_synthesis`]).
-    fn prepare_machine(&self, m: &close_loop::machine::MachineModel) -> anyhow::Result<Prepared> {
+    fn prepare_machine(
+        &self,
+        m: &close_loop::machine::MachineModel,
+    ) -> anyhow::Result<BaselineAtRate> {
         let name = self.path.display();
         let path = m.path.as_ref().with_context(|| {
             format!("baseline machine model {name} holds no structural path to whiten with")
@@ -190,9 +201,9 @@ impl BaselineSource {
     /// than the 5-DOF physics) keeps no healthy envelope, and the note says so and why.
     fn with_synthesis(
         m: &close_loop::machine::MachineModel,
-        base: &Prepared,
+        base: &BaselineAtRate,
         rpm: f64,
-    ) -> Prepared {
+    ) -> BaselineAtRate {
         let fs = m.fs_hz;
         let turns_s = MACHINE_SYNTHESIS_TURNS * 60.0 / rpm;
         let duration_s = MACHINE_SYNTHESIS_S
@@ -230,8 +241,8 @@ impl BaselineSource {
     fn cached(
         &self,
         key: Key,
-        make: impl FnOnce() -> anyhow::Result<Prepared>,
-    ) -> anyhow::Result<Prepared> {
+        make: impl FnOnce() -> anyhow::Result<BaselineAtRate>,
+    ) -> anyhow::Result<BaselineAtRate> {
         let poisoned = || anyhow::anyhow!("baseline cache poisoned");
         let slot = {
             let mut slots = self.prepared.lock().map_err(|_| poisoned())?;
@@ -265,7 +276,7 @@ impl BaselineSource {
     /// # Errors
     /// A rate that is neither equal nor an integer fraction of the baseline's (the library's
     /// typed mismatch error), a baseline the AR fit rejects, a machine model that cannot whiten.
-    pub fn at(&self, fs_hz: f64, rpm: f64) -> anyhow::Result<Prepared> {
+    pub fn at(&self, fs_hz: f64, rpm: f64) -> anyhow::Result<BaselineAtRate> {
         if let Some(m) = self.machine.as_deref() {
             let base = self.cached((m.fs_hz.to_bits(), NO_RPM), || self.prepare_machine(m))?;
             let synthesisable = fs_hz == m.fs_hz
@@ -282,7 +293,7 @@ impl BaselineSource {
     }
 
     /// The baseline recording prepared at `fs_hz` (decimated by an integer factor when needed).
-    fn prepare_recording(&self, fs_hz: f64) -> anyhow::Result<Prepared> {
+    fn prepare_recording(&self, fs_hz: f64) -> anyhow::Result<BaselineAtRate> {
         let name = self.path.display();
         let (x, fs_b, note, limit) = if let Some((x, q)) =
             decimated_to(&self.samples, self.fs_hz, fs_hz)?

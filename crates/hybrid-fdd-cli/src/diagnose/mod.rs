@@ -15,9 +15,11 @@ use bearing_data::SampleUnit;
 use diagnosis::{BearingSpec, DiagnoseOptions, Diagnosis, DiagnosisError};
 
 pub use args::{Args, RecordingFlags};
+#[allow(deprecated)]
+pub use baseline::Prepared;
 pub use baseline::{
-    BaselineSource, MACHINE_SYNTHESIS_S, MACHINE_SYNTHESIS_SEED, MACHINE_SYNTHESIS_TURNS, Prepared,
-    decimated_to,
+    BaselineAtRate, BaselineSource, MACHINE_SYNTHESIS_S, MACHINE_SYNTHESIS_SEED,
+    MACHINE_SYNTHESIS_TURNS, decimated_to,
 };
 pub use batch::{expand, report_names};
 pub use classifier::{TrainedClass, apply_classifier, load_classifier};

@@ -247,7 +247,7 @@ fn shaft_harmonics_line(d: &diagnosis::Diagnosis) -> String {
 }
 
 /// The speed as the report states it: declared, searched, found, how.
-fn speed_line(op: &diagnosis::OperatingPoint) -> String {
+fn speed_line(op: &diagnosis::OperatingPointUsed) -> String {
     let Some(f) = &op.speed else {
         return format!("- speed: {:.1} rpm\n", op.rpm_used);
     };
