@@ -40,6 +40,11 @@ pub struct Args {
     /// `results/diagnosis/false_alarm.{md,csv,json}`.
     #[arg(long)]
     false_alarm: bool,
+    /// With `--false-alarm`: diagnose the corpus' healthy, noise-only and real healthy
+    /// recordings as `--bearing unknown` does (the search over non-integer orders, at the declared
+    /// speed), into `results/diagnosis/false_alarm_unknown.{md,csv}`.
+    #[arg(long, requires = "false_alarm")]
+    unknown_bearing: bool,
 }
 
 /// Hand-written: the detector in short, what the data lacks, and what was changed after seeing
@@ -133,6 +138,9 @@ const FIGURES_OTHER: [&str; 2] = ["train_data_OuterRaceFault_vload_1", "I_1000_1
 /// Run the task.
 pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     if args.false_alarm {
+        if args.unknown_bearing {
+            return crate::false_alarm::unknown::run(ctx);
+        }
         return crate::false_alarm::run(ctx);
     }
     if !args.all_real {

@@ -11,6 +11,7 @@
 
 pub mod corpus;
 pub(crate) mod report;
+pub(crate) mod unknown;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -117,13 +118,29 @@ fn collect_p(v: &serde_json::Value, path: &str, out: &mut BTreeMap<String, f64>)
     }
 }
 
-/// Diagnose `x` as the entry declares it.
-fn diagnose(x: &[f64], fs: f64, e: &Entry) -> Result<Outcome, String> {
+/// How a recording is diagnosed: with the entry's declared bearing, or as `--bearing unknown`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BearingAs {
+    /// The entry's bearing (`diagnosis::diagnose`).
+    Declared,
+    /// No bearing (`diagnosis::diagnose_unknown_bearing` at the declared speed).
+    Unknown,
+}
+
+/// Diagnose `x` as the entry declares it (its bearing, or none).
+fn diagnose(x: &[f64], fs: f64, e: &Entry, bearing: BearingAs) -> Result<Outcome, String> {
     let signal = diagnosis::Signal::new(x, fs)
         .map_err(diagnosis::DiagnosisError::from)
         .map_err(|e| e.to_string())?;
-    let d =
-        diagnosis::diagnose(&signal, e.rpm_declared, &e.spec, None).map_err(|e| e.to_string())?;
+    let d = match bearing {
+        BearingAs::Declared => diagnosis::diagnose(&signal, e.rpm_declared, &e.spec, None),
+        BearingAs::Unknown => diagnosis::diagnose_unknown_bearing(
+            &signal,
+            None,
+            &diagnosis::DiagnoseOptions::declared(e.rpm_declared),
+        ),
+    }
+    .map_err(|e| e.to_string())?;
     let mut p_fields = BTreeMap::new();
     if let Ok(v) = serde_json::to_value(&d) {
         collect_p(&v, "", &mut p_fields);
@@ -181,7 +198,7 @@ fn drawn_summary(p: &bearing_model::machine::MachineParams) -> serde_json::Value
 }
 
 /// Make (or load) and diagnose one entry.
-fn run_entry(e: &Entry, data: Option<&Path>) -> anyhow::Result<Row> {
+fn run_entry(e: &Entry, data: Option<&Path>, bearing: BearingAs) -> anyhow::Result<Row> {
     let t0 = Instant::now();
     let (x, fs, seed, drawn) = if let Some(r) = &e.recipe {
         let p = r
@@ -198,7 +215,7 @@ fn run_entry(e: &Entry, data: Option<&Path>) -> anyhow::Result<Row> {
     };
     let make_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let outcome = diagnose(&x, fs, e);
+    let outcome = diagnose(&x, fs, e, bearing);
     Ok(Row {
         duration_s: x.len() as f64 / fs,
         entry: e.clone(),
@@ -243,7 +260,7 @@ fn load_real(e: &Entry, dir: &Path) -> anyhow::Result<(Vec<f64>, f64)> {
 
 /// The real entries whose files are present (a message for each one missing; an error under
 /// `CI=true`).
-fn present_real(ctx: &Context) -> anyhow::Result<(Vec<Entry>, Option<&Path>)> {
+pub(crate) fn present_real(ctx: &Context) -> anyhow::Result<(Vec<Entry>, Option<&Path>)> {
     let Some(dir) = ctx.data_dir_or_skip()? else {
         println!(
             "diagnose --false-alarm: no data directory found; the real healthy recordings are skipped"
@@ -304,7 +321,7 @@ pub fn run(ctx: &Context) -> anyhow::Result<()> {
     let (real, dir) = present_real(ctx)?;
     entries.extend(real);
     let cpu0 = process_cpu_s();
-    let rows = run_entries(&entries, dir)?;
+    let rows = run_entries(&entries, dir, BearingAs::Declared)?;
     let wall_s = start.elapsed().as_secs_f64();
     let cpu_s = process_cpu_s().zip(cpu0).map(|(b, a)| b - a);
     let out = ctx.root.join("results/diagnosis");
@@ -319,7 +336,11 @@ pub fn run(ctx: &Context) -> anyhow::Result<()> {
 }
 
 /// Make and diagnose every entry in parallel, rows in entry order.
-pub fn run_entries(entries: &[Entry], dir: Option<&Path>) -> anyhow::Result<Vec<Row>> {
+pub fn run_entries(
+    entries: &[Entry],
+    dir: Option<&Path>,
+    bearing: BearingAs,
+) -> anyhow::Result<Vec<Row>> {
     let bar = indicatif::ProgressBar::new(entries.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
@@ -333,7 +354,7 @@ pub fn run_entries(entries: &[Entry], dir: Option<&Path>) -> anyhow::Result<Vec<
     let mut rows: Vec<(usize, Row)> = order
         .par_iter()
         .map(|&i| {
-            let r = run_entry(&entries[i], dir);
+            let r = run_entry(&entries[i], dir, bearing);
             bar.inc(1);
             r.map(|r| (i, r))
         })
@@ -352,8 +373,8 @@ mod tests {
         // 6 healthy, 2 noise-only, 1 faulty per cell (6 cells fit), 2 s each
         let entries = corpus::design(6, 2, 1, 2.0).unwrap();
         assert_eq!(entries.len(), 6 + 2 + 6);
-        let a = run_entries(&entries, None).unwrap();
-        let b = run_entries(&entries, None).unwrap();
+        let a = run_entries(&entries, None, BearingAs::Declared).unwrap();
+        let b = run_entries(&entries, None, BearingAs::Declared).unwrap();
         for (x, y) in a.iter().zip(&b) {
             assert_eq!(x.entry, y.entry);
             assert_eq!(x.outcome, y.outcome);
