@@ -9,7 +9,7 @@ use crate::report::band_choice;
 use crate::{
     ArWhitener, Baseline, BearingSpec, Diagnosis, DiagnosisError, EnvelopeSpectrum, HARMONICS,
     Hypothesis, HypothesisEvidence, MIN_TURNS, OperatingPointUsed, Reference, Result, Scores,
-    SearchedLine, SecondaryRead, Signal, Statistics, Thresholds, candidate_bands, check_fs, error,
+    SearchedLine, SecondaryRead, Signal, Statistics, Thresholds, candidate_bands, check_fs,
     min_band_width_hz, moments, speed, whiten,
 };
 use bearing_model::FaultOrders;
@@ -48,16 +48,7 @@ pub fn diagnose_with_options(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    with_engine(|engine| {
-        diagnose_in(
-            engine,
-            signal.samples(),
-            signal.fs_hz(),
-            bearing,
-            baseline,
-            options,
-        )
-    })
+    with_engine(|engine| diagnose_in(engine, signal, bearing, baseline, options))
 }
 
 /// Run `f` with this thread's spectral engine: FFT plans and Hann windows kept between
@@ -114,14 +105,14 @@ pub(crate) struct Analysis {
 
 pub(crate) fn analyse(
     engine: &mut SpectralEngine,
-    x: &[f64],
-    fs_hz: f64,
+    signal: &Signal<'_>,
     o: &FaultOrders,
     near_comb: f64,
     baseline: Option<&Baseline>,
     options: &crate::options::CheckedOptions,
 ) -> Result<Analysis> {
-    error::check_finite("recording", x)?;
+    // finite, non-empty, a positive rate: a `Signal` is checked when it is made
+    let (x, fs_hz) = (signal.samples(), signal.fs_hz());
     let [rpm_low, rpm_high] = options.search_rpm();
     check_length(x, fs_hz, rpm_low)?;
     if let Some(b) = baseline
@@ -140,7 +131,7 @@ pub(crate) fn analyse(
     let (whitener, reference) = match baseline {
         Some(b) => (b.whitener.clone(), Reference::Baseline),
         None => (
-            ArWhitener::fit_slice(x, fs_hz, "recording")?,
+            ArWhitener::fit(signal, "recording")?,
             Reference::SelfReference,
         ),
     };
@@ -202,18 +193,18 @@ pub(crate) fn analyse(
 
 fn diagnose_in(
     engine: &mut SpectralEngine,
-    x: &[f64],
-    fs_hz: f64,
+    signal: &Signal<'_>,
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
+    let fs_hz = signal.fs_hz();
     check_fs(fs_hz)?;
     let options = options.check()?;
     let o = bearing.orders;
     let rate_uncertainty = options.rate_uncertainty(bearing);
     let near_comb = crate::options::near_comb_distance(&o, rate_uncertainty);
-    let a = analyse(engine, x, fs_hz, &o, near_comb, baseline, &options)?;
+    let a = analyse(engine, signal, &o, near_comb, baseline, &options)?;
     let fr = a.fr;
 
     // 3. the detector: each hypothesis's lines against the band's clear windows

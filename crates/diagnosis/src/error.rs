@@ -185,12 +185,3 @@ impl From<sampled_signal::SignalError> for DiagnosisError {
         Self::signal("recording", e)
     }
 }
-
-/// First non-finite sample of `x` ([`sampled_signal::first_non_finite`]), as an error naming
-/// `what`.
-pub(crate) fn check_finite(what: &'static str, x: &[f64]) -> Result<()> {
-    match sampled_signal::first_non_finite(x) {
-        Some((index, value)) => Err(DiagnosisError::NonFinite { what, index, value }),
-        None => Ok(()),
-    }
-}

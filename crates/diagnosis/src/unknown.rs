@@ -105,18 +105,16 @@ pub fn diagnose_unknown_bearing(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    crate::driver::with_engine(|engine| {
-        unknown_in(engine, signal.samples(), signal.fs_hz(), baseline, options)
-    })
+    crate::driver::with_engine(|engine| unknown_in(engine, signal, baseline, options))
 }
 
 fn unknown_in(
     engine: &mut SpectralEngine,
-    x: &[f64],
-    fs_hz: f64,
+    signal: &crate::Signal<'_>,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
+    let fs_hz = signal.fs_hz();
     check_fs(fs_hz)?;
     let options = options.check()?;
     // bands wide enough for three harmonics of the highest order searched
@@ -127,7 +125,7 @@ fn unknown_in(
         ball_spin: 0.5 * MAX_ORDER,
         ball_defect: MAX_ORDER,
     };
-    let a = analyse(engine, x, fs_hz, &plan_orders, 0.0, baseline, &options)?;
+    let a = analyse(engine, signal, &plan_orders, 0.0, baseline, &options)?;
     let fr = a.fr;
     let views: Vec<BandView> = a
         .spectra

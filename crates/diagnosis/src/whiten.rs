@@ -80,12 +80,8 @@ impl ArWhitener {
     /// [`DiagnosisError::BaselineTooShort`] below [`MIN_FIT_SAMPLES`];
     /// [`DiagnosisError::Degenerate`] for a constant or rank-deficient signal.
     pub fn fit(signal: &crate::Signal<'_>, what: &'static str) -> Result<Self> {
-        Self::fit_slice(signal.samples(), signal.fs_hz(), what)
-    }
-
-    /// [`ArWhitener::fit`] on samples `x` at `fs_hz` (checked finite here: the crate's own calls).
-    pub(crate) fn fit_slice(x: &[f64], fs_hz: f64, what: &'static str) -> Result<Self> {
-        crate::error::check_finite(what, x)?;
+        // finite samples and a positive rate: a `Signal` is checked when it is made
+        let (x, fs_hz) = (signal.samples(), signal.fs_hz());
         if x.len() < MIN_FIT_SAMPLES {
             return Err(DiagnosisError::BaselineTooShort {
                 samples: x.len(),
