@@ -811,10 +811,138 @@ pub fn zoom_power(xw: &[f64], fs: f64, f: f64) -> f64 {
     total.norm_sqr()
 }
 
+/// The DFT power of one windowed signal at many frequencies within ± `half_width` Hz of one
+/// centre: [`zoom_power`] at each of them to the last few bits, at the cost of about four
+/// [`zoom_power`] calls however many frequencies are asked for.
+///
+/// The signal is shifted down by the centre, y_i = xw_i·e^(−j2π f_c i/fs), and cut into blocks
+/// short enough that the remaining offset δ turns a block's samples by at most
+/// [`LocalZoom::TURN`] radians from its middle: X(f_c + δ) = Σ_b e^(−jφ t_b) Σ_p (−jφ M/2)^p/p!
+/// · S_(b,p), with φ = 2πδ/fs, t_b the block's middle, M its length and S_(b,p) = Σ v^p y over
+/// the block (v the offset from the middle in half-blocks, |v| ≤ 1). The series stops at
+/// [`LocalZoom::TERMS`], where the next term is below 3e-16 of the block's magnitude sum.
+#[derive(Debug, Clone)]
+pub struct LocalZoom {
+    fs: f64,
+    centre: f64,
+    half_width: f64,
+    /// Per block: its middle (in samples), its half-length M/2 and its moments S_(b,0..TERMS).
+    blocks: Vec<(f64, f64, [Complex<f64>; LocalZoom::TERMS])>,
+}
+
+impl LocalZoom {
+    /// Largest turn, in radians, of the offset's phase across half a block.
+    pub const TURN: f64 = 0.125;
+    /// Moments kept per block (0.125¹⁰/10! < 3e-16).
+    pub const TERMS: usize = 10;
+
+    /// Moments of `xw` (already windowed, sampled at `fs`) for frequencies within
+    /// ± `half_width` Hz of `centre`.
+    pub fn new(xw: &[f64], fs: f64, centre: f64, half_width: f64) -> Self {
+        let n = xw.len();
+        let hw = half_width.abs().max(1e-12 * fs);
+        // half a block turns φ_max·M/2 ≤ TURN  ⇒  M ≤ TURN·fs/(π·hw)
+        let m =
+            ((Self::TURN * fs / (std::f64::consts::PI * hw)).floor() as usize).clamp(1, n.max(1));
+        let w = 2.0 * std::f64::consts::PI * centre / fs;
+        let step = Complex::new(w.cos(), -w.sin());
+        let mut blocks = Vec::with_capacity(n.div_ceil(m));
+        for (b, chunk) in xw.chunks(m).enumerate() {
+            let start = b * m;
+            let half = 0.5 * (chunk.len() as f64 - 1.0);
+            let scale = if half > 0.0 { 1.0 / half } else { 0.0 };
+            // the block's first phasor exactly, then advanced sample by sample (≤ a few
+            // thousand products: drift far below the series' truncation)
+            let turns = (centre * start as f64 / fs).fract();
+            let a = -2.0 * std::f64::consts::PI * turns;
+            let mut ph = Complex::new(a.cos(), a.sin());
+            let mut s = [Complex::new(0.0, 0.0); Self::TERMS];
+            for (i, &v) in chunk.iter().enumerate() {
+                let y = ph * v;
+                let u = (i as f64 - half) * scale;
+                let mut up = 1.0;
+                for sp in &mut s {
+                    *sp += y * up;
+                    up *= u;
+                }
+                ph *= step;
+            }
+            blocks.push((start as f64 + half, half, s));
+        }
+        LocalZoom {
+            fs,
+            centre,
+            half_width: hw,
+            blocks,
+        }
+    }
+
+    /// The centre frequency the moments were taken about.
+    pub fn centre(&self) -> f64 {
+        self.centre
+    }
+
+    /// |Σ xw\[i\]·e^(−j2πf·i/fs)|² at `f`, which must lie within the half-width given to
+    /// [`LocalZoom::new`] (beyond it the series is cut too early; debug builds assert).
+    pub fn power(&self, f: f64) -> f64 {
+        let d = f - self.centre;
+        debug_assert!(
+            d.abs() <= self.half_width * (1.0 + 1e-9),
+            "{f} Hz lies outside the zoom's ± {} Hz of {} Hz",
+            self.half_width,
+            self.centre
+        );
+        let phi = 2.0 * std::f64::consts::PI * d / self.fs;
+        let mut total = Complex::new(0.0, 0.0);
+        for (mid, half, s) in &self.blocks {
+            // Σ_p (−jφ·half)^p / p! · S_p, by Horner from the highest term
+            let z = Complex::new(0.0, -phi * half);
+            let mut acc = Complex::new(0.0, 0.0);
+            for p in (0..Self::TERMS).rev() {
+                acc = acc * z / (p + 1) as f64 + s[p];
+            }
+            let a = -phi * mid;
+            total += Complex::new(a.cos(), a.sin()) * acc;
+        }
+        total.norm_sqr()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// The local zoom gives the DFT power anywhere within its half-width, for records shorter
+    /// than a block, a few blocks and many, centres at DC, mid-band and near Nyquist.
+    #[test]
+    fn local_zoom_is_the_dft_power_near_its_centre() {
+        let fs = 12_000.0;
+        for n in [1usize, 5, 4099, 120_001] {
+            let x: Vec<f64> = (0..n)
+                .map(|i| {
+                    let t = i as f64 / fs;
+                    (2.0 * PI * 437.3 * t).sin()
+                        + 0.3 * (2.0 * PI * 1234.5 * t + 0.4).cos()
+                        + ((i * 7919 % 1000) as f64) * 1e-3
+                })
+                .collect();
+            let w = Taper::Hann.weights(n);
+            let xw: Vec<f64> = x.iter().zip(&w).map(|(a, b)| a * b).collect();
+            let scale = xw.iter().map(|v| v.abs()).sum::<f64>().powi(2).max(1e-300);
+            for (centre, hw) in [(0.0, 0.3), (437.0, 1.0), (1234.0, 2.5), (5990.0, 9.0)] {
+                let zoom = LocalZoom::new(&xw, fs, centre, hw);
+                for k in -10..=10 {
+                    let f = centre + hw * k as f64 / 10.0;
+                    let (got, exact) = (zoom.power(f), zoom_power(&xw, fs, f));
+                    assert!(
+                        (got - exact).abs() <= 1e-12 * scale,
+                        "n {n}, f {f}: {got} vs {exact}"
+                    );
+                }
+            }
+        }
+    }
 
     /// A shared planner builds a length's plan from the sub-plans it already holds: after a
     /// 32 639-point spectrum, the 121 702-point Hilbert envelope of a planner that made it

@@ -125,7 +125,7 @@ const COARSE: i64 = 5;
 /// The speed ratio (to `fr0`) refined from the lines of orders `1..=orders` that `present`
 /// admits at the comb search's ratio `r0` and that `stands_out` confirms where they are placed
 /// (10 dB over their background, [`COMB_MIN_FIRST_ORDER`]): each line placed by the zoom DFT
-/// ([`crate::spectral::zoom_power`]) of the Hann-windowed `x` — the largest power on a grid of
+/// ([`crate::spectral::LocalZoom`]) of the Hann-windowed `x` — the largest power on a grid of
 /// a twentieth of a bin within ± [`REFINE_WINDOW`], then a parabola through it and its
 /// neighbours; a largest power on the window's edge that still rises beyond it is the flank of
 /// a line outside the window and places nothing — and the ratio the least-squares fit f_k = k·fr0·ρ (weights k²) over the largest
@@ -142,7 +142,7 @@ fn refine(
     present: &dyn Fn(usize, f64) -> bool,
     stands_out: &dyn Fn(usize, f64) -> bool,
 ) -> Option<f64> {
-    use crate::spectral::zoom_power;
+    use crate::spectral::LocalZoom;
     let n = x.len();
     let xw: Vec<f64> = x
         .iter()
@@ -158,7 +158,10 @@ fn refine(
         let fc = k as f64 * fr0 * r0;
         let h = 0.05 * bin;
         let steps = ((REFINE_WINDOW * fc / h).ceil() as i64).max(2);
-        let p = |j: i64| zoom_power(&xw, fs, fc + j as f64 * h).max(1e-300).ln();
+        // every power of this order from one set of block moments about fc (the grid and the
+        // parabola's neighbours reach one step beyond the window)
+        let zoom = LocalZoom::new(&xw, fs, fc, (steps + 1) as f64 * h);
+        let p = |j: i64| zoom.power(fc + j as f64 * h).max(1e-300).ln();
         let argmax = |js: &mut dyn Iterator<Item = i64>| {
             js.map(|j| (j, p(j)))
                 .fold((0, f64::NEG_INFINITY), |b, c| if c.1 > b.1 { c } else { b })
