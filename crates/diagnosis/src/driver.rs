@@ -60,7 +60,14 @@ pub(crate) fn with_engine<R>(f: impl FnOnce(&mut SpectralEngine) -> R) -> R {
         static ENGINE: std::cell::RefCell<SpectralEngine> =
             std::cell::RefCell::new(SpectralEngine::order_independent());
     }
-    ENGINE.with_borrow_mut(f)
+    // a thread already inside a diagnosis can start another one: a rayon task stolen while a
+    // faer least-squares solve of the first waits on its join (the false-alarm corpus runs its
+    // recordings on rayon). That one gets a fresh engine: the engine is order-independent, so
+    // its bits are the same either way
+    ENGINE.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut engine) => f(&mut engine),
+        Err(_) => f(&mut SpectralEngine::order_independent()),
+    })
 }
 
 /// The analysis plan at a speed: shaft rate, narrowest band, candidate bands.
@@ -498,4 +505,27 @@ fn shaft_harmonics(
             sp.line(format!("fr×{k}"), f, f - tol, f + tol, fr, false, base)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A diagnosis started on a thread already inside one (a rayon task stolen during a faer
+    /// solve) gets its own engine instead of a `RefCell` double borrow, and the same bits.
+    #[test]
+    fn a_diagnosis_inside_a_diagnosis_gets_its_own_engine() {
+        let fs = 12_000.0;
+        let x: Vec<f64> = (0..24_000)
+            .map(|i| ((i * 7919 % 1013) as f64 / 1013.0 - 0.5) + (0.01 * i as f64).sin())
+            .collect();
+        let signal = crate::Signal::new(&x, fs).unwrap();
+        let bearing = crate::BearingSpec::parse("6205").unwrap();
+        let alone = diagnose(&signal, 1800.0, &bearing, None).unwrap();
+        let nested = with_engine(|_outer| diagnose(&signal, 1800.0, &bearing, None).unwrap());
+        assert_eq!(
+            serde_json::to_string(&alone).unwrap(),
+            serde_json::to_string(&nested).unwrap()
+        );
+    }
 }
