@@ -26,6 +26,14 @@
 //!   part: one impact per shaft turn at a fixed shaft angle with timing jitter (0.2–2 % of a
 //!   turn) and amplitude spread (10–30 %), ringing one of the structural modes. In the squared
 //!   envelope they put lines at every shaft order.
+//! * **Another shaft's impacts** ([`Nuisances::other_shaft`]): a belt joint, a coupling or a loose
+//!   part on a second shaft driven from the measured one (belt, chain, gears): one impact per
+//!   turn of that shaft, which turns at a non-integer order ρ₂ of fr (0.3–9, at least 0.1 from
+//!   an integer), at a fixed angle of it with timing jitter (0.2–2 % of its turn, not
+//!   accumulating: it is locked to the shafts, unlike a bearing fault's slip) and amplitude
+//!   spread (10–30 %), ringing one of the structural modes. In the squared envelope they put a
+//!   comb at ρ₂·fr and its harmonics: to an envelope analysis, the pattern of an outer-race
+//!   fault at an order nobody listed.
 //! * **Gear mesh** ([`Nuisances::gear_mesh`]): a mesh tone at z₁·fr (z₁ 15–60) with 1–3
 //!   harmonics, amplitude- (depth 5–40 %) and phase-modulated (0.05–0.5 rad) by the shaft (fr)
 //!   and by a second shaft at fr₂ = fr·z₁/z₂ (z₂ 15–90, z₁/z₂ not an integer, so fr₂ is a
@@ -96,6 +104,14 @@ pub const FAULT_SLIP: (f64, f64) = (0.01, 0.02);
 pub const SHAFT_COMB_DB: (f64, f64) = (-10.0, 10.0);
 /// Once-per-revolution impacts' power relative to the structural background, dB.
 pub const ONCE_PER_REV_DB: (f64, f64) = (-15.0, 0.0);
+/// Another shaft's impacts' power relative to the structural background, dB (as
+/// [`ONCE_PER_REV_DB`]).
+pub const OTHER_SHAFT_DB: (f64, f64) = (-15.0, 0.0);
+/// Orders (× fr) the other shaft may turn at (log-uniform).
+pub const OTHER_SHAFT_ORDER: (f64, f64) = (0.3, 9.0);
+/// The other shaft's order is at least this far from an integer (at an integer order it would
+/// be the measured shaft's once-per-rev impacts).
+pub const OTHER_SHAFT_OFF_INTEGER: f64 = 0.1;
 /// Gear mesh power relative to the structural background, dB.
 pub const GEAR_MESH_DB: (f64, f64) = (-10.0, 10.0);
 /// Electrical lines' power relative to the structural background, dB (running machine).
@@ -123,6 +139,9 @@ pub struct Nuisances {
     pub gear_mesh: bool,
     /// Mains hum, magnetic pull, pole-pass sidebands.
     pub electrical: bool,
+    /// Impacts once per turn of another shaft at a non-integer order (belt joint, coupling).
+    #[serde(default)]
+    pub other_shaft: bool,
 }
 
 impl Nuisances {
@@ -132,6 +151,7 @@ impl Nuisances {
         once_per_rev: false,
         gear_mesh: false,
         electrical: false,
+        other_shaft: false,
     };
     /// The shaft comb only.
     pub const SHAFT_COMB: Self = Self {
@@ -153,16 +173,29 @@ impl Nuisances {
         electrical: true,
         ..Self::NONE
     };
-    /// All four together.
+    /// Another shaft's impacts only.
+    pub const OTHER_SHAFT: Self = Self {
+        other_shaft: true,
+        ..Self::NONE
+    };
+    /// The first four together (shaft comb, once-per-rev, gear mesh, electrical): the mix the
+    /// first corpora were drawn with, kept as it was when [`Nuisances::other_shaft`] came.
     pub const ALL: Self = Self {
         shaft_comb: true,
         once_per_rev: true,
         gear_mesh: true,
         electrical: true,
+        other_shaft: false,
+    };
+    /// Every component: [`Nuisances::ALL`] and another shaft's impacts.
+    pub const EVERY: Self = Self {
+        other_shaft: true,
+        ..Self::ALL
     };
 
-    /// `none`, `all`, or the components present joined by `+` (`shaft-comb`, `once-per-rev`,
-    /// `gear-mesh`, `electrical`).
+    /// `none`, `all` (the four of [`Nuisances::ALL`]), `all+other-shaft`, or the components
+    /// present joined by `+` (`shaft-comb`, `once-per-rev`, `gear-mesh`, `electrical`,
+    /// `other-shaft`).
     pub fn label(&self) -> String {
         if *self == Self::NONE {
             return "none".into();
@@ -170,12 +203,16 @@ impl Nuisances {
         if *self == Self::ALL {
             return "all".into();
         }
+        if *self == Self::EVERY {
+            return "all+other-shaft".into();
+        }
         let mut parts = Vec::new();
         for (on, name) in [
             (self.shaft_comb, "shaft-comb"),
             (self.once_per_rev, "once-per-rev"),
             (self.gear_mesh, "gear-mesh"),
             (self.electrical, "electrical"),
+            (self.other_shaft, "other-shaft"),
         ] {
             if on {
                 parts.push(name);
@@ -443,6 +480,7 @@ impl MachineRecipe {
             once_per_rev: OncePerRev::draw(&mut rng(Stream::OncePerRev as u64), &structure),
             gear_mesh: GearMesh::draw(&mut rng(Stream::GearMesh as u64)),
             electrical: Electrical::draw(&mut rng(Stream::Electrical as u64), noise_only),
+            other_shaft: OtherShaft::draw(&mut rng(Stream::OtherShaft as u64), &structure),
             structure,
             fault,
         })
@@ -455,6 +493,16 @@ impl MachineRecipe {
     pub fn synthesize(&self) -> Result<MachineRecording> {
         self.draw()?.synthesize()
     }
+}
+
+/// An impact train locked to a shaft's angle (see `MachineParams::render_locked`).
+struct LockedImpacts {
+    order: f64,
+    angle_rad: f64,
+    jitter_fraction: f64,
+    amplitude_spread: f64,
+    mode: usize,
+    stream: Stream,
 }
 
 /// The ChaCha8 streams of one seed: parameters and samples of each component apart.
@@ -471,6 +519,8 @@ enum Stream {
     SensorNoise = 11,
     OncePerRevTiming = 12,
     FaultTiming = 13,
+    OtherShaft = 8,
+    OtherShaftTiming = 14,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -548,6 +598,39 @@ pub struct OncePerRev {
     pub jitter_fraction: f64,
     /// Amplitude spread: standard deviation of the log amplitude.
     pub amplitude_spread: f64,
+}
+
+/// Impacts once per turn of another shaft, which turns at `order` × the measured shaft's rate.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct OtherShaft {
+    /// Power relative to the structural background, dB.
+    pub level_db: f64,
+    /// The other shaft's speed as an order of the measured shaft (not an integer).
+    pub order: f64,
+    /// The structural mode they ring (index into [`Structure::modes`]).
+    pub mode: usize,
+    /// The other shaft's angle at the impact, rad.
+    pub angle_rad: f64,
+    /// Timing jitter: standard deviation of each impact's time, fraction of the other shaft's
+    /// turn (around its locked angle: the jitter does not accumulate).
+    pub jitter_fraction: f64,
+    /// Amplitude spread: standard deviation of the log amplitude.
+    pub amplitude_spread: f64,
+}
+
+impl Default for OtherShaft {
+    /// What parameters written before the component existed read as (the component is off in
+    /// their recipes).
+    fn default() -> Self {
+        Self {
+            level_db: OTHER_SHAFT_DB.0,
+            order: 2.5,
+            mode: 0,
+            angle_rad: 0.0,
+            jitter_fraction: 0.01,
+            amplitude_spread: 0.2,
+        }
+    }
 }
 
 /// The gear mesh: `a(t)·Σ_h A_h cos(h·ψ(t) + φ_h)`, `ψ = z₁θ + β₁ sin(θ + γ₁) + β₂ sin(θ₂ + γ₂)`,
@@ -642,6 +725,9 @@ pub struct MachineParams {
     pub gear_mesh: GearMesh,
     /// Electrical lines (used when named).
     pub electrical: Electrical,
+    /// Another shaft's impacts (used when named).
+    #[serde(default)]
+    pub other_shaft: OtherShaft,
     /// The fault's impacts, when the recipe has a fault.
     pub fault: Option<FaultImpacts>,
 }
@@ -761,6 +847,26 @@ impl OncePerRev {
     fn draw(rng: &mut ChaCha8Rng, s: &Structure) -> Self {
         Self {
             level_db: uniform(rng, ONCE_PER_REV_DB),
+            mode: rng.random_range(0..s.modes.len()),
+            angle_rad: phase(rng),
+            jitter_fraction: uniform(rng, (0.002, 0.02)),
+            amplitude_spread: uniform(rng, (0.1, 0.3)),
+        }
+    }
+}
+
+impl OtherShaft {
+    fn draw(rng: &mut ChaCha8Rng, s: &Structure) -> Self {
+        let level_db = uniform(rng, OTHER_SHAFT_DB);
+        let order = loop {
+            let o = log_uniform(rng, OTHER_SHAFT_ORDER);
+            if (o - o.round()).abs() >= OTHER_SHAFT_OFF_INTEGER {
+                break o;
+            }
+        };
+        Self {
+            level_db,
+            order,
             mode: rng.random_range(0..s.modes.len()),
             angle_rad: phase(rng),
             jitter_fraction: uniform(rng, (0.002, 0.02)),
@@ -911,6 +1017,9 @@ pub struct ComponentRms {
     pub gear_mesh: f64,
     /// Electrical lines.
     pub electrical: f64,
+    /// Another shaft's impacts.
+    #[serde(default)]
+    pub other_shaft: f64,
     /// Sensor noise (its standard deviation as drawn).
     pub sensor_noise: f64,
     /// The healthy recording (everything above together).
@@ -1015,6 +1124,7 @@ impl MachineParams {
         self.validate_lines_and_levels()?;
         let n_modes = self.structure.modes.len();
         self.validate_once_per_rev(n_modes)?;
+        self.validate_other_shaft(n_modes)?;
         self.validate_gear_mesh()?;
         self.validate_electrical()?;
         self.validate_fault(n_modes)
@@ -1104,6 +1214,7 @@ impl MachineParams {
             ("once-per-rev level_db", self.once_per_rev.level_db),
             ("gear mesh level_db", self.gear_mesh.level_db),
             ("electrical level_db", self.electrical.level_db),
+            ("other shaft level_db", self.other_shaft.level_db),
         ] {
             check_range(name, v, -200.0, 80.0, "-200 ..= 80 dB")?;
         }
@@ -1135,6 +1246,35 @@ impl MachineParams {
             "0 ..= 2",
         )?;
         check_range("once-per-rev angle", o.angle_rad, -1e3, 1e3, "finite")?;
+        Ok(())
+    }
+
+    /// The other shaft's impacts: its order (positive), mode, jitter, spread, angle.
+    fn validate_other_shaft(&self, n_modes: usize) -> Result<()> {
+        let o = &self.other_shaft;
+        check_range("other shaft order", o.order, 1e-3, 1e3, "0.001 ..= 1000")?;
+        check_range(
+            "other shaft mode",
+            o.mode as f64,
+            0.0,
+            (n_modes - 1) as f64,
+            "a mode index",
+        )?;
+        check_range(
+            "other shaft jitter",
+            o.jitter_fraction,
+            0.0,
+            0.2,
+            "0 ..= 0.2",
+        )?;
+        check_range(
+            "other shaft spread",
+            o.amplitude_spread,
+            0.0,
+            2.0,
+            "0 ..= 2",
+        )?;
+        check_range("other shaft angle", o.angle_rad, -1e3, 1e3, "finite")?;
         Ok(())
     }
 
@@ -1228,6 +1368,7 @@ impl MachineParams {
             (nu.once_per_rev, self.once_per_rev.level_db, 1),
             (nu.gear_mesh, self.gear_mesh.level_db, 2),
             (nu.electrical, self.electrical.level_db, 3),
+            (nu.other_shaft, self.other_shaft.level_db, 4),
         ] {
             if !on {
                 continue;
@@ -1237,7 +1378,8 @@ impl MachineParams {
                 0 => self.render_comb(&theta, &mut scratch),
                 1 => self.render_once_per_rev(&theta, &mut scratch),
                 2 => self.render_gear(&theta, &mut scratch),
-                _ => self.render_electrical(&mut scratch),
+                3 => self.render_electrical(&mut scratch),
+                _ => self.render_other_shaft(&theta, &mut scratch),
             }
             let ms = mean_square(&scratch);
             // every line above 0.45 fs left out: the component is silent
@@ -1254,7 +1396,8 @@ impl MachineParams {
                 0 => rms.shaft_comb = v,
                 1 => rms.once_per_rev = v,
                 2 => rms.gear_mesh = v,
-                _ => rms.electrical = v,
+                3 => rms.electrical = v,
+                _ => rms.other_shaft = v,
             }
         }
         // sensor noise at the SNR
@@ -1282,6 +1425,7 @@ impl MachineParams {
             &mut rms.once_per_rev,
             &mut rms.gear_mesh,
             &mut rms.electrical,
+            &mut rms.other_shaft,
             &mut rms.sensor_noise,
         ] {
             *v *= k;
@@ -1449,27 +1593,59 @@ impl MachineParams {
     /// Once-per-revolution impacts, unscaled.
     fn render_once_per_rev(&self, theta: &[f64], out: &mut [f64]) {
         let o = &self.once_per_rev;
+        let train = LockedImpacts {
+            order: 1.0,
+            angle_rad: o.angle_rad,
+            jitter_fraction: o.jitter_fraction,
+            amplitude_spread: o.amplitude_spread,
+            mode: o.mode,
+            stream: Stream::OncePerRevTiming,
+        };
+        self.render_locked(&train, theta, out);
+    }
+
+    /// Another shaft's impacts, unscaled: one per turn of θ₂ = order·θ, at its angle.
+    fn render_other_shaft(&self, theta: &[f64], out: &mut [f64]) {
+        let o = &self.other_shaft;
+        let train = LockedImpacts {
+            order: o.order,
+            angle_rad: o.angle_rad,
+            jitter_fraction: o.jitter_fraction,
+            amplitude_spread: o.amplitude_spread,
+            mode: o.mode,
+            stream: Stream::OtherShaftTiming,
+        };
+        self.render_locked(&train, theta, out);
+    }
+
+    /// Impacts locked to a shaft turning at `order` × the measured one's angle θ: one per turn
+    /// of `order·θ` at its angle, each with jitter (a fraction of that shaft's turn, not
+    /// accumulating) and amplitude spread drawn from the train's stream, ringing its mode.
+    /// Order 1 is the once-per-rev component, bit for bit as it was before other orders came.
+    fn render_locked(&self, train: &LockedImpacts, theta: &[f64], out: &mut [f64]) {
         let fs = self.recipe.fs_hz;
-        let m = &self.structure.modes[o.mode];
+        let m = &self.structure.modes[train.mode];
         let (lambda, sigma) = pole(m, fs);
         let fr = self.recipe.shaft_hz();
-        let turn = 1.0 / fr;
+        let f2 = fr * train.order;
+        let turn = 1.0 / f2;
         let mut rng = ChaCha8Rng::seed_from_u64(self.recipe.seed);
-        rng.set_stream(Stream::OncePerRevTiming as u64);
+        rng.set_stream(train.stream as u64);
         let pre = 10.0 / sigma;
         let end = theta.len() as f64 / fs;
         let mut times = Vec::new();
         // turns whose nominal impact falls in [−pre, end + a jitter's reach)
-        let k0 = -((pre * fr).ceil() as i64) - 1;
-        let k1 = (end * fr).ceil() as i64 + 1;
+        let k0 = -((pre * f2).ceil() as i64) - 1;
+        let k1 = (end * f2).ceil() as i64 + 1;
         for k in k0..=k1 {
-            let target = TAU * k as f64 + o.angle_rad.rem_euclid(TAU);
+            // order·θ reaches 2πk + angle where θ = (2πk + angle)/order
+            let target = (TAU * k as f64 + train.angle_rad.rem_euclid(TAU)) / train.order;
             let t = time_at_angle(theta, fs, fr, target);
             let z: f64 = StandardNormal.sample(&mut rng);
             let a: f64 = StandardNormal.sample(&mut rng);
             times.push((
-                t + o.jitter_fraction * turn * z,
-                (o.amplitude_spread * a).exp(),
+                t + train.jitter_fraction * turn * z,
+                (train.amplitude_spread * a).exp(),
             ));
         }
         ring(&mut times, lambda, sigma, fs, out);

@@ -1,7 +1,8 @@
 //! The phenomenological machine recordings put each component's lines where they belong:
 //! gear-mesh sidebands at the second shaft's non-integer order, mains at k·50 Hz with pole-pass
 //! sidebands, a fault's impacts at its rate with its modulation, once-per-rev impacts at every
-//! shaft order of the envelope, the shaft comb at integer and half orders.
+//! shaft order of the envelope, another shaft's impacts at its non-integer order, the shaft comb
+//! at integer and half orders.
 
 mod common;
 
@@ -201,6 +202,47 @@ fn once_per_rev_impacts_put_every_shaft_order_in_the_envelope() {
         let a = peak_near(df, &e, 25.0 * k as f64, 0.5);
         assert!(db(a, floor) > 15.0, "{k}× only {:.1} dB", db(a, floor));
     }
+}
+
+/// Another shaft's impacts put a comb at its non-integer order in the envelope, and nothing at
+/// the measured shaft's orders; adding them leaves every other component's samples alone.
+#[test]
+fn other_shaft_impacts_put_a_comb_at_its_order_in_the_envelope() {
+    let r = MachineRecipe::healthy(BearingGeometry::skf_6205(), 1500.0, 12_000.0, 4.0, 42)
+        .unwrap()
+        .with_snr_db(30.0);
+    let base = steady(r.draw().unwrap());
+    let mut p = steady(r.with_nuisances(Nuisances::OTHER_SHAFT).draw().unwrap());
+    assert_eq!(p.structure, base.structure);
+    let o = p.other_shaft.order;
+    assert!(
+        (0.3..=9.0).contains(&o) && (o - o.round()).abs() >= 0.1,
+        "order {o}"
+    );
+    p.other_shaft.level_db = 0.0;
+    p.other_shaft.order = 3.37;
+    p.other_shaft.jitter_fraction = 0.002;
+    let rec = p.synthesize().unwrap();
+    assert!(rec.rms.other_shaft > 0.0 && rec.rms.once_per_rev == 0.0);
+    let (df, e) = envelope_of(&rec, rec.params.other_shaft.mode);
+    // against the envelope's own background around each line (a narrow mode's envelope rises
+    // towards 0 Hz whatever it holds)
+    let over = |f: f64| {
+        db(
+            peak_near(df, &e, f, 0.5),
+            median_in(df, &e, f - 12.0, f + 12.0),
+        )
+    };
+    for k in 1..=2 {
+        let f = 25.0 * 3.37 * k as f64;
+        assert!(over(f) > 15.0, "{k}× only {:.1} dB", over(f));
+    }
+    for k in 1..=3 {
+        let f = 25.0 * k as f64;
+        assert!(over(f) < 10.0, "shaft {k}× {:.1} dB", over(f));
+    }
+    assert_eq!(Nuisances::EVERY.label(), "all+other-shaft");
+    assert_eq!(Nuisances::OTHER_SHAFT.label(), "other-shaft");
 }
 
 #[test]

@@ -35,6 +35,24 @@ pub const MIXES: [Nuisances; 6] = [
     Nuisances::ELECTRICAL,
     Nuisances::ALL,
 ];
+/// Healthy machines with another shaft's impacts (`Nuisances::other_shaft`: a comb at a
+/// non-integer order that follows the speed), added after the first design: UESTC's healthy
+/// recordings hold such a comb and the first design had none. A design of their own (their own
+/// seed), so the first design's machines and results stay as they were.
+pub const N_OTHER_SHAFT: usize = 120;
+/// Faulty recordings per (fault location, severity) cell made from those machines.
+pub const OTHER_SHAFT_FAULTY_PER_CELL: usize = 5;
+/// Seed of the other-shaft design.
+pub const OTHER_SHAFT_SEED: u64 = CORPUS_SEED + 1;
+/// Nuisance mixes of the other-shaft machines.
+pub const OTHER_SHAFT_MIXES: [Nuisances; 3] = [
+    Nuisances::OTHER_SHAFT,
+    Nuisances {
+        shaft_comb: true,
+        ..Nuisances::OTHER_SHAFT
+    },
+    Nuisances::EVERY,
+];
 /// Declared-speed errors (fraction of the true mean speed) and how many healthy recordings get
 /// each: 70 % are declared exactly, 30 % off by ±0.5, ±2 or ±5 %.
 pub const SPEED_ERRORS: [(f64, usize); 7] = [
@@ -171,24 +189,22 @@ fn balanced(rng: &mut ChaCha8Rng, n: usize, levels: usize) -> Vec<usize> {
     v
 }
 
-/// The synthetic corpus: `n_healthy` healthy machines, `n_noise` noise-only recordings and
-/// `per_cell` faulty recordings per fault location × severity (each one of the healthy machines
-/// with a fault added), `duration_s` each. Every factor's levels are balanced over the
-/// healthy machines and shuffled independently (a seeded Latin-hypercube-like design, not the
-/// full factorial).
-pub fn design(
+/// `n` healthy machines of `mixes`, ids from `H{first_id + 1}`, recipe seeds from `seed_base`:
+/// every factor's levels balanced over them and shuffled independently from `rng`.
+fn healthy_machines(
+    rng: &mut ChaCha8Rng,
+    mixes: &[Nuisances],
     n_healthy: usize,
-    n_noise: usize,
-    per_cell: usize,
+    first_id: usize,
+    seed_base: u64,
     duration_s: f64,
 ) -> anyhow::Result<Vec<Entry>> {
     let geoms = geometries()?;
-    let mut rng = ChaCha8Rng::seed_from_u64(CORPUS_SEED);
-    let g_idx = balanced(&mut rng, n_healthy, geoms.len());
-    let s_idx = balanced(&mut rng, n_healthy, SPEEDS_RPM.len());
-    let f_idx = balanced(&mut rng, n_healthy, RATES_HZ.len());
-    let n_idx = balanced(&mut rng, n_healthy, SNRS_DB.len());
-    let m_idx = balanced(&mut rng, n_healthy, MIXES.len());
+    let g_idx = balanced(rng, n_healthy, geoms.len());
+    let s_idx = balanced(rng, n_healthy, SPEEDS_RPM.len());
+    let f_idx = balanced(rng, n_healthy, RATES_HZ.len());
+    let n_idx = balanced(rng, n_healthy, SNRS_DB.len());
+    let m_idx = balanced(rng, n_healthy, mixes.len());
     // declared-speed errors in the stated proportions (scaled to n_healthy)
     let total: usize = SPEED_ERRORS.iter().map(|e| e.1).sum();
     let mut errors: Vec<f64> = SPEED_ERRORS
@@ -196,22 +212,22 @@ pub fn design(
         .flat_map(|&(e, k)| std::iter::repeat_n(e, k * n_healthy / total))
         .collect();
     errors.resize(n_healthy, 0.0);
-    errors.shuffle(&mut rng);
+    errors.shuffle(rng);
     let mut out = Vec::new();
     for i in 0..n_healthy {
         let (gname, g) = geoms[g_idx[i]];
         let rpm = SPEEDS_RPM[s_idx[i]];
         let fs = RATES_HZ[f_idx[i]];
-        let mix = MIXES[m_idx[i]];
+        let mix = mixes[m_idx[i]];
         let rms = (RMS_RANGE_MS2.0.ln()
             + (RMS_RANGE_MS2.1.ln() - RMS_RANGE_MS2.0.ln()) * rng.random::<f64>())
         .exp();
-        let recipe = MachineRecipe::healthy(g, rpm, fs, duration_s, 1_000_000 + i as u64)?
+        let recipe = MachineRecipe::healthy(g, rpm, fs, duration_s, seed_base + i as u64)?
             .with_nuisances(mix)
             .with_snr_db(SNRS_DB[n_idx[i]])
             .with_rms_ms2(rms);
         out.push(Entry {
-            id: format!("H{:03}", i + 1),
+            id: format!("H{:03}", first_id + i + 1),
             kind: Kind::Healthy,
             geometry: gname,
             spec: spec(gname, g),
@@ -225,6 +241,58 @@ pub fn design(
             real: None,
         });
     }
+    Ok(out)
+}
+
+/// `per_cell` faulty recordings per fault location × severity, each one of `healthy`'s
+/// machines (distinct, drawn from `rng`) with the fault added; ids from `F{first_id + 1}`.
+fn faulty_machines(
+    rng: &mut ChaCha8Rng,
+    healthy: &[Entry],
+    per_cell: usize,
+    first_id: usize,
+) -> Vec<Entry> {
+    let cells = FaultLocation::ALL.len() * SEVERITIES_DB.len();
+    let n_faulty = (cells * per_cell).min(healthy.len());
+    let mut machines: Vec<usize> = (0..healthy.len()).collect();
+    machines.shuffle(rng);
+    let c_idx = balanced(rng, n_faulty, cells);
+    let mut out = Vec::new();
+    for (j, &m) in machines.iter().take(n_faulty).enumerate() {
+        let h = healthy[m].clone();
+        let location = FaultLocation::ALL[c_idx[j] / SEVERITIES_DB.len()];
+        let severity_db = SEVERITIES_DB[c_idx[j] % SEVERITIES_DB.len()];
+        let recipe = h.recipe.map(|r| {
+            r.with_fault(LocalizedFault {
+                location,
+                severity_db,
+            })
+        });
+        out.push(Entry {
+            id: format!("F{:03}", first_id + j + 1),
+            kind: Kind::Faulty,
+            recipe,
+            machine_of: Some(h.id.clone()),
+            ..h
+        });
+    }
+    out
+}
+
+/// The synthetic corpus: `n_healthy` healthy machines, `n_noise` noise-only recordings and
+/// `per_cell` faulty recordings per fault location × severity (each one of the healthy machines
+/// with a fault added), `duration_s` each. Every factor's levels are balanced over the
+/// healthy machines and shuffled independently (a seeded Latin-hypercube-like design, not the
+/// full factorial).
+pub fn design(
+    n_healthy: usize,
+    n_noise: usize,
+    per_cell: usize,
+    duration_s: f64,
+) -> anyhow::Result<Vec<Entry>> {
+    let geoms = geometries()?;
+    let mut rng = ChaCha8Rng::seed_from_u64(CORPUS_SEED);
+    let mut out = healthy_machines(&mut rng, &MIXES, n_healthy, 0, 1_000_000, duration_s)?;
     // noise-only
     let g_idx = balanced(&mut rng, n_noise, geoms.len());
     let s_idx = balanced(&mut rng, n_noise, SPEEDS_RPM.len());
@@ -257,29 +325,48 @@ pub fn design(
         });
     }
     // faulty: distinct healthy machines, each with one (location, severity)
-    let cells = FaultLocation::ALL.len() * SEVERITIES_DB.len();
-    let n_faulty = (cells * per_cell).min(n_healthy);
-    let mut machines: Vec<usize> = (0..n_healthy).collect();
-    machines.shuffle(&mut rng);
-    let c_idx = balanced(&mut rng, n_faulty, cells);
-    for (j, &m) in machines.iter().take(n_faulty).enumerate() {
-        let h = out[m].clone();
-        let location = FaultLocation::ALL[c_idx[j] / SEVERITIES_DB.len()];
-        let severity_db = SEVERITIES_DB[c_idx[j] % SEVERITIES_DB.len()];
-        let recipe = h.recipe.map(|r| {
-            r.with_fault(LocalizedFault {
-                location,
-                severity_db,
-            })
-        });
-        out.push(Entry {
-            id: format!("F{:03}", j + 1),
-            kind: Kind::Faulty,
-            recipe,
-            machine_of: Some(h.id.clone()),
-            ..h
-        });
-    }
+    let healthy: Vec<Entry> = out[..n_healthy].to_vec();
+    out.extend(faulty_machines(&mut rng, &healthy, per_cell, 0));
+    Ok(out)
+}
+
+/// The other-shaft design ([`N_OTHER_SHAFT`]): `n_healthy` healthy machines of
+/// [`OTHER_SHAFT_MIXES`] numbered after the first design's `first_healthy` (ids `H601`…),
+/// `per_cell` faulty ones per cell numbered after `first_faulty`, from [`OTHER_SHAFT_SEED`]
+/// (recipe seeds from 3 000 000).
+pub fn other_shaft_design(
+    n_healthy: usize,
+    per_cell: usize,
+    first_healthy: usize,
+    first_faulty: usize,
+    duration_s: f64,
+) -> anyhow::Result<Vec<Entry>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(OTHER_SHAFT_SEED);
+    let mut out = healthy_machines(
+        &mut rng,
+        &OTHER_SHAFT_MIXES,
+        n_healthy,
+        first_healthy,
+        3_000_000,
+        duration_s,
+    )?;
+    let faulty = faulty_machines(&mut rng, &out, per_cell, first_faulty);
+    out.extend(faulty);
+    Ok(out)
+}
+
+/// The whole synthetic corpus of the task: [`design`] at its constants, then
+/// [`other_shaft_design`] at its.
+pub fn full_design() -> anyhow::Result<Vec<Entry>> {
+    let mut out = design(N_HEALTHY, N_NOISE_ONLY, FAULTY_PER_CELL, DURATION_S)?;
+    let first_faulty = out.iter().filter(|e| e.kind == Kind::Faulty).count();
+    out.extend(other_shaft_design(
+        N_OTHER_SHAFT,
+        OTHER_SHAFT_FAULTY_PER_CELL,
+        N_HEALTHY,
+        first_faulty,
+        DURATION_S,
+    )?);
     Ok(out)
 }
 
@@ -359,5 +446,39 @@ mod tests {
         assert_eq!(off, 180);
         let faulty = a.iter().filter(|e| e.kind == Kind::Faulty).count();
         assert_eq!(faulty, 9 * FAULTY_PER_CELL);
+    }
+
+    /// The other-shaft design is balanced like the first, numbered after it, every machine
+    /// with another shaft's impacts, its faulty machines made from its own healthy ones; and
+    /// the first design is the same with or without it.
+    #[test]
+    fn the_other_shaft_design_follows_the_first() {
+        let full = full_design().unwrap();
+        let first = design(N_HEALTHY, N_NOISE_ONLY, FAULTY_PER_CELL, DURATION_S).unwrap();
+        assert_eq!(&full[..first.len()], &first[..]);
+        let added = &full[first.len()..];
+        let healthy: Vec<_> = added.iter().filter(|e| e.kind == Kind::Healthy).collect();
+        assert_eq!(healthy.len(), N_OTHER_SHAFT);
+        assert_eq!(healthy[0].id, format!("H{}", N_HEALTHY + 1));
+        assert!(
+            healthy
+                .iter()
+                .all(|e| e.recipe.unwrap().nuisances.other_shaft)
+        );
+        for mix in OTHER_SHAFT_MIXES {
+            let k = healthy
+                .iter()
+                .filter(|e| e.nuisances == mix.label())
+                .count();
+            assert_eq!(k, N_OTHER_SHAFT / OTHER_SHAFT_MIXES.len());
+        }
+        let faulty: Vec<_> = added.iter().filter(|e| e.kind == Kind::Faulty).collect();
+        assert_eq!(faulty.len(), 9 * OTHER_SHAFT_FAULTY_PER_CELL);
+        assert_eq!(faulty[0].id, format!("F{:03}", 9 * FAULTY_PER_CELL + 1));
+        assert!(
+            faulty
+                .iter()
+                .all(|f| healthy.iter().any(|h| Some(&h.id) == f.machine_of.as_ref()))
+        );
     }
 }

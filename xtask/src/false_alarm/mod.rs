@@ -312,12 +312,7 @@ pub(crate) fn process_cpu_s() -> Option<f64> {
 /// Run the task into `results/diagnosis/false_alarm.*`.
 pub fn run(ctx: &Context) -> anyhow::Result<()> {
     let start = Instant::now();
-    let mut entries = corpus::design(
-        corpus::N_HEALTHY,
-        corpus::N_NOISE_ONLY,
-        corpus::FAULTY_PER_CELL,
-        corpus::DURATION_S,
-    )?;
+    let mut entries = corpus::full_design()?;
     let (real, dir) = present_real(ctx)?;
     entries.extend(real);
     let cpu0 = process_cpu_s();

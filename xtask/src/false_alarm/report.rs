@@ -311,6 +311,10 @@ fn write_json(rows: &[Row], out: &Path) -> anyhow::Result<()> {
             "rates_hz": corpus::RATES_HZ,
             "snrs_db": corpus::SNRS_DB,
             "mixes": corpus::MIXES.iter().map(|m| m.label()).collect::<Vec<_>>(),
+            "other_shaft_healthy": corpus::N_OTHER_SHAFT,
+            "other_shaft_faulty_per_cell": corpus::OTHER_SHAFT_FAULTY_PER_CELL,
+            "other_shaft_seed": corpus::OTHER_SHAFT_SEED,
+            "other_shaft_mixes": corpus::OTHER_SHAFT_MIXES.iter().map(|m| m.label()).collect::<Vec<_>>(),
             "speed_errors": corpus::SPEED_ERRORS.iter().map(|e| serde_json::json!({"error": e.0, "count": e.1})).collect::<Vec<_>>(),
             "severities_db": corpus::SEVERITIES_DB,
             "rms_range_ms2": [corpus::RMS_RANGE_MS2.0, corpus::RMS_RANGE_MS2.1],
@@ -361,7 +365,11 @@ impl Levels {
                 .map(|f| format!("{} kHz", f / 1000.0))
                 .collect(),
             snrs: corpus::SNRS_DB.iter().map(|s| format!("{s} dB")).collect(),
-            mixes: corpus::MIXES.iter().map(|m| m.label()).collect(),
+            mixes: corpus::MIXES
+                .iter()
+                .chain(&corpus::OTHER_SHAFT_MIXES)
+                .map(|m| m.label())
+                .collect(),
             errs: {
                 let mut v: Vec<f64> = corpus::SPEED_ERRORS.iter().map(|e| e.0).collect();
                 v.sort_by(f64::total_cmp);
@@ -439,6 +447,13 @@ fn summary_section(
         let _ = writeln!(md, "| {name} | {} | {e} |", rate_cells(k, n));
     };
     line(md, "simulated healthy machines", healthy);
+    let (first, other): (Vec<&Row>, Vec<&Row>) = healthy
+        .iter()
+        .partition(|r| !r.entry.nuisances.contains("other-shaft"));
+    if !other.is_empty() {
+        line(md, "— the first design's six mixes", &first);
+        line(md, "— another shaft's impacts (added later)", &other);
+    }
     line(md, "simulated noise-only (low level, quantised)", noise);
     let all_sim: Vec<&Row> = healthy.iter().chain(noise.iter()).copied().collect();
     line(md, "all simulated healthy", &all_sim);
