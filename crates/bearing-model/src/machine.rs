@@ -1106,6 +1106,16 @@ fn pole(m: &Mode, fs: f64) -> (C, f64) {
     )
 }
 
+/// A locked impact train's `[mode, jitter, spread, angle]`, each checked under its name in
+/// `names`: a mode index below `n_modes`, jitter 0 ..= 0.2, spread 0 ..= 2, a finite angle.
+fn validate_locked(names: [&'static str; 4], values: [f64; 4], n_modes: usize) -> Result<()> {
+    let [mode, jitter, spread, angle] = values;
+    check_range(names[0], mode, 0.0, (n_modes - 1) as f64, "a mode index")?;
+    check_range(names[1], jitter, 0.0, 0.2, "0 ..= 0.2")?;
+    check_range(names[2], spread, 0.0, 2.0, "0 ..= 2")?;
+    check_range(names[3], angle, -1e3, 1e3, "finite")
+}
+
 fn mean_square(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64
 }
@@ -1224,58 +1234,38 @@ impl MachineParams {
     /// The once-per-rev component: its mode (an index below `n_modes`), jitter, spread, angle.
     fn validate_once_per_rev(&self, n_modes: usize) -> Result<()> {
         let o = &self.once_per_rev;
-        check_range(
-            "once-per-rev mode",
+        let train = [
             o.mode as f64,
-            0.0,
-            (n_modes - 1) as f64,
-            "a mode index",
-        )?;
-        check_range(
-            "once-per-rev jitter",
             o.jitter_fraction,
-            0.0,
-            0.2,
-            "0 ..= 0.2",
-        )?;
-        check_range(
-            "once-per-rev spread",
             o.amplitude_spread,
-            0.0,
-            2.0,
-            "0 ..= 2",
-        )?;
-        check_range("once-per-rev angle", o.angle_rad, -1e3, 1e3, "finite")?;
-        Ok(())
+            o.angle_rad,
+        ];
+        let names = [
+            "once-per-rev mode",
+            "once-per-rev jitter",
+            "once-per-rev spread",
+            "once-per-rev angle",
+        ];
+        validate_locked(names, train, n_modes)
     }
 
     /// The other shaft's impacts: its order (positive), mode, jitter, spread, angle.
     fn validate_other_shaft(&self, n_modes: usize) -> Result<()> {
         let o = &self.other_shaft;
         check_range("other shaft order", o.order, 1e-3, 1e3, "0.001 ..= 1000")?;
-        check_range(
-            "other shaft mode",
+        let train = [
             o.mode as f64,
-            0.0,
-            (n_modes - 1) as f64,
-            "a mode index",
-        )?;
-        check_range(
-            "other shaft jitter",
             o.jitter_fraction,
-            0.0,
-            0.2,
-            "0 ..= 0.2",
-        )?;
-        check_range(
-            "other shaft spread",
             o.amplitude_spread,
-            0.0,
-            2.0,
-            "0 ..= 2",
-        )?;
-        check_range("other shaft angle", o.angle_rad, -1e3, 1e3, "finite")?;
-        Ok(())
+            o.angle_rad,
+        ];
+        let names = [
+            "other shaft mode",
+            "other shaft jitter",
+            "other shaft spread",
+            "other shaft angle",
+        ];
+        validate_locked(names, train, n_modes)
     }
 
     /// The gear mesh: tooth counts and the two modulations' depths, indices and phases.
