@@ -102,9 +102,47 @@ fn bench_rates(c: &mut Criterion) {
     }
 }
 
+/// `--bearing unknown` on a 10 s, 12 kHz corpus machine with an outer-race fault: with a shaft
+/// comb (the speed from it; shaft orders masked) and without one (the comb read in Hz over the
+/// declared speed's ± 10 %, nothing masked).
+fn bench_unknown(c: &mut Criterion) {
+    use bearing_model::machine::{LocalizedFault, MachineRecipe, Nuisances};
+    use bearing_model::{BearingGeometry, FaultLocation};
+    let (rpm, fs) = (1500.0, 12_000.0);
+    for (name, mix) in [
+        ("with a shaft comb", Nuisances::SHAFT_COMB),
+        ("no shaft comb", Nuisances::NONE),
+    ] {
+        let faulty = MachineRecipe::healthy(BearingGeometry::skf_6205(), rpm, fs, 10.0, 1)
+            .unwrap()
+            .with_nuisances(mix)
+            .with_fault(LocalizedFault {
+                location: FaultLocation::Outer,
+                severity_db: 0.0,
+            })
+            .synthesize()
+            .unwrap();
+        let recording = Signal::new(&faulty.accel, fs).unwrap();
+        let options = diagnosis::DiagnoseOptions::declared(rpm);
+        c.bench_function(
+            &format!("unknown bearing, machine {name}, 10 s 12 kHz, self-referenced"),
+            |bench| {
+                bench.iter(|| {
+                    diagnosis::diagnose_unknown_bearing(
+                        std::hint::black_box(&recording),
+                        None,
+                        &options,
+                    )
+                    .unwrap()
+                })
+            },
+        );
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = bench, bench_rates
+    targets = bench, bench_rates, bench_unknown
 }
 criterion_main!(benches);
