@@ -358,20 +358,22 @@ fn name_comb(
     let cage = cage.map(|[nu, p]| [nu, (p * (steps as f64 / 2.0).max(1.0)).min(1.0)]);
     // a partner comb: the other race
     // (BPFO + BPFI = n·fr needs the shaft's rate: with the speed unconfirmed, no partner)
-    let partner = all
-        .iter()
-        .filter(|_| speed.uncertainty <= 0.0)
-        .filter(|d| d.p <= SIDEBAND_LEVEL && d.depth >= MIN_MODULATION_DEPTH)
-        .filter(|d| !shares_lines(d.order, c.order))
-        .filter(|d| {
-            let n = (d.order + c.order).round();
-            let ratio = d.order.max(c.order) / d.order.min(c.order);
-            (5.0..=24.0).contains(&n)
-                && ((d.order + c.order) / n - 1.0).abs() <= 0.02
-                && (1.1 / 0.9..=1.45 / 0.55).contains(&ratio)
-        })
-        .min_by(|a, b| a.p.total_cmp(&b.p))
-        .map(|d| [d.order, d.p]);
+    let partner = if speed.uncertainty > 0.0 {
+        None
+    } else {
+        all.iter()
+            .filter(|d| d.p <= SIDEBAND_LEVEL && d.depth >= MIN_MODULATION_DEPTH)
+            .filter(|d| !shares_lines(d.order, c.order))
+            .filter(|d| {
+                let n = (d.order + c.order).round();
+                let ratio = d.order.max(c.order) / d.order.min(c.order);
+                (5.0..=24.0).contains(&n)
+                    && ((d.order + c.order) / n - 1.0).abs() <= 0.02
+                    && (1.1 / 0.9..=1.45 / 0.55).contains(&ratio)
+            })
+            .min_by(|a, b| a.p.total_cmp(&b.p))
+            .map(|d| [d.order, d.p])
+    };
     let (named, basis) = if !significant {
         (
             None,

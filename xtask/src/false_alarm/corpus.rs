@@ -179,6 +179,12 @@ impl Entry {
     pub fn fault(&self) -> Option<LocalizedFault> {
         self.recipe.and_then(|r| r.fault)
     }
+
+    /// Whether a synthetic entry's machine has another shaft's impacts (the other-shaft
+    /// design's machines and their faulty copies).
+    pub fn has_other_shaft(&self) -> bool {
+        self.recipe.is_some_and(|r| r.nuisances.other_shaft)
+    }
 }
 
 /// `n` level indices out of `levels`, as balanced as `n` allows (level `i` gets ⌈n/levels⌉ or
@@ -325,8 +331,8 @@ pub fn design(
         });
     }
     // faulty: distinct healthy machines, each with one (location, severity)
-    let healthy: Vec<Entry> = out[..n_healthy].to_vec();
-    out.extend(faulty_machines(&mut rng, &healthy, per_cell, 0));
+    let faulty = faulty_machines(&mut rng, &out[..n_healthy], per_cell, 0);
+    out.extend(faulty);
     Ok(out)
 }
 

@@ -447,9 +447,8 @@ fn summary_section(
         let _ = writeln!(md, "| {name} | {} | {e} |", rate_cells(k, n));
     };
     line(md, "simulated healthy machines", healthy);
-    let (first, other): (Vec<&Row>, Vec<&Row>) = healthy
-        .iter()
-        .partition(|r| !r.entry.nuisances.contains("other-shaft"));
+    let (first, other): (Vec<&Row>, Vec<&Row>) =
+        healthy.iter().partition(|r| !r.entry.has_other_shaft());
     if !other.is_empty() {
         line(md, "— the first design's six mixes", &first);
         line(md, "— another shaft's impacts (added later)", &other);

@@ -115,9 +115,8 @@ fn markdown(rows: &[Row], wall_s: f64) -> String {
     };
     let (healthy, noise, real) = (of(Kind::Healthy), of(Kind::NoiseOnly), of(Kind::Real));
     let count = |v: &[&Row]| v.iter().filter(|r| alarm(r)).count();
-    let (first, other): (Vec<&Row>, Vec<&Row>) = healthy
-        .iter()
-        .partition(|r| !r.entry.nuisances.contains("other-shaft"));
+    let (first, other): (Vec<&Row>, Vec<&Row>) =
+        healthy.iter().partition(|r| !r.entry.has_other_shaft());
     let errors = rows.iter().filter(|r| r.verdict() == "error").count();
     let mut s = format!(
         "<!-- {HEADER} -->\n\n# False alarms of the unknown-bearing search\n\n\
