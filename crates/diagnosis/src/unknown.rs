@@ -12,7 +12,10 @@
 //!    over `B` bands and `N` independent orders is paid for by Bonferroni:
 //!    `p = min(1, B·N·min p_b)`. The comb found is the most significant one whose harmonics
 //!    modulate the envelope deeply enough ([`MIN_MODULATION_DEPTH`]), reported when
-//!    `p ≤ α`.
+//!    `p ≤ α`. (The catalogue path's test for a slower source's comb,
+//!    `detect::slower_comb_explains`, is not asked here: without the geometry the bearing's own
+//!    cage modulation cannot be told from another source — asked, it cost 11 of 128 detected
+//!    faulty machines for 5 of 38 healthy alarms, `docs/journal/diagnosis.md`.)
 //!
 //!    When no shaft comb gave the speed (the declared one is then uncertain by ± u, 10 %), the
 //!    comb is still one in Hz: its lines are read at the comb tolerance, no shaft order is
@@ -515,6 +518,7 @@ fn comb_significance(c: &CombReading, band_hz: [f64; 2], fundamental_hz: f64) ->
         p_given_stronger: None,
         masks: Masks::default(),
         shaft_comb_hz: None,
+        slower_comb_hz: None,
     }
 }
 

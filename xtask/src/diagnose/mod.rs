@@ -45,6 +45,15 @@ pub struct Args {
     /// speed), into `results/diagnosis/false_alarm_unknown.{md,csv}`.
     #[arg(long, requires = "false_alarm")]
     unknown_bearing: bool,
+    /// With `--false-alarm`: diagnose only the corpus entries with these ids (comma-separated;
+    /// a trailing `*` matches a prefix, e.g. `H6*`) and print one line per entry with its drawn
+    /// parameters; no report is written. For reading a machine the tables point at.
+    #[arg(long, requires = "false_alarm", value_delimiter = ',')]
+    only: Vec<String>,
+    /// With `--only`: also write each simulated recording as `<dir>/<id>.csv` (`time_s,accel`,
+    /// m/s²), for `hybrid-fdd diagnose --input <dir>/<id>.csv --report out.json`.
+    #[arg(long, requires = "only")]
+    write_csv: Option<std::path::PathBuf>,
 }
 
 /// Hand-written: the detector in short, what the data lacks, and what was changed after seeing
@@ -138,6 +147,19 @@ const FIGURES_OTHER: [&str; 2] = ["train_data_OuterRaceFault_vload_1", "I_1000_1
 /// Run the task.
 pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     if args.false_alarm {
+        let bearing = if args.unknown_bearing {
+            crate::false_alarm::BearingAs::Unknown
+        } else {
+            crate::false_alarm::BearingAs::Declared
+        };
+        if !args.only.is_empty() {
+            return crate::false_alarm::run_only(
+                ctx,
+                &args.only,
+                bearing,
+                args.write_csv.as_deref(),
+            );
+        }
         if args.unknown_bearing {
             return crate::false_alarm::unknown::run(ctx);
         }

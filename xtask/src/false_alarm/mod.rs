@@ -14,6 +14,7 @@ pub(crate) mod report;
 pub(crate) mod unknown;
 
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
@@ -181,6 +182,16 @@ fn drawn_summary(p: &bearing_model::machine::MachineParams) -> serde_json::Value
             o.insert("pole_pass_hz".into(), ((pp * 1e3).round() / 1e3).into());
         }
     }
+    if nu.other_shaft {
+        o.insert(
+            "other_shaft_order".into(),
+            ((p.other_shaft.order * 1e4).round() / 1e4).into(),
+        );
+        o.insert(
+            "other_shaft_db".into(),
+            ((p.other_shaft.level_db * 10.0).round() / 10.0).into(),
+        );
+    }
     if let Some(adc) = r.adc {
         o.insert("adc_bits".into(), adc.bits.into());
     }
@@ -327,6 +338,74 @@ pub fn run(ctx: &Context) -> anyhow::Result<()> {
         out.display(),
         rows.len()
     );
+    Ok(())
+}
+
+/// Whether corpus id `id` is one of `patterns` (exact, or a prefix before a trailing `*`).
+fn id_matches(id: &str, patterns: &[String]) -> bool {
+    patterns.iter().any(|p| match p.strip_suffix('*') {
+        Some(prefix) => id.starts_with(prefix),
+        None => id == p,
+    })
+}
+
+/// Diagnose the corpus entries (and real healthy recordings) whose ids match `patterns` and print
+/// one line each — verdict, speed used, the smallest `p_healthy`, the drawn parameters — writing
+/// no report. An error when nothing matches.
+pub fn run_only(
+    ctx: &Context,
+    patterns: &[String],
+    bearing: BearingAs,
+    write_csv: Option<&Path>,
+) -> anyhow::Result<()> {
+    let mut entries = corpus::full_design()?;
+    let (real, dir) = present_real(ctx)?;
+    entries.extend(real);
+    entries.retain(|e| id_matches(&e.id, patterns));
+    if entries.is_empty() {
+        anyhow::bail!(
+            "--only {}: no corpus entry has such an id (ids look like H001, N01, F001, R-…)",
+            patterns.join(",")
+        );
+    }
+    if let Some(out) = write_csv {
+        std::fs::create_dir_all(out)?;
+        for e in &entries {
+            let Some(recipe) = &e.recipe else { continue };
+            let rec = recipe.draw()?.synthesize()?;
+            let mut s = String::from("time_s,accel\n");
+            for (i, a) in rec.accel.iter().enumerate() {
+                let _ = writeln!(s, "{:.8},{a:.9e}", i as f64 / rec.fs_hz);
+            }
+            let path = out.join(format!("{}.csv", e.id));
+            std::fs::write(&path, s).with_context(|| format!("writing {}", path.display()))?;
+            println!("wrote {} ({} Hz, m/s²)", path.display(), rec.fs_hz);
+        }
+    }
+    for r in run_entries(&entries, dir, bearing)? {
+        let e = &r.entry;
+        let (rpm, p) = match &r.outcome {
+            Ok(o) => (
+                format!("{:.2}", o.rpm_used),
+                o.p_fields
+                    .get("p_healthy")
+                    .map_or_else(String::new, |p| format!("{p:.3e}")),
+            ),
+            Err(m) => (String::new(), m.clone()),
+        };
+        let drawn = r.drawn.as_ref().map_or_else(String::new, |d| d.to_string());
+        println!(
+            "{} {} {} rpm {:.2} (declared {:.2}, used {rpm}) {:.0} Hz {} → {} p_healthy {p} {drawn}",
+            e.id,
+            e.kind.name(),
+            e.geometry,
+            e.rpm_true,
+            e.rpm_declared,
+            e.fs_hz,
+            e.nuisances,
+            r.verdict()
+        );
+    }
     Ok(())
 }
 

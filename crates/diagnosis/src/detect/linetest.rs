@@ -330,9 +330,42 @@ pub(crate) fn chi2_sf_even(x: f64, dof: usize) -> f64 {
     ((-h).exp() * sum).clamp(0.0, 1.0)
 }
 
+/// `P(X ≥ k)` for `X` binomial with `n` trials of probability `q`: the chance that at least `k`
+/// of `n` positions hold a line when each does with probability `q`, independently.
+pub(crate) fn binomial_sf(n: usize, k: usize, q: f64) -> f64 {
+    if k == 0 {
+        return 1.0;
+    }
+    if k > n {
+        return 0.0;
+    }
+    let q = q.clamp(0.0, 1.0);
+    let mut c = 1.0; // C(n, i)
+    let mut sum = 0.0;
+    for i in 0..=n {
+        if i >= k {
+            sum += c * q.powi(i as i32) * (1.0 - q).powi((n - i) as i32);
+        }
+        c = c * (n - i) as f64 / (i + 1) as f64;
+    }
+    sum.clamp(0.0, 1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The binomial tail against its closed forms.
+    #[test]
+    fn binomial_tail_matches_closed_forms() {
+        assert_eq!(binomial_sf(6, 0, 0.3), 1.0);
+        assert_eq!(binomial_sf(6, 7, 0.3), 0.0);
+        assert!((binomial_sf(6, 6, 0.3) - 0.3f64.powi(6)).abs() < 1e-15);
+        assert!((binomial_sf(6, 1, 0.3) - (1.0 - 0.7f64.powi(6))).abs() < 1e-15);
+        // P(X ≥ 4), n = 6, q = 0.1: 15·q⁴(1−q)² + 6·q⁵(1−q) + q⁶
+        let want = 15.0 * 1e-4 * 0.81 + 6.0 * 1e-5 * 0.9 + 1e-6;
+        assert!((binomial_sf(6, 4, 0.1) - want).abs() < 1e-15);
+    }
 
     /// With more than 10⁴ non-overlapping clear windows the reference's edge `1/(n' + 1)` is
     /// below the line floor: a value beyond every window gets the edge, not a panic.

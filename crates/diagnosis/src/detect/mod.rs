@@ -37,7 +37,7 @@ pub mod view;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{EnvelopeSpectrum, HARMONICS, Hypothesis};
+use crate::{EnvelopeSpectrum, HARMONICS, Hypothesis, SLIP_MAX};
 use bearing_model::FaultOrders;
 #[cfg(test)]
 use linetest::read_band;
@@ -118,6 +118,12 @@ pub struct Significance {
     /// shaft's, and the hypothesis is not significant (its `p_healthy` is 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shaft_comb_hz: Option<f64>,
+    /// The rate, Hz, of a comb slower than the fault whose orders hold every line carrying this
+    /// hypothesis's evidence and which stands between them, off the fault's own lattice
+    /// ([`slower_comb_explains`]): another periodic source's, and the hypothesis is not
+    /// significant (its `p_healthy` is 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slower_comb_hz: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -349,36 +355,15 @@ pub(crate) fn shaft_explains(
     r: &linetest::BandReading,
     range: [f64; 2],
 ) -> Option<f64> {
-    let lines: Vec<(f64, f64)> = r
-        .terms
-        .iter()
-        .filter(|t| t.value >= crate::LINE_THRESHOLD_DB)
-        .map(|t| (t.bin as f64 * v.df, t.value))
-        .collect();
+    let lines = evidence_lines(v, r);
     let &(f_max, _) = lines.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let tol = |f: f64| (0.5 * v.df).max(view::COMB_TOLERANCE * f);
+    let tol = |f: f64| comb_tol(v, f);
     (1..)
         .map(|n| f_max / n as f64)
         .take_while(|&f| f >= range[0])
         .filter(|&f| f <= range[1])
         .find_map(|f0| {
-            // the rate fitted to the lines' orders at f0
-            let ks: Vec<f64> = lines.iter().map(|&(f, _)| (f / f0).round()).collect();
-            if ks.iter().any(|&k| k < 1.0) {
-                return None;
-            }
-            let (num, den) = lines
-                .iter()
-                .zip(&ks)
-                .fold((0.0, 0.0), |(a, b), (&(f, _), &k)| (a + k * f, b + k * k));
-            let fs = num / den;
-            let on_orders = lines
-                .iter()
-                .zip(&ks)
-                .all(|(&(f, _), &k)| (f - k * fs).abs() <= tol(f));
-            if !on_orders {
-                return None;
-            }
+            let (fs, ks) = comb_fit(&lines, f0, tol)?;
             let shown = (1..)
                 .map(|j| j as f64)
                 .filter(|j| !ks.contains(j))
@@ -387,6 +372,242 @@ pub(crate) fn shaft_explains(
                 .count();
             (shown >= SHAFT_MIN_ORDERS).then_some(fs)
         })
+}
+
+/// The lines of reading `r` (in `v`) that carry evidence — at least [`crate::LINE_THRESHOLD_DB`]
+/// — as (Hz, dB).
+fn evidence_lines(v: &BandView, r: &BandReading) -> Vec<(f64, f64)> {
+    r.terms
+        .iter()
+        .filter(|t| t.value >= crate::LINE_THRESHOLD_DB)
+        .map(|t| (t.bin as f64 * v.df, t.value))
+        .collect()
+}
+
+/// How close a line must lie to a comb's order in `v`: half a bin, or
+/// [`view::COMB_TOLERANCE`] of the frequency where that is wider.
+fn comb_tol(v: &BandView, f: f64) -> f64 {
+    (0.5 * v.df).max(view::COMB_TOLERANCE * f)
+}
+
+/// Whether every line of `lines` (Hz, dB) lies on an order of a comb near `f0`: the rate fitted
+/// to the lines' nearest orders (least squares through the origin) and those orders, when each
+/// line lies within `tol` of its order of the fitted rate (and none below the first).
+fn comb_fit(lines: &[(f64, f64)], f0: f64, tol: impl Fn(f64) -> f64) -> Option<(f64, Vec<f64>)> {
+    let ks: Vec<f64> = lines.iter().map(|&(f, _)| (f / f0).round()).collect();
+    if ks.iter().any(|&k| k < 1.0) {
+        return None;
+    }
+    let (num, den) = lines
+        .iter()
+        .zip(&ks)
+        .fold((0.0, 0.0), |(a, b), (&(f, _), &k)| (a + k * f, b + k * k));
+    let fs = num / den;
+    lines
+        .iter()
+        .zip(&ks)
+        .all(|(&(f, _), &k)| (f - k * fs).abs() <= tol(f))
+        .then_some((fs, ks))
+}
+
+/// Orders of a slower comb between a hypothesis's lines, off them and off the fault's own
+/// lines, that [`slower_comb_explains`] looks at (the lowest ones).
+const SLOWER_CHECK_ORDERS: usize = 10;
+/// … at least this many of them (fewer: no test), and as many standing.
+const SLOWER_MIN_ORDERS: usize = 3;
+/// A slower comb's rate is at most this share of the fault's fundamental (the fault's lines are
+/// every m-th of its orders, m ≥ 2) …
+const SLOWER_MAX_SHARE: f64 = 0.6;
+/// … and spans at least this many bins: its orders resolved from each other, with room between
+/// them (beyond the two bins either side of each order) to read the band's line density.
+const SLOWER_MIN_BINS: f64 = 6.0;
+/// Divisors of the strongest line tried for the slower comb's rate.
+const SLOWER_MAX_DIVISOR: usize = 32;
+/// The slower comb's orders between the fault's lines stand as lines more often than the band's
+/// lines fall on such positions by chance: at most this probability (binomial, Bonferroni over
+/// the rates tried). A chance alignment would cost a real fault; this is the rate at which it may.
+const SLOWER_LEVEL: f64 = 0.01;
+/// Positions sampled for the band's line density (off the comb and the fault's own lines) …
+const DENSITY_SAMPLES: usize = 400;
+/// … of which at least this many must lie off both for the density to be read (else no test).
+const DENSITY_MIN_SAMPLES: usize = 100;
+
+/// The number of rolling elements `Z` a race's template implies (`BPFO = Z·FTF`,
+/// `BPFI = Z·(fr − FTF)`); `None` for a ball, or a template without a cage rate.
+fn rolling_elements(t: &Template) -> Option<f64> {
+    let z = match t.hypothesis {
+        Hypothesis::Outer if t.ftf_hz > 0.0 => t.fault_hz / t.ftf_hz,
+        Hypothesis::Inner if t.ftf_hz > 0.0 && t.fr > t.ftf_hz => t.fault_hz / (t.fr - t.ftf_hz),
+        _ => return None,
+    }
+    .round();
+    (z >= 1.0).then_some(z)
+}
+
+/// Where the fault of template `t`, its fundamental at `f1` Hz, puts lines itself in `v`: every
+/// harmonic `k·f₁` shifted by `j·fr` (|j| ≤ [`template::FAMILY_SHAFT_ORDERS`], as its family:
+/// the load zone and a shaft's unbalance modulate the impacts at fr), for a race the orders of
+/// `f₁/Z` (the rate its `Z` rolling elements pass a point of it: the cage modulating the
+/// impacts), for a ball its spin lines at `(k − ½)·f₁`, `k·f₁ ± j·FTF` (|j| ≤ 8) and the cage's
+/// orders (the ball passes the load zone with the cage), each within the comb tolerance plus
+/// half a bin; and every shaft order. The harmonics are placed from the fundamental found (not over the slip windows the template
+/// searches): an inner race's family `k·f₁ ± j·fr` makes a near-comb at `f₁/m` where that is
+/// close to a shaft order, and its orders are then the fault's own lines.
+fn own_lines(v: &BandView, t: &Template, f1: f64) -> impl Fn(f64) -> bool {
+    let (df, fr, hyp) = (v.df, t.fr, t.hypothesis);
+    // the cage sidebands slip with the ball line
+    let ftf = t.ftf_hz * f1 / t.fault_hz.max(f64::MIN_POSITIVE);
+    let shifts = template::FAMILY_SHAFT_ORDERS;
+    let reach = f64::from(shifts + 1) * fr + f1;
+    // a race's rolling elements pass a point of it at f₁/Z: the cage modulating its impacts
+    // puts lines at that rate's orders
+    let passing = rolling_elements(t).map(|z| f1 / z);
+    move |f: f64| {
+        let tol = (0.5 * df).max(view::COMB_TOLERANCE * f);
+        let j = (f / fr).round();
+        if j >= 1.0 && (f - j * fr).abs() <= tol.max(crate::SPEED_TOL * f) {
+            return true;
+        }
+        let near = |c: f64| (f - c).abs() <= tol + 0.5 * df;
+        if let Some(p) = passing {
+            let i = (f / p).round();
+            if i >= 1.0 && near(i * p) {
+                return true;
+            }
+        }
+        // the harmonics whose shifts reach f
+        let k_lo = ((f - reach) / f1).floor().max(1.0) as i64;
+        let k_hi = ((f + reach) / f1).ceil() as i64;
+        for k in k_lo..=k_hi {
+            let kf = k as f64 * f1;
+            if (-shifts..=shifts).any(|j| near(kf + f64::from(j) * fr)) {
+                return true;
+            }
+            if hyp == Hypothesis::Ball
+                && (near(kf - 0.5 * f1)
+                    || (-shifts..=shifts).any(|j| near(kf + f64::from(j) * ftf)))
+            {
+                return true;
+            }
+        }
+        // a ball passes the load zone with the cage: the cage's orders (its rate slipping with
+        // the ball line) are the ball's own modulation, as the shaft's are an inner race's
+        if hyp == Hypothesis::Ball && ftf > 0.0 {
+            let i = (f / ftf).round();
+            return i >= 1.0 && near(i * ftf);
+        }
+        false
+    }
+}
+
+/// Whether a comb at `fs` Hz is the machine's or the bearing's own rather than a slower
+/// source's, for template `t` whose fundamental was found at `f1` in `v`: at (a multiple of) the
+/// shaft's rate — masked where it shows, [`shaft_explains`] where the speed is unconfirmed (a
+/// ball-defect rate near an order sits in it); for a race, `f1/m` with `m` dividing its rolling
+/// elements `Z` (`BPFO = Z·FTF`, `BPFI = Z·(fr − FTF)`: a multiple of the rate they pass a point
+/// of it, which the cage modulating the impacts fills — CWRU's faults do); for a ball, a multiple
+/// of a cage rate within the cage's slip.
+fn own_rate(v: &BandView, t: &Template, f1: f64, fs: f64) -> bool {
+    let i = (fs / t.fr).round();
+    let shaft = i >= 1.0 && (fs - i * t.fr).abs() <= v.df.max(crate::SPEED_TOL * fs);
+    let (lo, hi) = (
+        1.0 - SLIP_MAX - crate::SPEED_TOL,
+        1.0 + crate::SPEED_OFFSET + crate::SPEED_TOL,
+    );
+    let c = t.ftf_hz;
+    let i = (fs / c.max(f64::MIN_POSITIVE)).round();
+    let cage = t.hypothesis == Hypothesis::Ball
+        && c > 0.0
+        && i >= 1.0
+        && fs >= i * c * lo - 0.5 * v.df
+        && fs <= i * c * hi + 0.5 * v.df;
+    let m = (f1 / fs).round();
+    let elements = rolling_elements(t).is_some_and(|z| m >= 1.0 && z % m == 0.0);
+    shaft || cage || elements
+}
+
+/// The rate, Hz, of a comb slower than the fault that explains every line carrying evidence for
+/// template `t` in reading `r` (read in `v`), if one does: each such line on an order of it (as
+/// [`shaft_explains`] fits a shaft rate, within [`comb_tol`]), the rate at most
+/// [`SLOWER_MAX_SHARE`] of the fault's fundamental and [`SLOWER_MIN_BINS`] bins, and its orders
+/// between those lines — the lowest [`SLOWER_CHECK_ORDERS`] below the highest line that are not
+/// where the fault itself puts lines ([`own_lines`]) nor masked, at least
+/// [`SLOWER_MIN_ORDERS`] — standing as lines (≥ 6 dB within a bin) at least half of them, and
+/// more often than the band's lines fall on positions by chance: the density `q` of lines is
+/// read at [`DENSITY_SAMPLES`] positions across the same span, off the comb's orders and the
+/// fault's lines, and `P(Bin(n, q) ≥ shown)`, times the rates that fit, must be at most
+/// [`SLOWER_LEVEL`]; of several such rates the most significant. A rate of the machine's or
+/// the bearing's own ([`own_rate`]) is not tested. A periodic source slower than the fault —
+/// another shaft's once-per-turn impacts, a belt joint, a coupling — puts a line at every order
+/// of its rate; when one of its multiples falls near a fault's rate its comb holds that fault's
+/// harmonics, and the lines between them are the slower source's, which no bearing fault of
+/// that kind makes (`docs/equations/diagnosis.md`, *A slower source's comb*). Asked only where
+/// no comb confirmed the speed (`detect_at` and the unknown-bearing search ask it then).
+pub(crate) fn slower_comb_explains(v: &BandView, r: &BandReading, t: &Template) -> Option<f64> {
+    let lines = evidence_lines(v, r);
+    let &(f_max, _) = lines.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let f1 = r
+        .terms
+        .iter()
+        .find(|x| x.window.term == Term::Harmonic(1))
+        .map_or(t.fault_hz, |x| x.bin as f64 * v.df);
+    let tol = |f: f64| comb_tol(v, f);
+    // a line within a bin: a line between two bins peaks in either, speed wander moves it
+    let hold_tol = |f: f64| v.df.max(view::COMB_TOLERANCE * f);
+    let holds = |f: f64| v.holds_line(f, hold_tol(f));
+    let fits: Vec<(f64, Vec<f64>)> = (1..=SLOWER_MAX_DIVISOR)
+        .rev()
+        .map(|n| f_max / n as f64)
+        .filter(|&f0| f0 <= SLOWER_MAX_SHARE * f1 && f0 >= SLOWER_MIN_BINS * v.df)
+        .filter_map(|f0| comb_fit(&lines, f0, tol))
+        .collect();
+    let looks = fits.len() as f64;
+    let tested = fits
+        .into_iter()
+        .filter(|(fs, _)| !own_rate(v, t, f1, *fs))
+        .filter_map(|(fs, ks)| {
+            // the fault's own lines from its fundamental on the comb (read to a fraction of a bin)
+            let owned = own_lines(v, t, fs * (f1 / fs).round().max(1.0));
+            // between the fault's lines: a comb fades with frequency as the fault's harmonics do
+            let last = ks.iter().copied().fold(0.0, f64::max);
+            let positions: Vec<f64> = (1..)
+                .map(|j| j as f64)
+                .take_while(|&j| j < last)
+                .filter(|j| !ks.contains(j))
+                .map(|j| j * fs)
+                .take_while(|&f| f < v.top_hz)
+                .filter(|&f| !owned(f) && !v.masked_at(f))
+                .take(SLOWER_CHECK_ORDERS)
+                .collect();
+            let (&lo, &hi) = (positions.first()?, positions.last()?);
+            if positions.len() < SLOWER_MIN_ORDERS {
+                return None;
+            }
+            let shown = positions.iter().filter(|&&f| holds(f)).count();
+            // a comb stands at most of its orders (a slower rate's every m-th order is the comb
+            // itself: not a comb of that rate)
+            if 2 * shown < positions.len() || shown < SLOWER_MIN_ORDERS {
+                return None;
+            }
+            // the band's density of lines at positions off the comb and off the fault's lines
+            let off_comb = |f: f64| {
+                let j = (f / fs).round();
+                (f - j * fs).abs() > 2.0 * hold_tol(f) && !owned(f) && !v.masked_at(f)
+            };
+            let (held, sampled) = (0..DENSITY_SAMPLES)
+                .map(|i| lo + (hi - lo) * (i as f64 + 0.5) / DENSITY_SAMPLES as f64)
+                .filter(|&f| off_comb(f))
+                .fold((0usize, 0usize), |(h, n), f| {
+                    (h + usize::from(holds(f)), n + 1)
+                });
+            if sampled < DENSITY_MIN_SAMPLES {
+                return None;
+            }
+            let q = (held as f64 + 1.0) / (sampled as f64 + 2.0);
+            let p = linetest::binomial_sf(positions.len(), shown, q) * looks;
+            (p <= SLOWER_LEVEL).then_some((p, fs))
+        });
+    tested.min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, fs)| fs)
 }
 
 /// Sub-steps of a speed-ratio step at which [`shaft_masked_at`] looks for the shaft comb.
@@ -624,6 +845,19 @@ fn detect_at(
             }
         }
     }
+    // a slower source's comb holding a fault's lines is that source's, not the fault's — asked
+    // where no comb confirmed the speed (a template searched over it settles on any comb
+    // within reach; at a measured speed the windows are the slip's, and a real fault's own
+    // family — the cage and the load zone modulating its impacts — fills the orders between)
+    for ((sig, s), t) in per_hypothesis.iter_mut().zip(&scans).zip(&templates) {
+        if sig.p_healthy >= 1.0 || shaft_range.is_none() {
+            continue;
+        }
+        if let Some(f) = slower_comb_explains(&views[s.band], &s.reading, t) {
+            sig.slower_comb_hz = Some(f);
+            sig.p_healthy = 1.0;
+        }
+    }
     // significant hypotheses, strongest first
     let order = strongest_first(&per_hypothesis, strong);
     let (confirmed, uncertain) = confirm(
@@ -684,6 +918,7 @@ fn significance(s: &Scan, v: &BandView, band_hz: [f64; 2], speed_slack: f64) -> 
         p_given_stronger: None,
         masks: s.masks,
         shaft_comb_hz: None,
+        slower_comb_hz: None,
     }
 }
 
@@ -801,6 +1036,27 @@ mod calibration {
         }
     }
 
+    /// Four noise bands with lines at `lines` (Hz, × the noise's mean power).
+    fn bands_with_powers(
+        seed: u64,
+        df: f64,
+        nbins: usize,
+        lines: &[(f64, f64)],
+    ) -> Vec<EnvelopeSpectrum> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        (0..4)
+            .map(|_| {
+                let mut s = noise_spectrum(&mut rng, nbins, df, 4);
+                for &(f, amp) in lines {
+                    if let Some(p) = s.power.get_mut((f / df).round() as usize) {
+                        *p += amp;
+                    }
+                }
+                s
+            })
+            .collect()
+    }
+
     /// Four noise bands with lines of `amp` × the noise's mean power at every frequency of
     /// `lines` (Hz).
     fn bands_with_lines(
@@ -875,6 +1131,92 @@ mod calibration {
             .position(|h| *h == Hypothesis::Outer)
             .unwrap();
         assert_eq!(d.per_hypothesis[outer].shaft_comb_hz, None);
+    }
+
+    /// Another shaft's once-per-turn impacts: a comb at a rate `f₀` not an order of the measured
+    /// shaft, with `m·f₀` inside a fault's window (m = 3…7; its lines at every order of `f₀` to
+    /// 1 kHz), at a declared speed no comb confirmed. Its lines between the fault's harmonics are
+    /// the slower source's: that fault is not called, and its hypothesis names the comb's rate. The
+    /// fault alone (its harmonics, an inner race's `± fr`, a ball's spin lines at odd multiples
+    /// of half its rate and `± FTF`) is still called, explained by no slower comb.
+    #[test]
+    fn a_slower_comb_holding_a_fault_s_lines_is_no_fault() {
+        let o = bearing_model::BearingSpec::parse("6308").unwrap().orders;
+        let fr = 10.0;
+        let df = 1.0 / 6.0;
+        let nbins = (1000.0 / df) as usize;
+        // a declared speed no comb confirmed (the other source's comb is no shaft comb)
+        let slack = Slack {
+            speed: 0.1,
+            rate: 0.0,
+        };
+        let index = |h: Hypothesis| Hypothesis::ALL.iter().position(|x| *x == h).unwrap();
+        for (i, (h, order, m)) in [
+            // m not a divisor of the 8 balls: m | Z is a rate of the bearing's own
+            (Hypothesis::Outer, o.bpfo, 5),
+            (Hypothesis::Outer, o.bpfo, 7),
+            (Hypothesis::Inner, o.bpfi, 3),
+            (Hypothesis::Inner, o.bpfi, 7),
+            (Hypothesis::Ball, o.ball_defect, 3),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            // inside the fault's slip window (an inner race's rate rises with slip)
+            let slip = if h == Hypothesis::Inner { 1.006 } else { 0.992 };
+            let f0 = slip * order * fr / m as f64;
+            // short impacts ringing a mode: the comb's lines fade with frequency
+            let comb: Vec<(f64, f64)> = (1..)
+                .map(|k| k as f64 * f0)
+                .take_while(|&f| f < 1000.0)
+                .map(|f| (f, 300.0 * (-f / 150.0).exp()))
+                .collect();
+            let spectra = bands_with_powers(10 + i as u64, df, nbins, &comb);
+            let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+            // the comb's lines at the fault's harmonics are evidence enough on their own
+            let sig = &d.per_hypothesis[index(h)];
+            assert!(
+                sig.p_band * 4.0 <= 0.01 / 3.0 && sig.modulation_depth >= MIN_MODULATION_DEPTH,
+                "{h:?} m = {m}: {sig:?}"
+            );
+            // (another hypothesis may still read the comb where its m divides the balls)
+            assert!(
+                !d.confirmed.contains(&h) && !d.uncertain.contains(&h),
+                "{h:?} m = {m}: {:?} {:?}",
+                d.confirmed,
+                d.uncertain
+            );
+            let named = d.per_hypothesis[index(h)].slower_comb_hz;
+            assert!(
+                named.is_some_and(|f| (f - f0).abs() < 0.01 * f0),
+                "{h:?} m = {m}: {named:?} for {f0}"
+            );
+        }
+        let fault = |h: Hypothesis| -> Vec<f64> {
+            let f1 = fr
+                * match h {
+                    Hypothesis::Outer => o.bpfo,
+                    Hypothesis::Inner => o.bpfi,
+                    Hypothesis::Ball => o.ball_defect,
+                };
+            let ftf = o.ftf * fr * 0.992;
+            let mut v: Vec<f64> = (1..=6).map(|k| k as f64 * f1).collect();
+            match h {
+                Hypothesis::Outer => {}
+                Hypothesis::Inner => v.extend([f1 - fr, f1 + fr, 2.0 * f1 - fr, 2.0 * f1 + fr]),
+                Hypothesis::Ball => {
+                    v.extend((0..6).map(|k| (k as f64 + 0.5) * f1));
+                    v.extend([f1 - ftf, f1 + ftf]);
+                }
+            }
+            v
+        };
+        for (i, h) in Hypothesis::ALL.into_iter().enumerate() {
+            let spectra = bands_with_lines(20 + i as u64, df, nbins, &fault(h), 60.0);
+            let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+            assert_eq!(d.confirmed, vec![h], "{h:?}: {:?}", d.uncertain);
+            assert_eq!(d.per_hypothesis[index(h)].slower_comb_hz, None, "{h:?}");
+        }
     }
 
     /// On white-noise spectra (four bands, 16 averages, fr/32 bins) each band's line test and

@@ -220,6 +220,12 @@ impl BandView {
             .count()
     }
 
+    /// Whether the bin nearest `f` is masked (its evidence unreadable).
+    pub(crate) fn masked_at(&self, f: f64) -> bool {
+        let i = (f / self.df).round();
+        i >= 0.0 && self.masked.get(i as usize).copied().unwrap_or(false)
+    }
+
     /// Whether the evidence holds a line (≥ [`LINE_THRESHOLD_DB`]) within `half_width` Hz of
     /// `f` (at least the nearest bin), below the band's top.
     pub(crate) fn holds_line(&self, f: f64, half_width: f64) -> bool {
