@@ -120,7 +120,7 @@ pub struct Significance {
     pub shaft_comb_hz: Option<f64>,
     /// The rate, Hz, of a comb slower than the fault whose orders hold every line carrying this
     /// hypothesis's evidence and which stands between them, off the fault's own lattice
-    /// ([`slower_comb_explains`]): another periodic source's, and the hypothesis is not
+    /// (`detect::slower_comb_explains`): another periodic source's, and the hypothesis is not
     /// significant (its `p_healthy` is 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slower_comb_hz: Option<f64>,
