@@ -37,7 +37,7 @@ pub mod view;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{EnvelopeSpectrum, HARMONICS, Hypothesis, SLIP_MAX};
+use crate::{EnvelopeSpectrum, HARMONICS, Hypothesis};
 use bearing_model::FaultOrders;
 #[cfg(test)]
 use linetest::read_band;
@@ -374,6 +374,14 @@ pub(crate) fn shaft_explains(
         })
 }
 
+/// The strongest line in the window of harmonic 1 of reading `r` (read in `v`), Hz.
+fn fundamental_hz(v: &BandView, r: &BandReading) -> Option<f64> {
+    r.terms
+        .iter()
+        .find(|x| x.window.term == Term::Harmonic(1))
+        .map(|x| x.bin as f64 * v.df)
+}
+
 /// The lines of reading `r` (in `v`) that carry evidence — at least [`crate::LINE_THRESHOLD_DB`]
 /// — as (Hz, dB).
 fn evidence_lines(v: &BandView, r: &BandReading) -> Vec<(f64, f64)> {
@@ -453,7 +461,7 @@ fn rolling_elements(t: &Template) -> Option<f64> {
 /// half a bin; and every shaft order. The harmonics are placed from the fundamental found (not over the slip windows the template
 /// searches): an inner race's family `k·f₁ ± j·fr` makes a near-comb at `f₁/m` where that is
 /// close to a shaft order, and its orders are then the fault's own lines.
-fn own_lines(v: &BandView, t: &Template, f1: f64) -> impl Fn(f64) -> bool {
+fn own_lines<'a>(v: &'a BandView, t: &Template, f1: f64) -> impl Fn(f64) -> bool + 'a {
     let (df, fr, hyp) = (v.df, t.fr, t.hypothesis);
     // the cage sidebands slip with the ball line
     let ftf = t.ftf_hz * f1 / t.fault_hz.max(f64::MIN_POSITIVE);
@@ -463,7 +471,7 @@ fn own_lines(v: &BandView, t: &Template, f1: f64) -> impl Fn(f64) -> bool {
     // puts lines at that rate's orders
     let passing = rolling_elements(t).map(|z| f1 / z);
     move |f: f64| {
-        let tol = (0.5 * df).max(view::COMB_TOLERANCE * f);
+        let tol = comb_tol(v, f);
         let j = (f / fr).round();
         if j >= 1.0 && (f - j * fr).abs() <= tol.max(crate::SPEED_TOL * f) {
             return true;
@@ -510,10 +518,7 @@ fn own_lines(v: &BandView, t: &Template, f1: f64) -> impl Fn(f64) -> bool {
 fn own_rate(v: &BandView, t: &Template, f1: f64, fs: f64) -> bool {
     let i = (fs / t.fr).round();
     let shaft = i >= 1.0 && (fs - i * t.fr).abs() <= v.df.max(crate::SPEED_TOL * fs);
-    let (lo, hi) = (
-        1.0 - SLIP_MAX - crate::SPEED_TOL,
-        1.0 + crate::SPEED_OFFSET + crate::SPEED_TOL,
-    );
+    let (lo, hi) = template::cage_window();
     let c = t.ftf_hz;
     let i = (fs / c.max(f64::MIN_POSITIVE)).round();
     let cage = t.hypothesis == Hypothesis::Ball
@@ -546,11 +551,7 @@ fn own_rate(v: &BandView, t: &Template, f1: f64, fs: f64) -> bool {
 pub(crate) fn slower_comb_explains(v: &BandView, r: &BandReading, t: &Template) -> Option<f64> {
     let lines = evidence_lines(v, r);
     let &(f_max, _) = lines.iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let f1 = r
-        .terms
-        .iter()
-        .find(|x| x.window.term == Term::Harmonic(1))
-        .map_or(t.fault_hz, |x| x.bin as f64 * v.df);
+    let f1 = fundamental_hz(v, r).unwrap_or(t.fault_hz);
     let tol = |f: f64| comb_tol(v, f);
     // a line within a bin: a line between two bins peaks in either, speed wander moves it
     let hold_tol = |f: f64| v.df.max(view::COMB_TOLERANCE * f);
@@ -888,12 +889,7 @@ fn detect_at(
 /// A hypothesis's scan `s` as its significance (not yet judged: `significant` false, nothing
 /// explaining it), its fundamental read in `v`, the view of its best band `band_hz`.
 fn significance(s: &Scan, v: &BandView, band_hz: [f64; 2], speed_slack: f64) -> Significance {
-    let fundamental_hz = s
-        .reading
-        .terms
-        .iter()
-        .find(|r| r.window.term == Term::Harmonic(1))
-        .map_or(0.0, |r| r.bin as f64 * v.df);
+    let fundamental_hz = fundamental_hz(v, &s.reading).unwrap_or(0.0);
     Significance {
         band_index: s.band,
         band_hz,

@@ -227,7 +227,7 @@ impl Template {
                         v.push((k as f64 * f1 + f64::from(j) * ftf, 0.0));
                     }
                 }
-                let (lo, hi) = (1.0 - SLIP_MAX - SPEED_TOL, 1.0 + SPEED_OFFSET + SPEED_TOL);
+                let (lo, hi) = cage_window();
                 let top = (self.harmonics as f64 + 1.0) * f1;
                 let mut j = 1.0;
                 while j * self.ftf_hz * lo <= top && self.ftf_hz > 0.0 {
@@ -242,6 +242,12 @@ impl Template {
     }
 }
 
+/// The cage's slip window `[lo, hi]` (found / kinematic): slip of up to [`SLIP_MAX`] lowers it,
+/// the ~[`SPEED_OFFSET`] speed-reference offset raises it, ± [`SPEED_TOL`] for the speed.
+pub(crate) fn cage_window() -> (f64, f64) {
+    (1.0 - SLIP_MAX - SPEED_TOL, 1.0 + SPEED_OFFSET + SPEED_TOL)
+}
+
 /// Search window ratios `[lo, hi]` (found / kinematic) for a hypothesis: slip of up to
 /// [`SLIP_MAX`] lowers the cage, outer-race and ball rates and raises BPFI by
 /// `SLIP_MAX · BPFO/BPFI`; the ~[`SPEED_OFFSET`] speed-reference offset raises all; ± [`SPEED_TOL`]
@@ -252,8 +258,6 @@ pub(crate) fn window_ratio(h: Hypothesis, o: &FaultOrders) -> (f64, f64) {
             1.0 - SPEED_TOL,
             1.0 + SLIP_MAX * o.bpfo / o.bpfi + SPEED_OFFSET + SPEED_TOL,
         ),
-        Hypothesis::Outer | Hypothesis::Ball => {
-            (1.0 - SLIP_MAX - SPEED_TOL, 1.0 + SPEED_OFFSET + SPEED_TOL)
-        }
+        Hypothesis::Outer | Hypothesis::Ball => cage_window(),
     }
 }
