@@ -48,8 +48,13 @@
 //!   rate (BPFO, BPFI, ball-defect rate of the geometry's [`FaultOrders`]) with 1–2 % random
 //!   slip (each interval jittered, Gaussian, standard deviation the slip), ringing one of the
 //!   structural modes above 1 kHz; inner-race impacts amplitude-modulated by the load zone once
-//!   per shaft turn, ball-fault impacts once per cage turn (FTF), outer-race impacts not
-//!   modulated. Severity: 20·log₁₀ of the impacts' RMS over the RMS of the healthy recording
+//!   per shaft turn, ball-fault impacts once per cage turn (FTF), outer-race impacts not by the
+//!   load zone. A race defect is struck by each rolling element in turn, and no two elements
+//!   strike alike (diameter within a grade, load sharing, the cage pocket's clearance): each
+//!   element's impacts carry its own gain, log-normal with a spread of 5–30 % drawn per
+//!   machine, so the impacts repeat exactly only once per element cycle — once per cage turn
+//!   on an outer race (lines at the orders of FTF, BPFO = Z·FTF), once per turn of the shaft
+//!   relative to the cage on an inner race (orders of fr − FTF = BPFI/Z). Severity: 20·log₁₀ of the impacts' RMS over the RMS of the healthy recording
 //!   (everything else, sensor noise included), dB.
 //! * **ADC** ([`MachineRecipe::adc`]): optional quantisation to a 16- or 24-bit (any 8–32)
 //!   converter of a stated full scale, after everything else. A noise-only recording
@@ -98,6 +103,9 @@ pub const LINE_MAX_FS_FRACTION: f64 = 0.45;
 pub const SPEED_WANDER: (f64, f64) = (0.0005, 0.003);
 /// Slow speed wander frequencies, Hz.
 pub const SPEED_WANDER_HZ: (f64, f64) = (0.05, 0.5);
+/// Element-to-element spread of a race defect's impacts: the range of the standard deviation
+/// of each rolling element's log gain.
+pub const ELEMENT_SPREAD: (f64, f64) = (0.05, 0.3);
 /// Fault impact slip: standard deviation of each impact interval, as a fraction of it.
 pub const FAULT_SLIP: (f64, f64) = (0.01, 0.02);
 /// Nuisance powers relative to the structural background, dB: shaft comb.
@@ -521,6 +529,7 @@ enum Stream {
     FaultTiming = 13,
     OtherShaft = 8,
     OtherShaftTiming = 14,
+    FaultElements = 15,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -706,6 +715,14 @@ pub struct FaultImpacts {
     pub angle_rad: f64,
     /// Amplitude spread: standard deviation of the log amplitude of each impact.
     pub amplitude_spread: f64,
+    /// Rolling elements striking a race defect in turn (0: not a race fault, or a recipe drawn
+    /// before elements were told apart).
+    #[serde(default)]
+    pub elements: usize,
+    /// Element-to-element spread: standard deviation of the log gain each rolling element
+    /// gives its impacts on a race defect (the gains drawn from the timing stream).
+    #[serde(default)]
+    pub element_spread: f64,
 }
 
 /// Every parameter of one machine recording (the recipe and what was drawn from its seed).
@@ -984,6 +1001,14 @@ impl FaultImpacts {
             outside_load: uniform(rng, (0.0, 0.2)),
             angle_rad: phase(rng),
             amplitude_spread: uniform(rng, (0.05, 0.15)),
+            // BPFO = Z·FTF: the number of elements from the orders (a geometry's are exact)
+            elements: match f.location {
+                FaultLocation::Outer | FaultLocation::Inner if orders.ftf > 0.0 => {
+                    (orders.bpfo / orders.ftf).round().max(1.0) as usize
+                }
+                _ => 0,
+            },
+            element_spread: uniform(rng, ELEMENT_SPREAD),
         }
     }
 
@@ -1321,6 +1346,13 @@ impl MachineParams {
                 check_range("fault outside_load", f.outside_load, 0.0, 1.0, "0 ..= 1")?;
                 check_range("fault angle", f.angle_rad, -1e3, 1e3, "finite")?;
                 check_range("fault spread", f.amplitude_spread, 0.0, 2.0, "0 ..= 2")?;
+                check_range(
+                    "fault element_spread",
+                    f.element_spread,
+                    0.0,
+                    2.0,
+                    "0 ..= 2",
+                )?;
             }
             _ => {
                 return Err(ModelError::InvalidRecipe(
@@ -1758,9 +1790,29 @@ impl MachineParams {
         let mut t = -pre - rng.random::<f64>() / (f.order * fr);
         let mut times = Vec::new();
         let mut inside = 0;
+        // each rolling element's gain on a race defect, struck in turn (its own stream, so the
+        // impacts' timing and spread draws are those of a train without it)
+        let gains: Vec<f64> = {
+            let mut g = ChaCha8Rng::seed_from_u64(self.recipe.seed);
+            g.set_stream(Stream::FaultElements as u64);
+            (0..f.elements)
+                .map(|_| {
+                    let z: f64 = StandardNormal.sample(&mut g);
+                    (f.element_spread * z).exp()
+                })
+                .collect()
+        };
+        let mut struck = 0usize;
         while t < end {
             let a: f64 = StandardNormal.sample(&mut rng);
-            let amp = f.modulation(angle_at(theta, fs, fr, t)) * (f.amplitude_spread * a).exp();
+            let element = if gains.is_empty() {
+                1.0
+            } else {
+                gains[struck % gains.len()]
+            };
+            struck += 1;
+            let amp =
+                element * f.modulation(angle_at(theta, fs, fr, t)) * (f.amplitude_spread * a).exp();
             times.push((t, amp));
             if t >= 0.0 {
                 inside += 1;

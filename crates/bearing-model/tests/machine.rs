@@ -113,7 +113,8 @@ fn envelope_of(rec: &bearing_model::machine::MachineRecording, mode: usize) -> (
     envelope_spectrum(&rec.accel, rec.fs_hz, lo, hi)
 }
 
-fn faulty(location: FaultLocation, seed: u64) -> bearing_model::machine::MachineRecording {
+/// A 6205 at 1800 rpm, 25.6 kHz, 5 s, SNR 30 dB, with a fault at 0 dB, its speed steady.
+fn faulty_params(location: FaultLocation, seed: u64) -> MachineParams {
     let r = MachineRecipe::healthy(BearingGeometry::skf_6205(), 1800.0, 25_600.0, 5.0, seed)
         .unwrap()
         .with_snr_db(30.0)
@@ -121,7 +122,11 @@ fn faulty(location: FaultLocation, seed: u64) -> bearing_model::machine::Machine
             location,
             severity_db: 0.0,
         });
-    steady(r.draw().unwrap()).synthesize().unwrap()
+    steady(r.draw().unwrap())
+}
+
+fn faulty(location: FaultLocation, seed: u64) -> bearing_model::machine::MachineRecording {
+    faulty_params(location, seed).synthesize().unwrap()
 }
 
 #[test]
@@ -147,6 +152,52 @@ fn outer_race_impacts_come_at_bpfo_unmodulated() {
     // no load-zone modulation: nothing at BPFO ± fr
     let side = peak_near(df, &e, bpfo + fr, 0.5);
     assert!(db(side, floor) < 10.0, "BPFO+fr {:.1} dB", db(side, floor));
+}
+
+/// A race defect is struck by each rolling element in turn, each with its own gain: the impacts
+/// repeat once per element cycle, which puts lines at the orders of FTF on an outer race
+/// (BPFO = Z·FTF) and of fr − FTF on an inner race (BPFI = Z·(fr − FTF)); with equal elements
+/// those lines are not there.
+#[test]
+fn unequal_elements_put_the_element_cycle_in_a_race_fault_s_envelope() {
+    let fr = 30.0;
+    let o = BearingGeometry::skf_6205().orders();
+    for (location, cycle, seed) in [
+        (FaultLocation::Outer, o.ftf * fr, 34),
+        (FaultLocation::Inner, (1.0 - o.ftf) * fr, 35),
+    ] {
+        let mut p = faulty_params(location, seed);
+        let f = p.fault.as_mut().unwrap();
+        assert_eq!(f.elements, 9, "{location:?}: the 6205's nine balls");
+        f.slip = 0.002;
+        // the cycle's orders below the fault rate (Z − 1 of them), off the shaft's orders (the
+        // inner race's load zone puts lines there): their mean level over the floor, dB
+        let orders: Vec<f64> = (1..9)
+            .map(|k| k as f64 * cycle)
+            .filter(|f| {
+                let m = (f / fr).round();
+                (f - m * fr).abs() > 1.0
+            })
+            .collect();
+        let level = |spread: f64| {
+            let mut q = p.clone();
+            q.fault.as_mut().unwrap().element_spread = spread;
+            let rec = q.synthesize().unwrap();
+            let (df, e) = envelope_of(&rec, rec.params.fault.unwrap().mode);
+            let floor = median_in(df, &e, 5.0, 300.0);
+            orders
+                .iter()
+                .map(|&f| db(peak_near(df, &e, f, 0.3), floor))
+                .sum::<f64>()
+                / orders.len() as f64
+        };
+        let (unequal, equal) = (level(0.3), level(0.0));
+        assert!(
+            orders.len() >= 6 && unequal > 10.0 && unequal > equal + 6.0,
+            "{location:?}: the element cycle's orders {unequal:.1} dB with unequal elements, \
+             {equal:.1} dB with equal ones"
+        );
+    }
 }
 
 #[test]

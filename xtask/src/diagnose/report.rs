@@ -696,6 +696,16 @@ fn false_alarm_markdown(h: Option<&FalseAlarmHeadline>) -> String {
             "simulated machines with a localized fault",
             "detected (verdict ≠ `normal`)",
         ),
+        (
+            "healthy-by-designation",
+            "simulated healthy machines, bearing given by designation (a maker's variant of a typical catalogue row)",
+            "false alarms",
+        ),
+        (
+            "faulty-by-designation",
+            "the same with a localized fault",
+            "detected (verdict ≠ `normal`)",
+        ),
     ];
     for (kind, what, counted) in names {
         if let Some(c) = h.kinds.get(kind) {
@@ -706,7 +716,7 @@ fn false_alarm_markdown(h: Option<&FalseAlarmHeadline>) -> String {
                 frac(c[2], diagnosed),
                 c[1]
             );
-            if kind == "faulty" {
+            if kind.starts_with("faulty") {
                 let _ = write!(m, "; fault typed exactly {}", frac(c[3], diagnosed));
             }
             m += "\n";

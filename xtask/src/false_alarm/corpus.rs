@@ -53,6 +53,26 @@ pub const OTHER_SHAFT_MIXES: [Nuisances; 3] = [
     },
     Nuisances::EVERY,
 ];
+/// Healthy machines whose bearing the diagnosis is told by designation only (a catalogue row
+/// marked typical, `hybrid-fdd diagnose --bearing 6206`), while the machine's own bearing is a
+/// maker's variant of it: the path most users take, whose false-alarm rate the first two designs
+/// do not measure (they tell the diagnosis the exact geometry). Added after the first two
+/// designs, with their own seed, so those stay as they were.
+pub const N_DESIGNATED: usize = 120;
+/// Faulty recordings per (fault location, severity) cell made from those machines.
+pub const DESIGNATED_FAULTY_PER_CELL: usize = 5;
+/// Seed of the designation design.
+pub const DESIGNATED_SEED: u64 = CORPUS_SEED + 2;
+/// A maker's pitch diameter around the typical row's ISO mean diameter, ± this fraction
+/// (uniform; same number and size of balls): the spread the catalogue's own sources show —
+/// LDK's UER204 +3.1 % (34.55 mm on the 204 class's 33.5), SKF's 6205 +1.4 % (39.04 on 38.5).
+/// It moves BPFO and BPFI by about ± 1 % and the ball-defect rate by about ± 3.5 %. A maker
+/// with another number of balls (a 6204 of 7 or 9) is outside it, and outside what the
+/// catalogue's typical rows can give.
+pub const PITCH_SPREAD: f64 = 0.03;
+/// Nuisance mixes of the designation machines: the first design's six.
+pub const DESIGNATED_MIXES: [Nuisances; 6] = MIXES;
+
 /// Declared-speed errors (fraction of the true mean speed) and how many healthy recordings get
 /// each: 70 % are declared exactly, 30 % off by ±0.5, ±2 or ±5 %.
 pub const SPEED_ERRORS: [(f64, usize); 7] = [
@@ -116,6 +136,11 @@ pub enum Kind {
     Faulty,
     /// A real healthy recording from the shared data.
     Real,
+    /// A healthy simulated machine whose bearing is declared by designation (a typical
+    /// catalogue row) and is a maker's variant of it ([`N_DESIGNATED`]).
+    DesignatedHealthy,
+    /// One of those with a localized fault.
+    DesignatedFaulty,
 }
 
 impl Kind {
@@ -126,6 +151,8 @@ impl Kind {
             Kind::NoiseOnly => "noise-only",
             Kind::Faulty => "faulty",
             Kind::Real => "real",
+            Kind::DesignatedHealthy => "healthy-by-designation",
+            Kind::DesignatedFaulty => "faulty-by-designation",
         }
     }
 }
@@ -205,7 +232,35 @@ fn healthy_machines(
     seed_base: u64,
     duration_s: f64,
 ) -> anyhow::Result<Vec<Entry>> {
-    let geoms = geometries()?;
+    let bearings: Vec<(&'static str, BearingGeometry, BearingSpec)> = geometries()?
+        .into_iter()
+        .map(|(name, g)| (name, g, spec(name, g)))
+        .collect();
+    machines_of(
+        rng,
+        &bearings,
+        0.0,
+        mixes,
+        (n_healthy, first_id, "H", Kind::Healthy),
+        seed_base,
+        duration_s,
+    )
+}
+
+/// `n` healthy machines of `kind`, ids `{prefix}{first_id + 1}`…, of `bearings` (label, the
+/// machine's geometry, the spec declared to the diagnosis) with the pitch diameter drawn
+/// within ± `pitch_spread` of the geometry's (0: as given, nothing drawn) and `mixes`; every
+/// factor's levels balanced over them and shuffled independently from `rng`.
+fn machines_of(
+    rng: &mut ChaCha8Rng,
+    bearings: &[(&'static str, BearingGeometry, BearingSpec)],
+    pitch_spread: f64,
+    mixes: &[Nuisances],
+    (n_healthy, first_id, prefix, kind): (usize, usize, &str, Kind),
+    seed_base: u64,
+    duration_s: f64,
+) -> anyhow::Result<Vec<Entry>> {
+    let geoms = bearings;
     let g_idx = balanced(rng, n_healthy, geoms.len());
     let s_idx = balanced(rng, n_healthy, SPEEDS_RPM.len());
     let f_idx = balanced(rng, n_healthy, RATES_HZ.len());
@@ -221,22 +276,35 @@ fn healthy_machines(
     errors.shuffle(rng);
     let mut out = Vec::new();
     for i in 0..n_healthy {
-        let (gname, g) = geoms[g_idx[i]];
+        let (gname, mut g, ref declared) = geoms[g_idx[i]];
         let rpm = SPEEDS_RPM[s_idx[i]];
         let fs = RATES_HZ[f_idx[i]];
         let mix = mixes[m_idx[i]];
         let rms = (RMS_RANGE_MS2.0.ln()
             + (RMS_RANGE_MS2.1.ln() - RMS_RANGE_MS2.0.ln()) * rng.random::<f64>())
         .exp();
+        if pitch_spread > 0.0 {
+            let eps = pitch_spread * (2.0 * rng.random::<f64>() - 1.0);
+            g = BearingGeometry::from_dimensions(
+                g.n_balls,
+                g.ball_diameter_m,
+                g.pitch_diameter_m * (1.0 + eps),
+                g.contact_angle_rad,
+            )
+            .map(|mut v| {
+                v.name = g.name;
+                v
+            })?;
+        }
         let recipe = MachineRecipe::healthy(g, rpm, fs, duration_s, seed_base + i as u64)?
             .with_nuisances(mix)
             .with_snr_db(SNRS_DB[n_idx[i]])
             .with_rms_ms2(rms);
         out.push(Entry {
-            id: format!("H{:03}", first_id + i + 1),
-            kind: Kind::Healthy,
+            id: format!("{prefix}{:03}", first_id + i + 1),
+            kind,
             geometry: gname,
-            spec: spec(gname, g),
+            spec: declared.clone(),
             rpm_true: rpm,
             rpm_declared: rpm * (1.0 + errors[i]),
             speed_error: errors[i],
@@ -258,6 +326,16 @@ fn faulty_machines(
     per_cell: usize,
     first_id: usize,
 ) -> Vec<Entry> {
+    faulty_of(rng, healthy, per_cell, (first_id, "F", Kind::Faulty))
+}
+
+/// [`faulty_machines`] as `kind`, ids `{prefix}{first_id + 1}`….
+fn faulty_of(
+    rng: &mut ChaCha8Rng,
+    healthy: &[Entry],
+    per_cell: usize,
+    (first_id, prefix, kind): (usize, &str, Kind),
+) -> Vec<Entry> {
     let cells = FaultLocation::ALL.len() * SEVERITIES_DB.len();
     let n_faulty = (cells * per_cell).min(healthy.len());
     let mut machines: Vec<usize> = (0..healthy.len()).collect();
@@ -275,8 +353,8 @@ fn faulty_machines(
             })
         });
         out.push(Entry {
-            id: format!("F{:03}", first_id + j + 1),
-            kind: Kind::Faulty,
+            id: format!("{prefix}{:03}", first_id + j + 1),
+            kind,
             recipe,
             machine_of: Some(h.id.clone()),
             ..h
@@ -376,6 +454,60 @@ pub fn full_design() -> anyhow::Result<Vec<Entry>> {
     Ok(out)
 }
 
+/// The designation design ([`N_DESIGNATED`]): `n_healthy` healthy machines (ids `D001`…) whose
+/// bearing is each typical catalogue row in turn with its pitch diameter drawn within ±
+/// [`PITCH_SPREAD`], declared to the diagnosis by the row's designation; `per_cell` faulty ones
+/// per cell (ids `DF001`…), the fault at the machine's own bearing's rate; from
+/// [`DESIGNATED_SEED`] (recipe seeds from 4 000 000).
+pub fn designation_design(
+    n_healthy: usize,
+    per_cell: usize,
+    duration_s: f64,
+) -> anyhow::Result<Vec<Entry>> {
+    let rows: Vec<(&'static str, BearingGeometry, BearingSpec)> = bearing_model::catalog::entries()
+        .iter()
+        .filter(|e| e.is_typical())
+        .map(|e| (e.designation, e.geometry(), e.spec(e.designation)))
+        .collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(DESIGNATED_SEED);
+    let mut out = machines_of(
+        &mut rng,
+        &rows,
+        PITCH_SPREAD,
+        &DESIGNATED_MIXES,
+        (n_healthy, 0, "D", Kind::DesignatedHealthy),
+        4_000_000,
+        duration_s,
+    )?;
+    let faulty = faulty_of(&mut rng, &out, per_cell, (0, "DF", Kind::DesignatedFaulty));
+    out.extend(faulty);
+    Ok(out)
+}
+
+/// A designation-design entry as told its machine's exact geometry instead of the designation
+/// (the comparison the designation design is reported beside); other entries as they are.
+pub fn with_exact_geometry(e: &Entry) -> Entry {
+    match (e.kind, e.recipe) {
+        (Kind::DesignatedHealthy | Kind::DesignatedFaulty, Some(r)) => Entry {
+            spec: spec(e.geometry, r.geometry),
+            ..e.clone()
+        },
+        _ => e.clone(),
+    }
+}
+
+/// What `cargo xtask diagnose --false-alarm` diagnoses with the bearing declared:
+/// [`full_design`], then [`designation_design`] at its constants.
+pub fn declared_design() -> anyhow::Result<Vec<Entry>> {
+    let mut out = full_design()?;
+    out.extend(designation_design(
+        N_DESIGNATED,
+        DESIGNATED_FAULTY_PER_CELL,
+        DURATION_S,
+    )?);
+    Ok(out)
+}
+
 /// The real healthy recordings: CWRU 97.mat at 48 kHz and decimated by 4 to 12 kHz (SKF 6205,
 /// the file's speed), and the 8 UESTC normal recordings (UC204-class insert, 20 kHz, the set
 /// speed in the name). `rpm_97` is 97.mat's stored speed.
@@ -452,6 +584,60 @@ mod tests {
         assert_eq!(off, 180);
         let faulty = a.iter().filter(|e| e.kind == Kind::Faulty).count();
         assert_eq!(faulty, 9 * FAULTY_PER_CELL);
+    }
+
+    /// The designation design follows the other two without changing them; each machine is a
+    /// typical catalogue row's variant within the pitch spread, declared by the row, its faulty
+    /// copies made from its own healthy machines.
+    #[test]
+    fn the_designation_design_declares_typical_rows_of_other_geometry() {
+        let full = full_design().unwrap();
+        let all = declared_design().unwrap();
+        assert_eq!(&all[..full.len()], &full[..]);
+        let added = &all[full.len()..];
+        let healthy: Vec<_> = added
+            .iter()
+            .filter(|e| e.kind == Kind::DesignatedHealthy)
+            .collect();
+        assert_eq!(healthy.len(), N_DESIGNATED);
+        assert_eq!(healthy[0].id, "D001");
+        let rows = bearing_model::catalog::entries()
+            .iter()
+            .filter(|e| e.is_typical())
+            .count();
+        let mut moved = 0;
+        for e in &healthy {
+            let row = bearing_model::catalog::lookup(e.geometry).unwrap();
+            assert!(row.is_typical(), "{}", e.geometry);
+            assert_eq!(e.spec.orders, row.orders());
+            let (own, typ) = (e.recipe.unwrap().geometry, row.geometry());
+            assert_eq!(own.n_balls, typ.n_balls);
+            let eps = own.pitch_diameter_m / typ.pitch_diameter_m - 1.0;
+            assert!(eps.abs() <= PITCH_SPREAD + 1e-12, "{eps}");
+            moved += usize::from(eps.abs() > 1e-3);
+            assert_eq!(with_exact_geometry(e).spec.orders, own.orders());
+        }
+        assert!(moved > N_DESIGNATED / 2);
+        for row in bearing_model::catalog::entries()
+            .iter()
+            .filter(|e| e.is_typical())
+        {
+            let k = healthy
+                .iter()
+                .filter(|e| e.geometry == row.designation)
+                .count();
+            assert_eq!(k, N_DESIGNATED / rows, "{}", row.designation);
+        }
+        let faulty: Vec<_> = added
+            .iter()
+            .filter(|e| e.kind == Kind::DesignatedFaulty)
+            .collect();
+        assert_eq!(faulty.len(), 9 * DESIGNATED_FAULTY_PER_CELL);
+        assert!(
+            faulty
+                .iter()
+                .all(|f| healthy.iter().any(|h| Some(&h.id) == f.machine_of.as_ref()))
+        );
     }
 
     /// The other-shaft design is balanced like the first, numbered after it, every machine

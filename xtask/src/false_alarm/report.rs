@@ -120,7 +120,9 @@ fn severity(r: &Row) -> Option<f64> {
 
 fn snr(r: &Row) -> Option<f64> {
     match r.entry.kind {
-        Kind::Healthy | Kind::Faulty => r.entry.recipe.map(|x| x.snr_db),
+        Kind::Healthy | Kind::Faulty | Kind::DesignatedHealthy | Kind::DesignatedFaulty => {
+            r.entry.recipe.map(|x| x.snr_db)
+        }
         _ => None,
     }
 }
@@ -148,10 +150,17 @@ fn factor_table(
 }
 
 /// Write `false_alarm.md`, `.csv` and `.json` into `out`.
-pub fn write(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow::Result<()> {
+/// `exact`: the designation design's machines diagnosed again with their exact geometry.
+pub fn write(
+    rows: &[Row],
+    exact: &[Row],
+    wall_s: f64,
+    cpu_s: Option<f64>,
+    out: &Path,
+) -> anyhow::Result<()> {
     write_csv(rows, out)?;
-    write_json(rows, out)?;
-    write_md(rows, wall_s, cpu_s, out)
+    write_json(rows, exact, out)?;
+    write_md(rows, exact, wall_s, cpu_s, out)
 }
 
 fn p_columns(rows: &[Row]) -> Vec<String> {
@@ -257,7 +266,7 @@ fn write_csv(rows: &[Row], out: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn write_json(rows: &[Row], out: &Path) -> anyhow::Result<()> {
+fn write_json(rows: &[Row], exact: &[Row], out: &Path) -> anyhow::Result<()> {
     let records: Vec<serde_json::Value> = rows
         .iter()
         .map(|r| {
@@ -267,6 +276,7 @@ fn write_json(rows: &[Row], out: &Path) -> anyhow::Result<()> {
                 "kind": e.kind.name(),
                 "geometry": e.geometry,
                 "bearing_orders": e.spec.orders,
+                "machine_orders": e.recipe.map(|x| x.geometry.orders()),
                 "rpm_true": e.rpm_true,
                 "rpm_declared": e.rpm_declared,
                 "speed_error": e.speed_error,
@@ -315,6 +325,10 @@ fn write_json(rows: &[Row], out: &Path) -> anyhow::Result<()> {
             "other_shaft_faulty_per_cell": corpus::OTHER_SHAFT_FAULTY_PER_CELL,
             "other_shaft_seed": corpus::OTHER_SHAFT_SEED,
             "other_shaft_mixes": corpus::OTHER_SHAFT_MIXES.iter().map(|m| m.label()).collect::<Vec<_>>(),
+            "designated_healthy": corpus::N_DESIGNATED,
+            "designated_faulty_per_cell": corpus::DESIGNATED_FAULTY_PER_CELL,
+            "designated_seed": corpus::DESIGNATED_SEED,
+            "designated_pitch_spread": corpus::PITCH_SPREAD,
             "speed_errors": corpus::SPEED_ERRORS.iter().map(|e| serde_json::json!({"error": e.0, "count": e.1})).collect::<Vec<_>>(),
             "severities_db": corpus::SEVERITIES_DB,
             "rms_range_ms2": [corpus::RMS_RANGE_MS2.0, corpus::RMS_RANGE_MS2.1],
@@ -323,6 +337,10 @@ fn write_json(rows: &[Row], out: &Path) -> anyhow::Result<()> {
             "noise_only_lsb": [corpus::NOISE_ONLY_LSB.0, corpus::NOISE_ONLY_LSB.1],
         },
         "records": records,
+        "designated_exact_geometry": exact
+            .iter()
+            .map(|r| serde_json::json!({"id": r.entry.id, "verdict": r.verdict()}))
+            .collect::<Vec<_>>(),
     });
     std::fs::write(
         out.join("false_alarm.json"),
@@ -337,6 +355,10 @@ struct Sets<'r> {
     noise: Vec<&'r Row>,
     real: Vec<&'r Row>,
     faulty: Vec<&'r Row>,
+    /// Healthy machines whose bearing was declared by designation (the designation design).
+    designated: Vec<&'r Row>,
+    /// Their faulty copies.
+    designated_faulty: Vec<&'r Row>,
 }
 
 /// Each factor's levels as the tables label them, in the design's order.
@@ -382,13 +404,21 @@ impl Levels {
 /// `false_alarm.md`: the summary, the false alarms per factor, per hypothesis by its distance to
 /// a shaft order, the noise-only and real recordings, the faulty machines, the method and the
 /// design.
-fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow::Result<()> {
+fn write_md(
+    rows: &[Row],
+    exact: &[Row],
+    wall_s: f64,
+    cpu_s: Option<f64>,
+    out: &Path,
+) -> anyhow::Result<()> {
     let of = |k: Kind| rows.iter().filter(move |r| r.entry.kind == k).collect();
     let sets = Sets {
         healthy: of(Kind::Healthy),
         noise: of(Kind::NoiseOnly),
         real: of(Kind::Real),
         faulty: of(Kind::Faulty),
+        designated: of(Kind::DesignatedHealthy),
+        designated_faulty: of(Kind::DesignatedFaulty),
     };
     let levels = Levels::of_design()?;
     let mut md = String::new();
@@ -398,6 +428,7 @@ fn write_md(rows: &[Row], wall_s: f64, cpu_s: Option<f64>, out: &Path) -> anyhow
     noise_only_section(&mut md, &sets.noise, &levels);
     real_section(&mut md, &sets.real);
     faulty_section(&mut md, &sets.faulty);
+    designation_section(&mut md, &sets, exact);
     method_section(&mut md);
     design_section(&mut md, &sets, &levels);
     std::fs::write(out.join("false_alarm.md"), md)?;
@@ -457,6 +488,13 @@ fn summary_section(
     let all_sim: Vec<&Row> = healthy.iter().chain(noise.iter()).copied().collect();
     line(md, "all simulated healthy", &all_sim);
     line(md, "real healthy recordings", real);
+    if !sets.designated.is_empty() {
+        line(
+            md,
+            "simulated healthy machines, bearing given by designation (added later; [below](#bearings-given-by-designation-added-later))",
+            &sets.designated,
+        );
+    }
     // verdict distribution
     let dist = |set: &[&Row]| {
         let mut counts: std::collections::BTreeMap<&str, usize> = Default::default();
@@ -696,17 +734,21 @@ fn real_section(md: &mut String, real: &[&Row]) {
 /// Detection and fault typing of the faulty machines, per fault and severity, and per severity
 /// and SNR.
 fn faulty_section(md: &mut String, faulty: &[&Row]) {
-    // faulty
     let _ = write!(
         md,
         "\n## Faulty machines: detection and fault typing ({} recordings)\n\n\
          Each is one of the healthy machines above (same seed, nuisances, SNR, declared speed) with \
          one localized fault added. Detected: verdict ≠ `normal`. Right type: verdict = the fault \
-         exactly. Named: the fault is among the detected ones (possibly with others).\n\n\
-         | fault | severity (dB) | detected | rate | 95 % CI | right type | rate | 95 % CI | named | errors |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+         exactly. Named: the fault is among the detected ones (possibly with others).\n\n",
         faulty.len()
     );
+    faulty_tables(md, faulty);
+}
+
+/// The faulty machines' tables: per fault and severity, then per severity and SNR.
+fn faulty_tables(md: &mut String, faulty: &[&Row]) {
+    *md += "| fault | severity (dB) | detected | rate | 95 % CI | right type | rate | 95 % CI | named | errors |\n\
+            |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for loc in FaultLocation::ALL {
         for sev in corpus::SEVERITIES_DB
             .iter()
@@ -756,6 +798,126 @@ fn faulty_section(md: &mut String, faulty: &[&Row]) {
     }
 }
 
+/// The designation design: false alarms of its healthy machines per designation, per declared-
+/// speed error and per how far the machine's own fault orders lie from the declared row's; its
+/// faulty machines' detection and typing.
+fn designation_section(md: &mut String, sets: &Sets<'_>, exact: &[Row]) {
+    let (healthy, faulty) = (&sets.designated, &sets.designated_faulty);
+    if healthy.is_empty() {
+        return;
+    }
+    let _ = write!(
+        md,
+        "\n## Bearings given by designation (added later)\n\n\
+         The machines above tell the diagnosis their bearing's exact geometry. A user gives a \
+         designation (`--bearing 6206`), and for most sizes the catalogue's row is a typical \
+         geometry, not the maker's: the diagnosis then widens every fault window by the \
+         catalogue's typical-geometry uncertainty (± {unc:.0} %, `diagnosis::options::TYPICAL_GEOMETRY_UNCERTAINTY`). \
+         These {nh} healthy machines (ids `D…`, seed {seed}, the first design's six mixes, \
+         speeds, rates, SNRs and declared-speed errors balanced as there) each carry a maker's \
+         variant of a typical row — the same balls on a pitch diameter drawn uniformly within \
+         ± {spread:.0} % of the row's (the spread the catalogue's sources show: LDK's UER204 \
+         +3.1 %, SKF's 6205 +1.4 % on the ISO mean diameter) — and are diagnosed with the row's \
+         designation; {nf} faulty copies (ids `DF…`, {pc} per fault × severity cell) put the fault \
+         at the machine's own bearing's rate. A maker's bearing with another number of balls is \
+         outside this design, and outside what a typical row can give.\n\n\
+         Beside each count, the same machines told their exact geometry.\n\n\
+         | recordings | bearing told | false alarms (healthy) or detected (faulty) / diagnosed | rate | 95 % CI | right type (faulty) | rate | 95 % CI | errors |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+        unc = 100.0 * diagnosis::options::TYPICAL_GEOMETRY_UNCERTAINTY,
+        nh = healthy.len(),
+        seed = corpus::DESIGNATED_SEED,
+        spread = 100.0 * corpus::PITCH_SPREAD,
+        nf = faulty.len(),
+        pc = corpus::DESIGNATED_FAULTY_PER_CELL,
+    );
+    let typed = |r: &Row| {
+        r.entry
+            .fault()
+            .is_some_and(|f| r.verdict() == f.location.name())
+    };
+    let exact_h: Vec<&Row> = exact
+        .iter()
+        .filter(|r| r.entry.kind == Kind::DesignatedHealthy)
+        .collect();
+    let exact_f: Vec<&Row> = exact
+        .iter()
+        .filter(|r| r.entry.kind == Kind::DesignatedFaulty)
+        .collect();
+    for (what, told, set, is_faulty) in [
+        ("healthy machines", "designation", healthy.as_slice(), false),
+        (
+            "healthy machines",
+            "exact geometry",
+            exact_h.as_slice(),
+            false,
+        ),
+        ("faulty machines", "designation", faulty.as_slice(), true),
+        (
+            "faulty machines",
+            "exact geometry",
+            exact_f.as_slice(),
+            true,
+        ),
+    ] {
+        if set.is_empty() {
+            continue;
+        }
+        let (k, n, e) = count(set.iter().copied(), alarm);
+        let typed_cells = if is_faulty {
+            let (kt, nt, _) = count(set.iter().copied(), typed);
+            rate_cells(kt, nt)
+        } else {
+            "– | – | –".into()
+        };
+        let _ = writeln!(
+            md,
+            "| {what} | {told} | {} | {typed_cells} | {e} |",
+            rate_cells(k, n)
+        );
+    }
+    // per designation
+    let mut names: Vec<&str> = healthy.iter().map(|r| r.entry.geometry).collect();
+    names.dedup();
+    names.sort_unstable();
+    names.dedup();
+    *md += "\nHealthy machines per designation:\n\n| designation | false alarms / diagnosed | rate | 95 % CI | errors |\n|---|---:|---:|---:|---:|\n";
+    for name in names {
+        let (k, n, e) = count(
+            healthy.iter().copied().filter(|r| r.entry.geometry == name),
+            alarm,
+        );
+        let _ = writeln!(md, "| {name} | {} | {e} |", rate_cells(k, n));
+    }
+    // by how far the machine's own orders lie from the declared row's
+    let shift = |r: &Row| -> Option<f64> {
+        let own = r.entry.recipe?.geometry.orders();
+        let row = r.entry.spec.orders;
+        Some(100.0 * (own.ball_defect / row.ball_defect - 1.0))
+    };
+    *md += "\nBy how far the machine's own ball-defect order lies from the declared row's (its BPFO and BPFI move about a third as far, the other way):\n\n| own / row − 1 (ball defect) | healthy: false alarms | rate | 95 % CI | faulty: detected | rate | 95 % CI | faulty: right type | rate | 95 % CI |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (lo, hi) in [(-10.0, -2.0), (-2.0, 2.0), (2.0, 10.0)] {
+        let within = |r: &&Row| shift(r).is_some_and(|x| x >= lo && x < hi);
+        let (kh, nh, _) = count(healthy.iter().copied().filter(within), alarm);
+        let fs: Vec<&Row> = faulty.iter().copied().filter(within).collect();
+        let (kd, nd, _) = count(fs.iter().copied(), alarm);
+        let (kr, nr, _) = count(fs.iter().copied(), |r| {
+            r.entry
+                .fault()
+                .is_some_and(|f| r.verdict() == f.location.name())
+        });
+        let _ = writeln!(
+            md,
+            "| {lo:+.0} … {hi:+.0} % | {} | {} | {} |",
+            rate_cells(kh, nh),
+            rate_cells(kd, nd),
+            rate_cells(kr, nr)
+        );
+    }
+    *md += "\nTheir faulty machines per fault and severity, and per severity and SNR:\n\n";
+    faulty_tables(md, faulty);
+}
+
 /// How the synthetic recordings are made and how the diagnosis is run.
 fn method_section(md: &mut String) {
     // method
@@ -793,12 +955,19 @@ fn method_section(md: &mut String) {
          rate of the declared geometry), each interval jittered by a Gaussian of {s0:.0}–{s1:.0} % \
          (slip), ringing a structural mode above {fm:.0} Hz; inner-race impacts modulated by the \
          load zone once per shaft turn, ball impacts once per cage turn, outer-race impacts not; \
+         a race defect struck by each rolling element in turn, each element's impacts with its own \
+         gain (log-normal, spread {e0:.0}–{e1:.0} % drawn per machine; added after the other-shaft design: \
+         CWRU's race faults carry the lines such unequal elements give, at the orders of FTF on an \
+         outer race and of fr − FTF on an inner, and the corpus's did not); \
          severity = 20·log₁₀(impacts' RMS / healthy recording's RMS): {sev}.\n\n\
-         The diagnosis is told the bearing's geometry, the sampling rate and the declared speed \
+         The diagnosis is told the bearing's geometry (the designation only, for the machines of \
+         the designation design), the sampling rate and the declared speed \
          (the true mean speed for 70 % of the healthy machines, off by ±0.5, ±2 or ±5 % for 30 %), \
          never the nuisances. It runs self-referenced (an AR model of the recording itself), as on \
          a machine with no healthy baseline.\n",
         dur = corpus::DURATION_S,
+        e0 = 100.0 * m::ELEMENT_SPREAD.0,
+        e1 = 100.0 * m::ELEMENT_SPREAD.1,
         m0 = m::MODE_COUNT.0,
         m1 = m::MODE_COUNT.1,
         d0 = 100.0 * m::DAMPING.0,
