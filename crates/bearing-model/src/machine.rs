@@ -54,8 +54,9 @@
 //!   element's impacts carry its own gain, log-normal with a spread of 5–30 % drawn per
 //!   machine, so the impacts repeat exactly only once per element cycle — once per cage turn
 //!   on an outer race (lines at the orders of FTF, BPFO = Z·FTF), once per turn of the shaft
-//!   relative to the cage on an inner race (orders of fr − FTF = BPFI/Z). Severity: 20·log₁₀ of the impacts' RMS over the RMS of the healthy recording
-//!   (everything else, sensor noise included), dB.
+//!   relative to the cage on an inner race (orders of fr − FTF = BPFI/Z). Severity:
+//!   20·log₁₀ of the impacts' RMS over the RMS of the healthy recording (everything else,
+//!   sensor noise included), dB.
 //! * **ADC** ([`MachineRecipe::adc`]): optional quantisation to a 16- or 24-bit (any 8–32)
 //!   converter of a stated full scale, after everything else. A noise-only recording
 //!   ([`MachineRecipe::noise_only`]) is a few LSB of sensor noise with hum and a faint structure.
@@ -720,7 +721,7 @@ pub struct FaultImpacts {
     #[serde(default)]
     pub elements: usize,
     /// Element-to-element spread: standard deviation of the log gain each rolling element
-    /// gives its impacts on a race defect (the gains drawn from the timing stream).
+    /// gives its impacts on a race defect (the gains drawn from a stream of their own).
     #[serde(default)]
     pub element_spread: f64,
 }

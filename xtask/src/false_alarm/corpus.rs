@@ -155,6 +155,11 @@ impl Kind {
             Kind::DesignatedFaulty => "faulty-by-designation",
         }
     }
+
+    /// Whether it is one of the designation design's ([`designation_design`]).
+    pub fn designated(self) -> bool {
+        matches!(self, Kind::DesignatedHealthy | Kind::DesignatedFaulty)
+    }
 }
 
 /// Where a real recording comes from.
@@ -253,14 +258,13 @@ fn healthy_machines(
 /// factor's levels balanced over them and shuffled independently from `rng`.
 fn machines_of(
     rng: &mut ChaCha8Rng,
-    bearings: &[(&'static str, BearingGeometry, BearingSpec)],
+    geoms: &[(&'static str, BearingGeometry, BearingSpec)],
     pitch_spread: f64,
     mixes: &[Nuisances],
     (n_healthy, first_id, prefix, kind): (usize, usize, &str, Kind),
     seed_base: u64,
     duration_s: f64,
 ) -> anyhow::Result<Vec<Entry>> {
-    let geoms = bearings;
     let g_idx = balanced(rng, n_healthy, geoms.len());
     let s_idx = balanced(rng, n_healthy, SPEEDS_RPM.len());
     let f_idx = balanced(rng, n_healthy, RATES_HZ.len());
@@ -487,8 +491,8 @@ pub fn designation_design(
 /// A designation-design entry as told its machine's exact geometry instead of the designation
 /// (the comparison the designation design is reported beside); other entries as they are.
 pub fn with_exact_geometry(e: &Entry) -> Entry {
-    match (e.kind, e.recipe) {
-        (Kind::DesignatedHealthy | Kind::DesignatedFaulty, Some(r)) => Entry {
+    match (e.kind.designated(), e.recipe) {
+        (true, Some(r)) => Entry {
             spec: spec(e.geometry, r.geometry),
             ..e.clone()
         },

@@ -332,12 +332,7 @@ pub fn run(ctx: &Context) -> anyhow::Result<()> {
     // designation costs
     let exact: Vec<Entry> = entries
         .iter()
-        .filter(|e| {
-            matches!(
-                e.kind,
-                corpus::Kind::DesignatedHealthy | corpus::Kind::DesignatedFaulty
-            )
-        })
+        .filter(|e| e.kind.designated())
         .map(corpus::with_exact_geometry)
         .collect();
     let exact_rows = run_entries(&exact, dir, BearingAs::Declared)?;

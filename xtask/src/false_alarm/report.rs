@@ -798,9 +798,9 @@ fn faulty_tables(md: &mut String, faulty: &[&Row]) {
     }
 }
 
-/// The designation design: false alarms of its healthy machines per designation, per declared-
-/// speed error and per how far the machine's own fault orders lie from the declared row's; its
-/// faulty machines' detection and typing.
+/// The designation design beside the same machines told their exact geometry (`exact`): false
+/// alarms of its healthy machines per designation and by how far the machine's own fault orders
+/// lie from the declared row's; its faulty machines' detection and typing.
 fn designation_section(md: &mut String, sets: &Sets<'_>, exact: &[Row]) {
     let (healthy, faulty) = (&sets.designated, &sets.designated_faulty);
     if healthy.is_empty() {
@@ -878,7 +878,6 @@ fn designation_section(md: &mut String, sets: &Sets<'_>, exact: &[Row]) {
     }
     // per designation
     let mut names: Vec<&str> = healthy.iter().map(|r| r.entry.geometry).collect();
-    names.dedup();
     names.sort_unstable();
     names.dedup();
     *md += "\nHealthy machines per designation:\n\n| designation | false alarms / diagnosed | rate | 95 % CI | errors |\n|---|---:|---:|---:|---:|\n";
@@ -901,11 +900,7 @@ fn designation_section(md: &mut String, sets: &Sets<'_>, exact: &[Row]) {
         let (kh, nh, _) = count(healthy.iter().copied().filter(within), alarm);
         let fs: Vec<&Row> = faulty.iter().copied().filter(within).collect();
         let (kd, nd, _) = count(fs.iter().copied(), alarm);
-        let (kr, nr, _) = count(fs.iter().copied(), |r| {
-            r.entry
-                .fault()
-                .is_some_and(|f| r.verdict() == f.location.name())
-        });
+        let (kr, nr, _) = count(fs.iter().copied(), typed);
         let _ = writeln!(
             md,
             "| {lo:+.0} … {hi:+.0} % | {} | {} | {} |",
