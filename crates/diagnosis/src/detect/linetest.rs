@@ -16,7 +16,9 @@
 //! different frequencies and their
 //! references are the band's, so under "healthy" their probabilities are independent and
 //! `X = −2 Σ ln p_k` is χ² with `2m` degrees of freedom (Fisher 1925): a fault needs several
-//! lines to stand out, the way the kinematics say they should.
+//! lines to stand out, the way the kinematics say they should. Where the template's windows
+//! overlap (widened windows), a line reads only the bins no earlier line read: one peak is one
+//! line's evidence, never two.
 
 use super::template::{Template, Term, Window};
 use super::view::BandView;
@@ -143,7 +145,7 @@ pub(crate) struct TermReading {
     pub value: f64,
     /// Its probability under "healthy".
     pub p: f64,
-    /// Clear windows of its width in the band.
+    /// Non-overlapping clear windows of its width in the band.
     pub null_size: usize,
 }
 
@@ -217,6 +219,7 @@ impl<'a> LineTest<'a> {
         let v = self.v;
         let top = self.top;
         let mut terms = Vec::new();
+        let mut taken: Vec<(usize, usize)> = Vec::new();
         for &w in windows {
             let ka = ((w.lo_hz / v.df).ceil().max(1.0) as usize).min(top);
             let kb = ((w.hi_hz / v.df).floor().max(0.0) as usize).min(top);
@@ -226,14 +229,25 @@ impl<'a> LineTest<'a> {
                 let c = ((w.expected_hz / v.df).round() as usize).clamp(1, top.max(1));
                 (c, c)
             };
-            if (ka..=kb).all(|k| v.masked[k]) {
+            // the bins no earlier line of the template read: where windows overlap (a ball's
+            // ± FTF beside its fundamental, widened windows) one peak would count twice, and
+            // Fisher's method asks independent lines
+            let free: Vec<usize> = (ka..=kb)
+                .filter(|k| !taken.iter().any(|&(a, b)| (a..=b).contains(k)))
+                .collect();
+            if free.iter().all(|&k| v.masked[k]) {
                 continue;
             }
-            let bin = (ka..=kb)
+            taken.push((ka, kb));
+            let Some(bin) = free
+                .iter()
+                .copied()
                 .max_by(|&a, &b| v.d[a].total_cmp(&v.d[b]).then(b.cmp(&a)))
-                .unwrap_or(ka);
+            else {
+                continue;
+            };
             let value = v.d[bin];
-            let reference = self.reference(kb - ka + 1);
+            let reference = self.reference(free.len());
             if reference.maxima.is_empty() {
                 continue;
             }
