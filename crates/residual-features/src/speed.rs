@@ -59,6 +59,20 @@ pub const WIDE_CANDIDATES: usize = 8;
 pub const MAINS_HZ: [f64; 2] = [50.0, 60.0];
 /// Fraction of the scored (non-mains) orders that must be present.
 pub const COMB_MIN_COMPLETE: f64 = 0.8;
+/// In a wide search a comb at `f/n` is as complete as `f`'s when the machine shows fractional
+/// orders (looseness puts lines at 0.5, 1.5, 2.5 … × fr, a rub at thirds; the healthy corpus
+/// draws half orders 5–15 dB under 1×): it is taken for the fundamental only when its first
+/// order stands no more than this (log₁₀ of the peak over its background: 0.4 = 4 dB) under its
+/// `n`-th, the stronger comb's first. A shaft's 1× carries the unbalance and is rarely far under
+/// its 2× (the corpus' misalignment puts 2× at −10 … +3 dB re 1×); the margin lies between the
+/// two. A machine whose 1× stands further under its 2× and whose spectrum holds half orders is
+/// read at twice its speed (give the speed); one whose half orders stand within 4 dB of 1× at
+/// half its speed. Reading a comb at half the speed puts the shaft's orders on every fault's
+/// windows at half their frequency: on the healthy corpus searched over 300–3600 rpm it was
+/// what every false alarm of that path came from (journal, 2026-12-07).
+pub const FUNDAMENTAL_MARGIN: f64 = 0.4;
+/// Relative tolerance of a candidate comb's rate as an integer multiple of another's.
+const SUBHARMONIC_TOL: f64 = 0.01;
 
 /// The shaft speed measured from the recording's shaft-harmonic comb.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -248,7 +262,9 @@ pub fn estimate_speed(
 /// shaft rate is as complete as the shaft's own (its orders are the shaft's even ones): of the
 /// accepted combs among the best-scoring candidates, the one at the lowest speed whose score is
 /// at least half the best is taken — a complete comb at half a speed holds that speed's odd
-/// orders too, so it is the fundamental.
+/// orders too, so it is the fundamental — unless its first order stands more than
+/// [`FUNDAMENTAL_MARGIN`] under its 2nd or 3rd (a loose machine's half orders make a complete
+/// comb at half the speed, under the shaft's 1×): then the comb at that multiple.
 ///
 /// # Errors
 /// The spectral engine's errors (non-finite input).
@@ -532,8 +548,11 @@ impl CombSpectrum {
     }
 
     /// Over a range wider than an octave the comb at 2·fr is as complete as fr's: of the
-    /// best-scoring accepted combs (the [`WIDE_CANDIDATES`] highest local maxima of `scores`),
-    /// the lowest whose score is at least half the best; `None` when none is accepted.
+    /// best-scoring accepted combs (the [`WIDE_CANDIDATES`] highest accepted local maxima of
+    /// `scores`, none within [`CONTRAST_HALF_WIDTH`] of a higher one), the lowest whose score is at least
+    /// half the best — unless its first order stands more than [`FUNDAMENTAL_MARGIN`] under its
+    /// `n`-th (n = 2, 3) and the comb at `n` times its rate is complete: then that one (the
+    /// best-scoring ratio within [`SUBHARMONIC_TOL`] of it). `None` when none is accepted.
     fn lowest_strong_comb(&self, scores: &[(f64, f64)]) -> Option<(f64, f64)> {
         let mut peaks: Vec<(f64, f64)> = scores
             .windows(3)
@@ -541,20 +560,51 @@ impl CombSpectrum {
             .map(|w| w[1])
             .collect();
         peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
-        peaks.truncate(WIDE_CANDIDATES);
-        let accepted: Vec<(f64, f64)> = peaks
-            .into_iter()
-            .filter(|&(r, s)| self.assess(scores, r, s).accepted)
-            .collect();
-        let top = accepted.first().map(|c| c.1)?;
-        Some(
-            accepted
+        // one candidate per comb: a comb's score is jagged over a few quarter-bin steps, and
+        // its side peaks would take every candidate's place; each accepted comb is the best
+        // accepted one within its own contrast neighbourhood
+        let mut accepted: Vec<(f64, f64)> = Vec::new();
+        for p in peaks {
+            // below half the best accepted comb's score no candidate is taken
+            if accepted.len() == WIDE_CANDIDATES
+                || accepted.first().is_some_and(|a| p.1 < 0.5 * a.1)
+            {
+                break;
+            }
+            if accepted
                 .iter()
-                .filter(|c| c.1 >= 0.5 * top)
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-                .copied()
-                .unwrap_or(accepted[0]),
-        )
+                .all(|d| (p.0 / d.0 - 1.0).abs() > CONTRAST_HALF_WIDTH)
+                && self.assess(scores, p.0, p.1).accepted
+            {
+                accepted.push(p);
+            }
+        }
+        let top = accepted.first().map(|c| c.1)?;
+        let low = accepted
+            .iter()
+            .filter(|c| c.1 >= 0.5 * top)
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .copied()
+            .unwrap_or(accepted[0]);
+        // a comb of fractional orders (looseness' halves, a rub's thirds) is as complete as the
+        // shaft's: its first order, far under the shaft's 1×, says it is not the fundamental
+        let first = self.order_score(1, low.0);
+        let up = (2..=3usize)
+            .filter(|&n| self.order_score(n, low.0) - first > FUNDAMENTAL_MARGIN)
+            .filter_map(|n| {
+                let at = n as f64 * low.0;
+                scores
+                    .iter()
+                    .filter(|c| (c.0 / at - 1.0).abs() <= SUBHARMONIC_TOL)
+                    .max_by(|a, b| a.1.total_cmp(&b.1))
+                    .copied()
+                    .filter(|&(r, s)| self.assess(scores, r, s).complete)
+            })
+            .max_by(|a, b| {
+                self.order_score(1, a.0)
+                    .total_cmp(&self.order_score(1, b.0))
+            });
+        Some(up.unwrap_or(low))
     }
 
     /// The strongest line within ± [`SPEED_SEARCH`] of the declared shaft rate, or of the comb
@@ -784,5 +834,51 @@ mod tests {
             !coarse.accepted || (coarse.rpm / 600.0 - 1.0).abs() <= 2.0 * coarse.resolution,
             "{coarse:?}"
         );
+    }
+    /// A loose machine: a shaft comb at 1000 rpm (orders 1–10) with half orders 0.5 … 5.5 8 dB
+    /// under it, searched over 300–3600 rpm. The comb at half the speed is as complete (it
+    /// holds the half orders and the shaft's), and its first order stands 8 dB under its second:
+    /// the shaft is at 1000 rpm. A machine at 500 rpm whose 2× stands 2 dB over its 1×
+    /// (misalignment), with its orders 1–20, is still read at 500 rpm.
+    #[test]
+    fn a_comb_of_half_orders_is_no_fundamental() {
+        use rand::{Rng, SeedableRng};
+        let fs = 12_000.0;
+        let tones = |fr: f64, lines: &[(f64, f64)], seed: u64| {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            (0..(fs * 6.0) as usize)
+                .map(|i| {
+                    let t = i as f64 / fs;
+                    let c: f64 = lines
+                        .iter()
+                        .map(|&(k, a)| {
+                            a * (2.0 * std::f64::consts::PI * k * fr * t + 0.4 * k).cos()
+                        })
+                        .sum();
+                    c + (rng.random::<f64>() - 0.5)
+                })
+                .collect::<Vec<f64>>()
+        };
+        let under = |db: f64| 0.2 * 10f64.powf(-db / 20.0);
+        let loose: Vec<(f64, f64)> = (1..=10)
+            .map(|k| (f64::from(k), 0.2))
+            .chain((0..=5).map(|k| (f64::from(k) + 0.5, under(8.0))))
+            .collect();
+        let mut e = SpectralEngine::new();
+        let x = tones(1000.0 / 60.0, &loose, 3);
+        let m = estimate_speed_in(&mut e, &x, fs, 300.0, 3600.0)
+            .unwrap()
+            .unwrap();
+        let rpm = m.refined_rpm.unwrap_or(m.rpm);
+        assert!((rpm / 1000.0 - 1.0).abs() < SPEED_TOL, "{m:?}");
+        let misaligned: Vec<(f64, f64)> = (1..=20)
+            .map(|k| (f64::from(k), if k == 2 { under(-2.0) } else { 0.2 }))
+            .collect();
+        let x = tones(500.0 / 60.0, &misaligned, 4);
+        let m = estimate_speed_in(&mut e, &x, fs, 300.0, 3600.0)
+            .unwrap()
+            .unwrap();
+        let rpm = m.refined_rpm.unwrap_or(m.rpm);
+        assert!((rpm / 500.0 - 1.0).abs() < SPEED_TOL, "{m:?}");
     }
 }

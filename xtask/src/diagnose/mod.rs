@@ -45,6 +45,9 @@ pub struct Args {
     /// speed), into `results/diagnosis/false_alarm_unknown.{md,csv}`.
     #[arg(long, requires = "false_alarm")]
     unknown_bearing: bool,
+    // With `--false-alarm`, `--rpm-range LOW-HIGH` (the diagnose flag) diagnoses the corpus with
+    // its bearings and no declared speed, the speed searched over the range, into
+    // `results/diagnosis/false_alarm_speed_range.{md,csv}` (or, with `--only`, prints the lines).
     /// With `--false-alarm`: diagnose only the corpus entries with these ids (comma-separated;
     /// a trailing `*` matches a prefix, e.g. `H6*`) and print one line per entry with its drawn
     /// parameters; no report is written. For reading a machine the tables point at.
@@ -147,10 +150,10 @@ const FIGURES_OTHER: [&str; 2] = ["train_data_OuterRaceFault_vload_1", "I_1000_1
 /// Run the task.
 pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
     if args.false_alarm {
-        let bearing = if args.unknown_bearing {
-            crate::false_alarm::BearingAs::Unknown
-        } else {
-            crate::false_alarm::BearingAs::Declared
+        let bearing = match (args.unknown_bearing, args.cmd.recording.search()?.rpm_range) {
+            (true, _) => crate::false_alarm::BearingAs::Unknown,
+            (false, Some(range)) => crate::false_alarm::BearingAs::SpeedSearched(range),
+            (false, None) => crate::false_alarm::BearingAs::Declared,
         };
         if !args.only.is_empty() {
             return crate::false_alarm::run_only(
@@ -162,6 +165,11 @@ pub fn run(ctx: &Context, args: Args) -> anyhow::Result<()> {
         }
         if args.unknown_bearing {
             return crate::false_alarm::unknown::run(ctx);
+        }
+        if let Some(range) = args.cmd.recording.search()?.rpm_range {
+            // the range's own check (empty, inverted, non-finite) before a 10-minute run
+            diagnosis::DiagnoseOptions::search(range[0], range[1]).check()?;
+            return crate::false_alarm::speed_range::run(ctx, range);
         }
         return crate::false_alarm::run(ctx);
     }

@@ -675,7 +675,10 @@ fn false_alarm_markdown(h: Option<&FalseAlarmHeadline>) -> String {
         "\n## False alarms on healthy machines\n\n\
          The false-alarm rate is measured apart, on a corpus of simulated healthy machines and \
          every real healthy recording (self-referenced): [`false_alarm.md`](false_alarm.md), \
-         written by `cargo xtask diagnose --false-alarm`. ",
+         written by `cargo xtask diagnose --false-alarm`; the same corpus with the bearing left \
+         out in [`false_alarm_unknown.md`](false_alarm_unknown.md) (`--unknown-bearing`), with \
+         the speed left out in [`false_alarm_speed_range.md`](false_alarm_speed_range.md) \
+         (`--rpm-range 300-3600`). ",
     );
     let Some(h) = h else {
         m += "(`false_alarm.json` was not found when this report was written; see the report.)\n";

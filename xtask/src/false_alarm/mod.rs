@@ -11,6 +11,7 @@
 
 pub mod corpus;
 pub(crate) mod report;
+pub(crate) mod speed_range;
 pub(crate) mod unknown;
 
 use std::collections::BTreeMap;
@@ -67,6 +68,15 @@ impl Row {
             Err(_) => "error",
         }
     }
+
+    /// Two CSV cells: the speed used (rpm, 2 decimals) and the error's line (commas and line
+    /// breaks made `;`), each empty when the other is given.
+    pub fn rpm_used_and_error_cells(&self) -> (String, String) {
+        match &self.outcome {
+            Ok(o) => (format!("{:.2}", o.rpm_used), String::new()),
+            Err(m) => (String::new(), m.replace([',', '\n'], ";")),
+        }
+    }
 }
 
 /// Whether a JSON key names a probability-like field (or the detector's other decision
@@ -119,13 +129,17 @@ fn collect_p(v: &serde_json::Value, path: &str, out: &mut BTreeMap<String, f64>)
     }
 }
 
-/// How a recording is diagnosed: with the entry's declared bearing, or as `--bearing unknown`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// How a recording is diagnosed: with the entry's declared bearing (at its declared speed, or
+/// with no speed declared), or as `--bearing unknown`.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum BearingAs {
     /// The entry's bearing (`diagnosis::diagnose`).
     Declared,
     /// No bearing (`diagnosis::diagnose_unknown_bearing` at the declared speed).
     Unknown,
+    /// The entry's bearing and no declared speed: the speed searched over `[low, high]` rpm
+    /// (`hybrid-fdd diagnose --rpm-range low-high` without `--rpm`).
+    SpeedSearched([f64; 2]),
 }
 
 /// Diagnose `x` as the entry declares it (its bearing, or none).
@@ -135,6 +149,12 @@ fn diagnose(x: &[f64], fs: f64, e: &Entry, bearing: BearingAs) -> Result<Outcome
         .map_err(|e| e.to_string())?;
     let d = match bearing {
         BearingAs::Declared => diagnosis::diagnose(&signal, e.rpm_declared, &e.spec, None),
+        BearingAs::SpeedSearched([low, high]) => diagnosis::diagnose_with_options(
+            &signal,
+            &e.spec,
+            None,
+            &diagnosis::DiagnoseOptions::search(low, high),
+        ),
         BearingAs::Unknown => diagnosis::diagnose_unknown_bearing(
             &signal,
             None,

@@ -88,8 +88,8 @@ fn alarm(r: &Row) -> bool {
     r.verdict() != "normal"
 }
 
-/// `k/n`, the rate in % and its interval.
-fn rate_cells(k: usize, n: usize) -> String {
+/// `k/n`, the rate in % and its Clopper–Pearson 95 % interval, as three table cells.
+pub(crate) fn rate_cells(k: usize, n: usize) -> String {
     if n == 0 {
         return "0/0 | – | –".into();
     }

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use super::corpus::{self, Kind};
-use super::report::clopper_pearson;
+use super::report::rate_cells;
 use super::{BearingAs, Row};
 use crate::common::Context;
 
@@ -51,10 +51,7 @@ fn csv(rows: &[Row]) -> String {
     );
     for r in rows {
         let e = &r.entry;
-        let (rpm_used, err) = match &r.outcome {
-            Ok(o) => (format!("{:.2}", o.rpm_used), String::new()),
-            Err(m) => (String::new(), m.replace([',', '\n'], ";")),
-        };
+        let (rpm_used, err) = r.rpm_used_and_error_cells();
         let _ = writeln!(
             s,
             "{},{},{},{:.2},{:.2},{:.4},{},{},{},{rpm_used},{err}",
@@ -70,21 +67,6 @@ fn csv(rows: &[Row]) -> String {
         );
     }
     s
-}
-
-/// `k/n (rate %, CP 95 % lo–hi %)`.
-fn rate(k: usize, n: usize) -> String {
-    let (lo, hi) = clopper_pearson(k, n);
-    let pct = if n == 0 {
-        0.0
-    } else {
-        100.0 * k as f64 / n as f64
-    };
-    format!(
-        "{k}/{n} | {pct:.1} % | {:.1}–{:.1} %",
-        100.0 * lo,
-        100.0 * hi
-    )
 }
 
 /// A factor's level of a recording.
@@ -133,11 +115,11 @@ fn markdown(rows: &[Row], wall_s: f64) -> String {
          | — another shaft's impacts (added later) | {} |\n\
          | noise-only, low level | {} |\n\
          | real healthy recordings | {} |\n\n",
-        rate(count(&healthy), healthy.len()),
-        rate(count(&first), first.len()),
-        rate(count(&other), other.len()),
-        rate(count(&noise), noise.len()),
-        rate(count(&real), real.len()),
+        rate_cells(count(&healthy), healthy.len()),
+        rate_cells(count(&first), first.len()),
+        rate_cells(count(&other), other.len()),
+        rate_cells(count(&noise), noise.len()),
+        rate_cells(count(&real), real.len()),
     );
     if errors > 0 {
         let mut why: BTreeMap<String, usize> = BTreeMap::new();
@@ -185,7 +167,7 @@ fn markdown(rows: &[Row], wall_s: f64) -> String {
              |---|---:|---:|---:|\n"
         );
         for (level, (k, n)) in by_level(&healthy, *key) {
-            let _ = writeln!(s, "| {level} | {} |", rate(k, n));
+            let _ = writeln!(s, "| {level} | {} |", rate_cells(k, n));
         }
         s.push('\n');
     }
