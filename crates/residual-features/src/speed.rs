@@ -549,10 +549,10 @@ impl CombSpectrum {
 
     /// Over a range wider than an octave the comb at 2·fr is as complete as fr's: of the
     /// best-scoring accepted combs (the [`WIDE_CANDIDATES`] highest accepted local maxima of
-    /// `scores`, none within [`CONTRAST_HALF_WIDTH`] of a higher one), the lowest whose score is at least
-    /// half the best — unless its first order stands more than [`FUNDAMENTAL_MARGIN`] under its
-    /// `n`-th (n = 2, 3) and the comb at `n` times its rate is complete: then that one (the
-    /// best-scoring ratio within [`SUBHARMONIC_TOL`] of it). `None` when none is accepted.
+    /// `scores`, none within [`CONTRAST_HALF_WIDTH`] of a higher one), the lowest whose score is
+    /// at least half the best — unless its first order stands more than [`FUNDAMENTAL_MARGIN`]
+    /// under its `n`-th (n = 2, 3) and the comb at `n` times its rate is complete: then that one
+    /// (the best-scoring ratio within [`SUBHARMONIC_TOL`] of it). `None` when none is accepted.
     fn lowest_strong_comb(&self, scores: &[(f64, f64)]) -> Option<(f64, f64)> {
         let mut peaks: Vec<(f64, f64)> = scores
             .windows(3)
@@ -835,6 +835,7 @@ mod tests {
             "{coarse:?}"
         );
     }
+
     /// A loose machine: a shaft comb at 1000 rpm (orders 1–10) with half orders 0.5 … 5.5 8 dB
     /// under it, searched over 300–3600 rpm. The comb at half the speed is as complete (it
     /// holds the half orders and the shaft's), and its first order stands 8 dB under its second:
