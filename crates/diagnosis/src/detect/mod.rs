@@ -1215,6 +1215,33 @@ mod calibration {
         }
     }
 
+    /// Four white-noise bands (16 averages) as the detector views them, shaft at `fr`.
+    fn noise_views(
+        rng: &mut rand_chacha::ChaCha8Rng,
+        nbins: usize,
+        df: f64,
+        fr: f64,
+    ) -> Vec<BandView> {
+        (0..4)
+            .map(|_| noise_spectrum(rng, nbins, df, 16))
+            .map(|s| BandView::new(&s, None, fr, view::COMB_TOLERANCE, &[]))
+            .collect()
+    }
+
+    /// At most the nominal share of band readings `pb` and searches `ph` is significant at
+    /// 10 %, 1 % and 0.33 % (with a sampling slack).
+    fn assert_calibrated(pb: &[f64], ph: &[f64]) {
+        let frac =
+            |v: &[f64], l: f64| v.iter().filter(|p| **p <= l).count() as f64 / v.len() as f64;
+        for l in [0.1, 0.01, 0.0033] {
+            eprintln!("level {l}: band {} search {}", frac(pb, l), frac(ph, l));
+        }
+        for (l, slack) in [(0.1, 0.02), (0.01, 0.005), (0.0033, 0.003)] {
+            assert!(frac(pb, l) <= l + slack, "band at {l}: {}", frac(pb, l));
+            assert!(frac(ph, l) <= l + slack, "search at {l}: {}", frac(ph, l));
+        }
+    }
+
     /// On white-noise spectra (four bands, 16 averages, fr/32 bins) each band's line test and
     /// the band search are calibrated or conservative: at most the nominal share of hypotheses
     /// is called significant at 10 %, 1 % and 0.33 % (with the sampling error of 900
@@ -1229,13 +1256,7 @@ mod calibration {
         let mut pb = Vec::new();
         let mut ph = Vec::new();
         for _ in 0..300 {
-            let spectra: Vec<EnvelopeSpectrum> = (0..4)
-                .map(|_| noise_spectrum(&mut rng, nbins, df, 16))
-                .collect();
-            let views: Vec<BandView> = spectra
-                .iter()
-                .map(|s| BandView::new(s, None, fr, view::COMB_TOLERANCE, &[]))
-                .collect();
+            let views = noise_views(&mut rng, nbins, df, fr);
             for &h in &Hypothesis::ALL {
                 let t = Template::new(h, &o, fr, HARMONICS);
                 for v in &views {
@@ -1248,15 +1269,7 @@ mod calibration {
                 ph.push(scan(&t, &all, &views, &AT_SPEED, 1).p_healthy);
             }
         }
-        let frac =
-            |v: &[f64], l: f64| v.iter().filter(|p| **p <= l).count() as f64 / v.len() as f64;
-        for l in [0.1, 0.01, 0.0033] {
-            eprintln!("level {l}: band {} search {}", frac(&pb, l), frac(&ph, l));
-        }
-        for (l, slack) in [(0.1, 0.02), (0.01, 0.005), (0.0033, 0.003)] {
-            assert!(frac(&pb, l) <= l + slack, "band at {l}: {}", frac(&pb, l));
-            assert!(frac(&ph, l) <= l + slack, "search at {l}: {}", frac(&ph, l));
-        }
+        assert_calibrated(&pb, &ph);
     }
 
     /// Windows widened by 8 % (a catalogue's typical geometry and a speed no comb confirmed)
@@ -1290,13 +1303,7 @@ mod calibration {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2);
         let (mut pb, mut ph) = (Vec::new(), Vec::new());
         for _ in 0..600 {
-            let spectra: Vec<EnvelopeSpectrum> = (0..4)
-                .map(|_| noise_spectrum(&mut rng, nbins, df, 16))
-                .collect();
-            let views: Vec<BandView> = spectra
-                .iter()
-                .map(|s| BandView::new(s, None, fr, view::COMB_TOLERANCE, &[]))
-                .collect();
+            let views = noise_views(&mut rng, nbins, df, fr);
             for t in &all {
                 for v in &views {
                     let r = read_band(v, t);
@@ -1311,14 +1318,6 @@ mod calibration {
                 ph.push(scan(t, &all, &views, &AT_SPEED, 1).p_healthy);
             }
         }
-        let frac =
-            |v: &[f64], l: f64| v.iter().filter(|p| **p <= l).count() as f64 / v.len() as f64;
-        for l in [0.1, 0.01, 0.0033] {
-            eprintln!("level {l}: band {} search {}", frac(&pb, l), frac(&ph, l));
-        }
-        for (l, slack) in [(0.1, 0.02), (0.01, 0.005), (0.0033, 0.003)] {
-            assert!(frac(&pb, l) <= l + slack, "band at {l}: {}", frac(&pb, l));
-            assert!(frac(&ph, l) <= l + slack, "search at {l}: {}", frac(&ph, l));
-        }
+        assert_calibrated(&pb, &ph);
     }
 }
