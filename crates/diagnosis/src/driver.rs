@@ -229,6 +229,9 @@ fn diagnose_in(
             rate: rate_uncertainty,
         },
         unconfirmed,
+        a.spectrum_comb
+            .filter(speed::SpeedEstimate::is_complete)
+            .map(|m| (m.rpm / 60.0, m.resolution)),
         options.false_alarm,
     );
 

@@ -369,11 +369,9 @@ pub fn near_comb_distance(orders: &bearing_model::FaultOrders, rate_uncertainty:
 }
 
 /// Whether the recording's own spectrum confirms an unrefined envelope comb `m`: the best comb
-/// of the spectrum's search, complete but not necessarily accepted (its first order
-/// [`crate::speed::COMB_MIN_FIRST_ORDER`] and [`crate::speed::COMB_MIN_COMPLETE`] of its orders
-/// present, its contrast not asked: on a machine whose speed wanders the contrast falls), lies
-/// within
-/// [`COMB_AGREEMENT_BINS`] resolution steps of it, or within half the distance to a fault's
+/// of the spectrum's search, complete but not necessarily accepted
+/// ([`SpeedEstimate::is_complete`]: its contrast not asked, on a machine whose speed wanders
+/// the contrast falls), lies within [`COMB_AGREEMENT_BINS`] resolution steps of it, or within half the distance to a fault's
 /// near-comb (`near_comb`, [`near_comb_distance`]) up to [`MAX_COMB_DISAGREEMENT`]: a
 /// wandering speed moves the two readings apart by more than their resolution (0.5 % on a
 /// simulated machine wandering 0.2 % RMS), and a near-comb in the envelope against the shaft
@@ -388,9 +386,7 @@ fn confirmed_by_spectrum(
     spectrum.is_some_and(|s| {
         let tol = (COMB_AGREEMENT_BINS * m.resolution.max(s.resolution))
             .max((0.5 * near_comb).min(MAX_COMB_DISAGREEMENT));
-        s.first_order_score >= crate::speed::COMB_MIN_FIRST_ORDER
-            && s.orders_present as f64 >= crate::speed::COMB_MIN_COMPLETE * s.orders as f64
-            && (s.rpm / m.rpm - 1.0).abs() <= tol
+        s.is_complete() && (s.rpm / m.rpm - 1.0).abs() <= tol
     })
 }
 
@@ -413,6 +409,7 @@ mod tests {
             orders: 10,
             first_order_score: first,
             orders_present: present,
+            orders_scored: 10,
             accepted: true,
             refined_rpm: refined.then_some(rpm),
             envelope_band_hz: None,
@@ -473,6 +470,14 @@ mod tests {
             let f = o.find_speed(Some(weak), Some(env), 0.0).unwrap();
             assert_eq!(f.source, SpeedSource::Declared);
         }
+        // completeness counts the orders scored: 7 of 8 off the mains multiples confirm
+        let mains = SpeedEstimate {
+            orders_present: 7,
+            orders_scored: 8,
+            ..spec
+        };
+        let f = o.find_speed(Some(mains), Some(env), 0.0).unwrap();
+        assert_eq!(f.source, SpeedSource::EnvelopeComb);
         // no spectrum at all: the declared speed
         let f = o.find_speed(None, Some(env), 0.0).unwrap();
         assert_eq!(f.source, SpeedSource::Declared);

@@ -57,6 +57,8 @@ pub const WIDE_SEARCH: f64 = 0.3;
 pub const WIDE_CANDIDATES: usize = 8;
 /// Mains frequencies whose harmonics are not counted as shaft orders, Hz.
 pub const MAINS_HZ: [f64; 2] = [50.0, 60.0];
+/// An order within this many bins of a mains multiple is not scored.
+pub const MAINS_REACH_BINS: f64 = 1.5;
 /// Fraction of the scored (non-mains) orders that must be present.
 pub const COMB_MIN_COMPLETE: f64 = 0.8;
 /// In a wide search a comb at `f/n` is as complete as `f`'s when the machine shows fractional
@@ -92,6 +94,11 @@ pub struct SpeedEstimate {
     /// excluded).
     #[serde(default)]
     pub orders_present: usize,
+    /// Orders scored at the comb's speed: those off every mains multiple
+    /// ([`MAINS_REACH_BINS`]); completeness counts the present ones among them
+    /// ([`SpeedEstimate::is_complete`]).
+    #[serde(default)]
+    pub orders_scored: usize,
     /// Whether the comb stands out enough to be trusted (see the module docs).
     pub accepted: bool,
     /// The speed refined from the comb's own lines, rpm (`refine`: each present order's line
@@ -117,6 +124,28 @@ pub struct SpeedEstimate {
     /// search alone places the speed (a refined speed is finer).
     #[serde(default)]
     pub resolution: f64,
+}
+
+impl SpeedEstimate {
+    /// Whether the comb is complete, accepted or not: its first order at least
+    /// [`COMB_MIN_FIRST_ORDER`] over its background and [`COMB_MIN_COMPLETE`] of its scored
+    /// orders present (its contrast not asked: on a machine whose speed wanders, or a slow shaft
+    /// in a short record, the contrast falls).
+    pub fn is_complete(&self) -> bool {
+        comb_complete(
+            self.first_order_score,
+            self.orders_present,
+            self.orders_scored,
+        )
+    }
+}
+
+/// A comb whose first order scores `first_order`, `present` of its `scored` orders standing
+/// out, is complete (see [`SpeedEstimate::is_complete`]).
+fn comb_complete(first_order: f64, present: usize, scored: usize) -> bool {
+    first_order >= COMB_MIN_FIRST_ORDER
+        && scored > 0
+        && present as f64 >= COMB_MIN_COMPLETE * scored as f64
 }
 
 /// Orders a refined speed ([`SpeedEstimate::refined_rpm`]) must rest on.
@@ -423,6 +452,8 @@ struct CombAssessment {
     first_order: f64,
     /// Orders scoring at least [`COMB_MIN_ORDER_PRESENT`].
     present: usize,
+    /// Orders off every mains multiple.
+    scored: usize,
     /// First order standing out and almost every scored order there.
     complete: bool,
     /// Complete, strong enough per order and contrasted enough.
@@ -481,12 +512,13 @@ impl CombSpectrum {
         }))
     }
 
-    /// An order within 1.5 bins of a multiple of a mains frequency (50 or 60 Hz) is no evidence
-    /// of the shaft: the supply's harmonics sit there on any electrically driven machine.
+    /// An order within [`MAINS_REACH_BINS`] of a multiple of a mains frequency (50 or 60 Hz) is
+    /// no evidence of the shaft: the supply's harmonics sit there on any electrically driven
+    /// machine.
     fn mains(&self, f: f64) -> bool {
         MAINS_HZ.iter().any(|&m| {
             let k = (f / m).round();
-            k >= 1.0 && (f - k * m).abs() <= 1.5 * self.df
+            k >= 1.0 && (f - k * m).abs() <= MAINS_REACH_BINS * self.df
         })
     }
 
@@ -532,9 +564,7 @@ impl CombSpectrum {
         let present = (1..=orders)
             .filter(|&k| self.order_score(k, r_best) >= COMB_MIN_ORDER_PRESENT)
             .count();
-        let complete = first_order >= COMB_MIN_FIRST_ORDER
-            && scored > 0
-            && present as f64 >= COMB_MIN_COMPLETE * scored as f64;
+        let complete = comb_complete(first_order, present, scored);
         let accepted = complete
             && s_best >= COMB_MIN_PER_ORDER * scored as f64
             && contrast >= COMB_MIN_CONTRAST;
@@ -542,6 +572,7 @@ impl CombSpectrum {
             contrast,
             first_order,
             present,
+            scored,
             complete,
             accepted,
         }
@@ -690,6 +721,7 @@ fn comb_speed(
         orders,
         first_order_score: a.first_order,
         orders_present: a.present,
+        orders_scored: a.scored,
         accepted: a.accepted,
         envelope_band_hz: None,
         resolution: 0.5 * df / (orders as f64 * fr0),

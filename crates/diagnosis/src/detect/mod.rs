@@ -364,14 +364,50 @@ pub(crate) fn shaft_explains(
         .filter(|&f| f <= range[1])
         .find_map(|f0| {
             let (fs, ks) = comb_fit(&lines, f0, tol)?;
-            let shown = (1..)
-                .map(|j| j as f64)
-                .filter(|j| !ks.contains(j))
-                .take(SHAFT_CHECK_ORDERS)
-                .filter(|&j| views.iter().any(|w| w.holds_line(j * fs, tol(j * fs))))
-                .count();
-            (shown >= SHAFT_MIN_ORDERS).then_some(fs)
+            comb_shown(views, v, fs, &ks).then_some(fs)
         })
+}
+
+/// Whether at least [`SHAFT_MIN_ORDERS`] of the first [`SHAFT_CHECK_ORDERS`] orders of a comb
+/// at `fs` Hz other than `ks` (the orders a hypothesis's lines took) stand as lines, within
+/// [`comb_tol`] of `v`, in some band of `views`.
+fn comb_shown(views: &[BandView], v: &BandView, fs: f64, ks: &[f64]) -> bool {
+    let tol = |f: f64| comb_tol(v, f);
+    (1..)
+        .map(|j| j as f64)
+        .filter(|j| !ks.contains(j))
+        .take(SHAFT_CHECK_ORDERS)
+        .filter(|&j| views.iter().any(|w| w.holds_line(j * fs, tol(j * fs))))
+        .count()
+        >= SHAFT_MIN_ORDERS
+}
+
+/// Whether the recording's own spectrum's shaft comb, at `fc` Hz (an independent reading: the
+/// raw signal's comb, complete, its rate `resolution` relative), explains every line carrying
+/// evidence in `r` (read in `v`): each within [`comb_tol`] (widened by the rate's placement at
+/// its order) of an order of `fc` itself — no rate fitted to the lines — and the comb shown at
+/// the orders between ([`comb_shown`]). Asked of an inner race whose near-comb may meet the
+/// shaft's ([`inner_near_comb`]), which [`shaft_explains`] cannot judge (it fits a rate to the
+/// lines, and a near-comb `BPFI/5` fits one): with the geometry known to a few per cent the
+/// near-comb may lie anywhere within them of the shaft's orders, and lines standing at the
+/// exact orders of a comb the spectrum shows are that comb's — a fault there could not be told
+/// from it; a fault's family off them by more than the tolerance is not touched.
+fn spectrum_comb_explains(
+    views: &[BandView],
+    v: &BandView,
+    r: &BandReading,
+    fc: f64,
+    resolution: f64,
+) -> bool {
+    let lines = evidence_lines(v, r);
+    if lines.is_empty() || fc <= 0.0 {
+        return false;
+    }
+    let ks: Vec<f64> = lines.iter().map(|&(f, _)| (f / fc).round()).collect();
+    let on_orders = lines.iter().zip(&ks).all(|(&(f, _), &k)| {
+        k >= 1.0 && (f - k * fc).abs() <= comb_tol(v, f) + k * resolution * fc
+    });
+    on_orders && comb_shown(views, v, fc, &ks)
 }
 
 /// The strongest line in the window of harmonic 1 of reading `r` (read in `v`), Hz.
@@ -710,7 +746,11 @@ pub(crate) struct Slack {
 /// detector then runs twice, each at `α/2`: at the declared speed as if it were right, and, when
 /// that finds nothing, with the windows widened by `speed_slack` (a fault comb consistent with
 /// some speed in the range; each line's reference read with windows of the same width).
-/// `alpha`: the false-alarm probability per recording.
+/// `alpha`: the false-alarm probability per recording. `spectrum_comb`: the recording's own
+/// spectrum's complete shaft comb (Hz, relative resolution), accepted or not, when it has one —
+/// with the speed unconfirmed, an inner race's lines at its exact orders are its
+/// ([`spectrum_comb_explains`]).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn detect(
     spectra: &[EnvelopeSpectrum],
     baseline: &[Option<EnvelopeSpectrum>],
@@ -718,6 +758,7 @@ pub(crate) fn detect(
     fr: f64,
     slack: Slack,
     unconfirmed: bool,
+    spectrum_comb: Option<(f64, f64)>,
     alpha: f64,
 ) -> Detection {
     let comb_tolerance = view::COMB_TOLERANCE.max(if unconfirmed { 0.0 } else { slack.speed });
@@ -763,7 +804,10 @@ pub(crate) fn detect(
         );
     }
     // the speeds the shaft may run at: a comb of any of them explains lines at its orders
-    let shaft_range = Some([fr * (1.0 - slack.speed), fr * (1.0 + slack.speed)]);
+    let shaft = Some(ShaftCheck {
+        range: [fr * (1.0 - slack.speed), fr * (1.0 + slack.speed)],
+        spectrum_comb,
+    });
     let at_declared = detect_at(
         spectra,
         views.clone(),
@@ -771,7 +815,7 @@ pub(crate) fn detect(
         fr,
         slack.rate,
         0.0,
-        shaft_range,
+        shaft,
         0.5 * alpha,
     );
     if !at_declared.confirmed.is_empty() || !at_declared.uncertain.is_empty() {
@@ -789,16 +833,27 @@ pub(crate) fn detect(
             fr,
             slack.rate,
             slack.speed,
-            shaft_range,
+            shaft,
             0.5 * alpha,
         )
     }
 }
 
+/// What may explain a hypothesis's lines when no comb confirmed the speed.
+#[derive(Debug, Clone, Copy)]
+struct ShaftCheck {
+    /// The speeds (Hz) the shaft may run at: a comb of any of them explains lines at its
+    /// orders ([`shaft_explains`]).
+    range: [f64; 2],
+    /// The recording's own spectrum's complete comb (Hz, relative resolution), when it has
+    /// one ([`spectrum_comb_explains`]).
+    spectrum_comb: Option<(f64, f64)>,
+}
+
 /// One reading: windows widened by `speed_slack` (a coarse comb's placement), or the speed
-/// searched over `± search` by speed ratios (a declared speed no comb confirmed). `shaft_range`
-/// (Hz), when no comb confirmed the speed: a hypothesis whose evidence a shaft comb at a rate in
-/// it explains is not significant ([`shaft_explains`]).
+/// searched over `± search` by speed ratios (a declared speed no comb confirmed). `shaft`, when
+/// no comb confirmed the speed: a hypothesis whose evidence a shaft comb explains is not
+/// significant.
 #[allow(clippy::too_many_arguments)]
 fn detect_at(
     spectra: &[EnvelopeSpectrum],
@@ -807,7 +862,7 @@ fn detect_at(
     fr: f64,
     speed_slack: f64,
     search: f64,
-    shaft_range: Option<[f64; 2]>,
+    shaft: Option<ShaftCheck>,
     alpha: f64,
 ) -> Detection {
     let base: Vec<Template> = Hypothesis::ALL
@@ -835,12 +890,18 @@ fn detect_at(
         .iter()
         .map(|s| significance(s, &views[s.band], spectra[s.band].band_hz, speed_slack))
         .collect();
-    if let Some(range) = shaft_range {
+    if let Some(check) = shaft {
         for ((sig, s), t) in per_hypothesis.iter_mut().zip(&scans).zip(&templates) {
             if inner_near_comb(t, views[s.band].df, speed_slack) {
+                if let Some((fc, resolution)) = check.spectrum_comb
+                    && spectrum_comb_explains(&views, &views[s.band], &s.reading, fc, resolution)
+                {
+                    sig.shaft_comb_hz = Some(fc);
+                    sig.p_healthy = 1.0;
+                }
                 continue;
             }
-            if let Some(f) = shaft_explains(&views, &views[s.band], &s.reading, range) {
+            if let Some(f) = shaft_explains(&views, &views[s.band], &s.reading, check.range) {
                 sig.shaft_comb_hz = Some(f);
                 sig.p_healthy = 1.0;
             }
@@ -851,7 +912,7 @@ fn detect_at(
     // within reach; at a measured speed the windows are the slip's, and a real fault's own
     // family — the cage and the load zone modulating its impacts — fills the orders between)
     for ((sig, s), t) in per_hypothesis.iter_mut().zip(&scans).zip(&templates) {
-        if sig.p_healthy >= 1.0 || shaft_range.is_none() {
+        if sig.p_healthy >= 1.0 || shaft.is_none() {
             continue;
         }
         if let Some(f) = slower_comb_explains(&views[s.band], &s.reading, t) {
@@ -1094,7 +1155,7 @@ mod calibration {
         let comb: Vec<f64> = (1..=40).map(|k| k as f64 * fr_true).collect();
         for seed in 1..=5 {
             let spectra = bands_with_lines(seed, df, nbins, &comb, 60.0);
-            let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+            let d = detect(&spectra, &[], &o, fr, slack, true, None, 0.01);
             assert!(
                 d.confirmed.is_empty() && d.uncertain.is_empty(),
                 "seed {seed}: {:?} {:?}",
@@ -1116,7 +1177,7 @@ mod calibration {
             .chain([fr_true, 2.0 * fr_true])
             .collect();
         let spectra = bands_with_lines(1, df, nbins, &outer, 60.0);
-        let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+        let d = detect(&spectra, &[], &o, fr, slack, true, None, 0.01);
         assert!(
             d.confirmed.contains(&Hypothesis::Outer),
             "{:?}",
@@ -1127,6 +1188,64 @@ mod calibration {
             .position(|h| *h == Hypothesis::Outer)
             .unwrap();
         assert_eq!(d.per_hypothesis[outer].shaft_comb_hz, None);
+    }
+
+    /// A catalogue's typical geometry (± 3 %) puts an inner race's near-comb (`BPFI/5`,
+    /// 0.986 fr on a 6308) anywhere within 3 % of the shaft's orders, so the fitted-rate check
+    /// ([`shaft_explains`]) is not asked of it. A once-per-rev comb at 10.05 Hz (every order to
+    /// 400 Hz), the declared 10 Hz unconfirmed: read against no spectrum comb, the inner race's
+    /// template settles on the comb's orders 4, 5, 6 and is called; the recording's own
+    /// spectrum showing the comb at 10.05 Hz, the lines stand at its exact orders and nothing is
+    /// called. A real inner race at the same speed (its family `k·BPFI ± fr` beside the shaft's
+    /// 1× and 2×) is called with that spectrum comb as without it.
+    #[test]
+    fn lines_at_the_spectrum_comb_s_exact_orders_are_the_shaft_s() {
+        let o = bearing_model::BearingSpec::parse("6308").unwrap().orders;
+        let (fr_true, fr) = (10.05, 10.0);
+        let df = 1.0 / 6.0;
+        let nbins = (1000.0 / df) as usize;
+        let slack = Slack {
+            speed: 0.1,
+            rate: 0.03,
+        };
+        let inner = Hypothesis::ALL
+            .iter()
+            .position(|h| *h == Hypothesis::Inner)
+            .unwrap();
+        let comb_hz = Some((fr_true, 8e-4));
+        let comb: Vec<f64> = (1..=40).map(|k| k as f64 * fr_true).collect();
+        let spectra = bands_with_lines(3, df, nbins, &comb, 60.0);
+        let d = detect(&spectra, &[], &o, fr, slack, true, None, 0.01);
+        assert!(
+            d.confirmed.contains(&Hypothesis::Inner) || d.uncertain.contains(&Hypothesis::Inner),
+            "without the spectrum's comb: {:?} {:?}",
+            d.confirmed,
+            d.uncertain
+        );
+        let d = detect(&spectra, &[], &o, fr, slack, true, comb_hz, 0.01);
+        assert!(
+            d.confirmed.is_empty() && d.uncertain.is_empty(),
+            "{:?} {:?}",
+            d.confirmed,
+            d.uncertain
+        );
+        assert_eq!(d.per_hypothesis[inner].shaft_comb_hz, Some(fr_true));
+        let bpfi = o.bpfi * fr_true;
+        let family: Vec<f64> = (1..=4)
+            .flat_map(|k| [-1.0, 0.0, 1.0].map(|m| k as f64 * bpfi + m * fr_true))
+            .chain([fr_true, 2.0 * fr_true])
+            .collect();
+        let spectra = bands_with_lines(4, df, nbins, &family, 60.0);
+        for spectrum_comb in [None, comb_hz] {
+            let d = detect(&spectra, &[], &o, fr, slack, true, spectrum_comb, 0.01);
+            assert!(
+                d.confirmed.contains(&Hypothesis::Inner),
+                "{spectrum_comb:?}: {:?} {:?}",
+                d.confirmed,
+                d.uncertain
+            );
+            assert_eq!(d.per_hypothesis[inner].shaft_comb_hz, None);
+        }
     }
 
     /// Another shaft's once-per-turn impacts: a comb at a rate `f₀` not an order of the measured
@@ -1168,7 +1287,7 @@ mod calibration {
                 .map(|f| (f, 300.0 * (-f / 150.0).exp()))
                 .collect();
             let spectra = bands_with_powers(10 + i as u64, df, nbins, &comb);
-            let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+            let d = detect(&spectra, &[], &o, fr, slack, true, None, 0.01);
             // the comb's lines at the fault's harmonics are evidence enough on their own
             let sig = &d.per_hypothesis[index(h)];
             assert!(
@@ -1209,7 +1328,7 @@ mod calibration {
         };
         for (i, h) in Hypothesis::ALL.into_iter().enumerate() {
             let spectra = bands_with_lines(20 + i as u64, df, nbins, &fault(h), 60.0);
-            let d = detect(&spectra, &[], &o, fr, slack, true, 0.01);
+            let d = detect(&spectra, &[], &o, fr, slack, true, None, 0.01);
             assert_eq!(d.confirmed, vec![h], "{h:?}: {:?}", d.uncertain);
             assert_eq!(d.per_hypothesis[index(h)].slower_comb_hz, None, "{h:?}");
         }
