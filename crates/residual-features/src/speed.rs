@@ -57,8 +57,13 @@ pub const WIDE_SEARCH: f64 = 0.3;
 pub const WIDE_CANDIDATES: usize = 8;
 /// Mains frequencies whose harmonics are not counted as shaft orders, Hz.
 pub const MAINS_HZ: [f64; 2] = [50.0, 60.0];
-/// An order within this many bins of a mains multiple is not scored.
-pub const MAINS_REACH_BINS: f64 = 1.5;
+/// An order within this many bins of a mains multiple is not scored: an order reads the
+/// largest of three bins (± 1) and a Hann-windowed line's main lobe spans ± 2 bins, so a line on
+/// the multiple reaches an order's reading up to 3 bins away. Until 2026-12-07 1.5, with combs
+/// compared by their summed score: a shaft at 600 rpm (orders 5, 6 and 10 on 50, 60 and 100 Hz)
+/// then scored best 0.5 % fast, where those orders stepped out of the exclusion and read the
+/// lobes of its own lines (combs are now compared per scored order, [`COMB_MIN_PER_ORDER`]).
+pub const MAINS_REACH_BINS: f64 = 3.5;
 /// Fraction of the scored (non-mains) orders that must be present.
 pub const COMB_MIN_COMPLETE: f64 = 0.8;
 /// In a wide search a comb at `f/n` is as complete as `f`'s when the machine shows fractional
@@ -81,7 +86,8 @@ const SUBHARMONIC_TOL: f64 = 0.01;
 pub struct SpeedEstimate {
     /// Measured shaft speed, rpm.
     pub rpm: f64,
-    /// Comb score at that speed (sum over orders of log₁₀ peak-over-background).
+    /// Comb score at that speed (sum over orders of log₁₀ peak-over-background; orders on a
+    /// mains multiple not scored, the sum over the others scaled to every order searched).
     pub comb_score: f64,
     /// Best score over the median score within ± [`CONTRAST_HALF_WIDTH`] of the best ratio.
     pub contrast: f64,
@@ -537,8 +543,19 @@ impl CombSpectrum {
     }
 
     /// The comb's score at speed ratio `r`: its orders' scores summed.
+    /// Orders on a mains multiple are not scored, and which orders those are changes with `r`:
+    /// the sum is taken as the mean over the orders scored times the orders searched, so a
+    /// ratio does not gain by an order stepping out of the exclusion, nor lose by one stepping
+    /// in (without mains multiples among the orders, the plain sum).
     fn score(&self, r: f64) -> f64 {
-        (1..=self.orders).map(|k| self.order_score(k, r)).sum()
+        let scored: Vec<usize> = (1..=self.orders)
+            .filter(|&k| !self.mains(k as f64 * self.fr0 * r))
+            .collect();
+        if scored.is_empty() {
+            return 0.0;
+        }
+        let sum: f64 = scored.iter().map(|&k| self.order_score(k, r)).sum();
+        sum * self.orders as f64 / scored.len() as f64
     }
 
     /// The comb at `r_best` (score `s_best`) against the search's `scores`. Its contrast is
@@ -566,7 +583,7 @@ impl CombSpectrum {
             .count();
         let complete = comb_complete(first_order, present, scored);
         let accepted = complete
-            && s_best >= COMB_MIN_PER_ORDER * scored as f64
+            && s_best >= COMB_MIN_PER_ORDER * orders as f64
             && contrast >= COMB_MIN_CONTRAST;
         CombAssessment {
             contrast,
@@ -866,6 +883,42 @@ mod tests {
             !coarse.accepted || (coarse.rpm / 600.0 - 1.0).abs() <= 2.0 * coarse.resolution,
             "{coarse:?}"
         );
+    }
+
+    /// A shaft at 600 rpm on a 50 Hz supply: its 5th and 10th orders on the supply's 50 and
+    /// 100 Hz lines, its 6th on 60 Hz (not scored). Searched ± 10 % around 600 rpm, the comb is
+    /// found at its speed within the lines' tolerance and complete over the orders scored.
+    /// Before orders were kept [`MAINS_REACH_BINS`] (3.5) from a mains multiple and combs
+    /// compared per scored order, it scored best 0.5 % fast, where those orders stepped out of a
+    /// 1.5-bin exclusion and read the main lobes of the lines on the multiples.
+    #[test]
+    fn a_shaft_at_a_mains_submultiple_is_read_at_its_speed() {
+        use rand::{Rng, SeedableRng};
+        let fs = 12_000.0;
+        let fr = 10.0;
+        let mut e = SpectralEngine::new();
+        for seed in 5..8 {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let x: Vec<f64> = (0..(fs * 6.0) as usize)
+                .map(|i| {
+                    let t = i as f64 / fs;
+                    let shaft: f64 = (1..=10)
+                        .map(|k| {
+                            let k = f64::from(k);
+                            0.3 * (2.0 * std::f64::consts::PI * k * fr * t + 0.4 * k).cos()
+                        })
+                        .sum();
+                    let supply = (2.0 * std::f64::consts::PI * 49.98 * t).cos()
+                        + 0.5 * (2.0 * std::f64::consts::PI * 99.96 * t).cos();
+                    shaft + supply + (rng.random::<f64>() - 0.5)
+                })
+                .collect();
+            let m = estimate_speed_in(&mut e, &x, fs, 540.0, 660.0)
+                .unwrap()
+                .unwrap();
+            assert!((m.rpm / 600.0 - 1.0).abs() < SPEED_TOL, "{m:?}");
+            assert!(m.is_complete() && m.orders_scored == 7, "{m:?}");
+        }
     }
 
     /// A loose machine: a shaft comb at 1000 rpm (orders 1–10) with half orders 0.5 … 5.5 8 dB
