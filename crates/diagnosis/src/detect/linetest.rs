@@ -168,7 +168,9 @@ pub(crate) struct BandReading {
 /// width (computed when first asked for).
 pub(crate) struct LineTest<'a> {
     v: &'a BandView,
-    clear: Vec<bool>,
+    /// The evidence of each run of clear bins (in range, off the lattice), its masked bins left
+    /// out.
+    runs: Vec<Vec<f64>>,
     top: usize,
     references: std::cell::RefCell<Vec<(usize, std::rc::Rc<Reference>)>>,
 }
@@ -180,9 +182,11 @@ impl<'a> LineTest<'a> {
         let n = v.d.len();
         let top = ((v.top_hz / v.df).floor() as usize).min(n.saturating_sub(1));
         let low = ((0.5 * fr / v.df).ceil() as usize).max(1);
+        // masked bins do not end a run: they hold no evidence (0) in a line's window as in the
+        // reference, and a reference window of `w` unmasked bins spans them (`runs`)
         let mut clear = vec![false; n];
-        for (k, c) in clear.iter_mut().enumerate().take(top + 1).skip(low) {
-            *c = !v.masked[k];
+        for c in clear.iter_mut().take(top + 1).skip(low) {
+            *c = true;
         }
         for &(a, b) in lattice {
             let ka = ((a / v.df).floor().max(0.0) as usize).saturating_sub(1);
@@ -193,7 +197,7 @@ impl<'a> LineTest<'a> {
         }
         Self {
             v,
-            clear,
+            runs: clear_runs(&v.d, &clear, &v.masked),
             top,
             references: std::cell::RefCell::new(Vec::new()),
         }
@@ -203,7 +207,7 @@ impl<'a> LineTest<'a> {
         if let Some(r) = self.references.borrow().iter().find(|r| r.0 == width) {
             return r.1.clone();
         }
-        let (dense, spaced) = clear_window_maxima(&self.v.d, &self.clear, width);
+        let (dense, spaced) = clear_window_maxima(&self.runs, width);
         let r = std::rc::Rc::new(Reference::new(dense, spaced));
         self.references.borrow_mut().push((width, r.clone()));
         r
@@ -247,7 +251,10 @@ impl<'a> LineTest<'a> {
                 continue;
             };
             let value = v.d[bin];
-            let reference = self.reference(free.len());
+            // its evidence is the strongest of its unmasked bins (masked ones hold 0): the
+            // reference's windows hold as many unmasked bins
+            let unmasked = free.iter().filter(|&&k| !v.masked[k]).count();
+            let reference = self.reference(unmasked);
             if reference.maxima.is_empty() {
                 continue;
             }
@@ -282,24 +289,40 @@ pub(crate) fn read_band(v: &BandView, t: &Template) -> BandReading {
     LineTest::new(v, &t.lattice(v.top_hz), t.fr).read(t)
 }
 
-/// The maxima of `d` over every window of `width` bins lying wholly in `clear` (sorted
-/// ascending), and the maxima of the non-overlapping ones (each run of clear bins cut into
-/// windows from its start).
-fn clear_window_maxima(d: &[f64], clear: &[bool], width: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut maxima = Vec::new();
-    let mut spaced = Vec::new();
+/// The runs of `clear` bins of `d` (maximal stretches), each with its `masked` bins left out:
+/// a masked bin holds no evidence in a line's window and none in a reference window, and a
+/// shaft comb masked at every order must not cut the reference into stretches shorter than a
+/// widened line's window.
+fn clear_runs(d: &[f64], clear: &[bool], masked: &[bool]) -> Vec<Vec<f64>> {
+    let mut runs = Vec::new();
     let mut k = 0;
     while k < clear.len() {
         if !clear[k] {
             k += 1;
             continue;
         }
-        let start = k;
+        let mut run = Vec::new();
         while k < clear.len() && clear[k] {
+            if !masked[k] {
+                run.push(d[k]);
+            }
             k += 1;
         }
-        let run = &d[start..k];
-        if run.len() < width {
+        if !run.is_empty() {
+            runs.push(run);
+        }
+    }
+    runs
+}
+
+/// The maxima of every window of `width` consecutive values lying wholly in one of `runs`
+/// (sorted ascending), and the maxima of the non-overlapping ones (each run cut into windows
+/// from its start).
+fn clear_window_maxima(runs: &[Vec<f64>], width: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut maxima = Vec::new();
+    let mut spaced = Vec::new();
+    for run in runs {
+        if width == 0 || run.len() < width {
             continue;
         }
         spaced.extend(
@@ -406,10 +429,25 @@ mod tests {
     fn sliding_maxima_and_independent_count() {
         let d = [0.0, 3.0, 0.0, 1.0, 5.0, 0.0, 2.0, 0.0];
         let clear = [true, true, true, true, false, true, true, true];
-        let (m, spaced) = clear_window_maxima(&d, &clear, 2);
+        let runs = clear_runs(&d, &clear, &[false; 8]);
+        let (m, spaced) = clear_window_maxima(&runs, 2);
         // run 0..4: windows [0,3], [3,0], [0,1]; run 5..8: [0,2], [2,0]
         assert_eq!(m, vec![1.0, 2.0, 2.0, 3.0, 3.0]);
         // non-overlapping: [0,3], [0,1]; [0,2]
         assert_eq!(spaced, vec![3.0, 1.0, 2.0]);
+    }
+
+    /// Masked bins are left out of a run without ending it: a window of `w` unmasked bins spans
+    /// them, as a line's window holding masked bins reads its unmasked ones.
+    #[test]
+    fn masked_bins_are_skipped_not_run_ends() {
+        let d = [0.0, 3.0, 0.0, 1.0, 0.0, 2.0, 4.0, 0.0];
+        let clear = [true, true, true, true, true, true, true, false];
+        let masked = [false, false, true, false, true, false, false, false];
+        let runs = clear_runs(&d, &clear, &masked);
+        assert_eq!(runs, vec![vec![0.0, 3.0, 1.0, 2.0, 4.0]]);
+        let (m, spaced) = clear_window_maxima(&runs, 2);
+        assert_eq!(m, vec![2.0, 3.0, 3.0, 4.0]);
+        assert_eq!(spaced, vec![3.0, 2.0]);
     }
 }

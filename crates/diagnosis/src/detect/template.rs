@@ -196,6 +196,20 @@ impl Template {
         out
     }
 
+    /// The number of rolling elements `Z` a race's template implies (`BPFO = Z·FTF`,
+    /// `BPFI = Z·(fr − FTF)`); `None` for a ball, or a template without a cage rate.
+    pub(crate) fn rolling_elements(&self) -> Option<f64> {
+        let z = match self.hypothesis {
+            Hypothesis::Outer if self.ftf_hz > 0.0 => self.fault_hz / self.ftf_hz,
+            Hypothesis::Inner if self.ftf_hz > 0.0 && self.fr > self.ftf_hz => {
+                self.fault_hz / (self.fr - self.ftf_hz)
+            }
+            _ => return None,
+        }
+        .round();
+        (z >= 1.0).then_some(z)
+    }
+
     /// This template's line family around the fundamental `f1` it found, as (frequency,
     /// half-width) pairs, for masking when this fault is confirmed: `k·f₁ ± j·fr` (k ≤ 6,
     /// |j| ≤ [`FAMILY_SHAFT_ORDERS`]; k = 0 for the inner race: the load zone's shaft lines),
@@ -203,8 +217,12 @@ impl Template {
     /// window (the cage slips on its own; BPFO = n·FTF is one of them). A fault's impacts
     /// modulated at fr put lines at every `k·f₁ + j·fr` the modulation reaches; on a bearing
     /// with `BPFI + BPFO = n·fr` the two races' families then meet (`BPFI = n·fr − BPFO`:
-    /// an outer-race fault's `BPFO + 2fr` lies 2 % above a UC204's BPFI).
-    pub(crate) fn family(&self, f1: f64) -> Vec<(f64, f64)> {
+    /// an outer-race fault's `BPFO + 2fr` lies 2 % above a UC204's BPFI). A race's family also
+    /// holds the orders of `f₁/Z` up to `6·f₁` (its `Z` rolling elements pass a point of it at
+    /// that rate, and unequal elements strike with unequal force: a 6205's inner race puts its
+    /// 6th order 0.7 % from BPFO). `f₁` is read to the nearest bin of `df` Hz, so `x·f₁` is
+    /// known to `± x·df/2`: each line's half-width.
+    pub(crate) fn family(&self, f1: f64, df: f64) -> Vec<(f64, f64)> {
         let fr = self.fr;
         let shaft = FAMILY_SHAFT_ORDERS;
         let mut v: Vec<(f64, f64)> = Vec::new();
@@ -215,16 +233,23 @@ impl Template {
         };
         for k in k0..=6 {
             for j in -shaft..=shaft {
-                v.push((k as f64 * f1 + f64::from(j) * fr, 0.0));
+                v.push((k as f64 * f1 + f64::from(j) * fr, 0.5 * k as f64 * df));
             }
         }
         match self.hypothesis {
-            Hypothesis::Outer | Hypothesis::Inner => {}
+            Hypothesis::Outer | Hypothesis::Inner => {
+                if let Some(z) = self.rolling_elements() {
+                    for m in 1..=(6.0 * z) as usize {
+                        let x = m as f64 / z;
+                        v.push((x * f1, 0.5 * x * df));
+                    }
+                }
+            }
             Hypothesis::Ball => {
                 let ftf = self.ftf_hz * f1 / self.fault_hz.max(f64::MIN_POSITIVE);
                 for k in 1..=self.harmonics {
                     for j in [-2i32, -1, 1, 2] {
-                        v.push((k as f64 * f1 + f64::from(j) * ftf, 0.0));
+                        v.push((k as f64 * f1 + f64::from(j) * ftf, 0.5 * k as f64 * df));
                     }
                 }
                 let (lo, hi) = cage_window();
@@ -259,5 +284,32 @@ pub(crate) fn window_ratio(h: Hypothesis, o: &FaultOrders) -> (f64, f64) {
             1.0 + SLIP_MAX * o.bpfo / o.bpfi + SPEED_OFFSET + SPEED_TOL,
         ),
         Hypothesis::Outer | Hypothesis::Ball => cage_window(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::HARMONICS;
+
+    /// A confirmed inner race's family, masked before a second fault is tested: on a 6205 the
+    /// 6th order of its rolling elements' passing rate `BPFI/9` stands 0.7 % from BPFO (where
+    /// unequal elements put a line), and its 3rd harmonic, `f₁` read to the nearest bin, is
+    /// placed to ± 1.5 bins. Both are in the family, each within its half-width.
+    #[test]
+    fn a_race_s_family_holds_its_element_cycle_and_its_placement() {
+        let o = bearing_model::BearingSpec::parse("6205").unwrap().orders;
+        let fr = 30.0;
+        let df = 1.0;
+        let t = Template::new(Hypothesis::Inner, &o, fr, HARMONICS);
+        let f1 = t.fault_hz;
+        let family = t.family(f1, df);
+        let covers = |f: f64| family.iter().any(|&(c, h)| (f - c).abs() <= h.max(1e-9));
+        let bpfo = o.bpfo * fr;
+        assert!((6.0 * f1 / 9.0 / bpfo - 1.0).abs() < 0.01);
+        assert!(covers(6.0 * f1 / 9.0));
+        // the 3rd harmonic read with f₁ half a bin off
+        assert!(covers(3.0 * (f1 + 0.5 * df) - 0.01));
+        assert!(!covers(3.0 * f1 + 2.0 * df));
     }
 }

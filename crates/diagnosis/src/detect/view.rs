@@ -45,6 +45,8 @@ pub(crate) struct BandView {
     /// Evidence: `raw` less `base` where the baseline holds a line (≥ [`LINE_THRESHOLD_DB`]),
     /// ≥ 0, and 0 at masked bins.
     pub d: Vec<f64>,
+    /// The evidence before any mask.
+    unmasked: Vec<f64>,
     /// Highest frequency read, Hz (the squared envelope of a band `B` wide holds difference
     /// frequencies up to `B`).
     pub top_hz: f64,
@@ -112,6 +114,7 @@ impl BandView {
             masks: Masks::default(),
             masked: vec![false; n],
             d: Vec::new(),
+            unmasked: d.clone(),
             comb_tolerance,
             excess,
             mean_square: sp.mean_square,
@@ -230,6 +233,14 @@ impl BandView {
     /// `f` (at least the nearest bin), below the band's top.
     pub(crate) fn holds_line(&self, f: f64, half_width: f64) -> bool {
         f < self.top_hz && view_max(&self.d, self.df, f, half_width / self.df) >= LINE_THRESHOLD_DB
+    }
+
+    /// Whether the evidence before any mask holds a line (≥ [`LINE_THRESHOLD_DB`]) within
+    /// `half_width` Hz of `f` (at least the nearest bin), below the band's top: a comb masked as
+    /// the shaft's, or as a mains multiple's, is still a comb.
+    pub(crate) fn holds_line_unmasked(&self, f: f64, half_width: f64) -> bool {
+        f < self.top_hz
+            && view_max(&self.unmasked, self.df, f, half_width / self.df) >= LINE_THRESHOLD_DB
     }
 
     /// This view with the shaft's integer orders of `fr` masked besides what it masks already
