@@ -3,8 +3,9 @@
 //! combined by Fisher's method.
 //!
 //! A line's probability under "healthy" is the share of the band's **clear windows** — windows
-//! of the line's width that meet no masked bin and no window of the hypothesis's own lattice
-//! (`Template::lattice`) — whose strongest line is at least as prominent: whatever the band
+//! of as many unmasked bins as the line's window holds, meeting no window of the hypothesis's
+//! own lattice (`Template::lattice`), masked bins skipped (they hold no evidence on either side)
+//! — whose strongest line is at least as prominent: whatever the band
 //! holds besides this fault (noise, mains lines, beats, other machines' combs, other faults'
 //! lattices) is in that reference, never taken below `1/(n' + 1)` (`n'` non-overlapping clear
 //! windows: the dense windows overlap and read the same lines). Beyond every clear window, the

@@ -217,11 +217,8 @@ impl Template {
     /// window (the cage slips on its own; BPFO = n·FTF is one of them). A fault's impacts
     /// modulated at fr put lines at every `k·f₁ + j·fr` the modulation reaches; on a bearing
     /// with `BPFI + BPFO = n·fr` the two races' families then meet (`BPFI = n·fr − BPFO`:
-    /// an outer-race fault's `BPFO + 2fr` lies 2 % above a UC204's BPFI). A race's family also
-    /// holds the orders of `f₁/Z` up to `6·f₁` (its `Z` rolling elements pass a point of it at
-    /// that rate, and unequal elements strike with unequal force: a 6205's inner race puts its
-    /// 6th order 0.7 % from BPFO). `f₁` is read to the nearest bin of `df` Hz, so `x·f₁` is
-    /// known to `± x·df/2`: each line's half-width.
+    /// an outer-race fault's `BPFO + 2fr` lies 2 % above a UC204's BPFI). `f₁` is read to the
+    /// nearest bin of `df` Hz, so `k·f₁` is known to `± k·df/2`: each line's half-width.
     pub(crate) fn family(&self, f1: f64, df: f64) -> Vec<(f64, f64)> {
         let fr = self.fr;
         let shaft = FAMILY_SHAFT_ORDERS;
@@ -237,14 +234,7 @@ impl Template {
             }
         }
         match self.hypothesis {
-            Hypothesis::Outer | Hypothesis::Inner => {
-                if let Some(z) = self.rolling_elements() {
-                    for m in 1..=(6.0 * z) as usize {
-                        let x = m as f64 / z;
-                        v.push((x * f1, 0.5 * x * df));
-                    }
-                }
-            }
+            Hypothesis::Outer | Hypothesis::Inner => {}
             Hypothesis::Ball => {
                 let ftf = self.ftf_hz * f1 / self.fault_hz.max(f64::MIN_POSITIVE);
                 for k in 1..=self.harmonics {
@@ -292,24 +282,20 @@ mod tests {
     use super::*;
     use crate::HARMONICS;
 
-    /// A confirmed inner race's family, masked before a second fault is tested: on a 6205 the
-    /// 6th order of its rolling elements' passing rate `BPFI/9` stands 0.7 % from BPFO (where
-    /// unequal elements put a line), and its 3rd harmonic, `f₁` read to the nearest bin, is
-    /// placed to ± 1.5 bins. Both are in the family, each within its half-width.
+    /// A confirmed fault's family, masked before a second fault is tested: `f₁` is read to the
+    /// nearest bin, so its 3rd harmonic (and that harmonic's shaft sidebands) is placed to
+    /// ± 1.5 bins — and no wider.
     #[test]
-    fn a_race_s_family_holds_its_element_cycle_and_its_placement() {
+    fn a_family_s_harmonics_are_placed_to_their_fundamental_s_bin() {
         let o = bearing_model::BearingSpec::parse("6205").unwrap().orders;
-        let fr = 30.0;
-        let df = 1.0;
+        let (fr, df) = (30.0, 1.0);
         let t = Template::new(Hypothesis::Inner, &o, fr, HARMONICS);
         let f1 = t.fault_hz;
         let family = t.family(f1, df);
         let covers = |f: f64| family.iter().any(|&(c, h)| (f - c).abs() <= h.max(1e-9));
-        let bpfo = o.bpfo * fr;
-        assert!((6.0 * f1 / 9.0 / bpfo - 1.0).abs() < 0.01);
-        assert!(covers(6.0 * f1 / 9.0));
-        // the 3rd harmonic read with f₁ half a bin off
+        // the 3rd harmonic and its −2fr sideband, read with f₁ half a bin off
         assert!(covers(3.0 * (f1 + 0.5 * df) - 0.01));
+        assert!(covers(3.0 * (f1 - 0.5 * df) - 2.0 * fr + 0.01));
         assert!(!covers(3.0 * f1 + 2.0 * df));
     }
 }
