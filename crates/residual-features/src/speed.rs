@@ -749,6 +749,17 @@ fn comb_speed(
 mod tests {
     use super::*;
 
+    /// A shaft comb at `t` s: orders 1..=10 of `fr` Hz, each of amplitude `amp` and phase
+    /// `phase · k` rad.
+    fn shaft_comb(t: f64, fr: f64, amp: f64, phase: f64) -> f64 {
+        (1..=10)
+            .map(|k| {
+                let k = f64::from(k);
+                amp * (2.0 * std::f64::consts::PI * k * fr * t + phase * k).cos()
+            })
+            .sum()
+    }
+
     /// The squared envelope of a 6203 inner-race fault at 900 rpm (fr = 15 Hz, BPFI = 4.9469 fr),
     /// 6 s at 1 kHz: the shaft's own lines at 1× and 2× and the fault's family k·BPFI ± m·fr
     /// (k = 1, 2; |m| ≤ 2), a near-comb at 0.989 fr whose orders 4–10 sit within a bin or two of
@@ -815,12 +826,7 @@ mod tests {
         let x: Vec<f64> = (0..60_000)
             .map(|i| {
                 let t = i as f64 / fs;
-                let comb: f64 = (1..=10)
-                    .map(|k| {
-                        let k = f64::from(k);
-                        0.2 * (2.0 * std::f64::consts::PI * k * fr * t + 0.3 * k).cos()
-                    })
-                    .sum();
+                let comb = shaft_comb(t, fr, 0.2, 0.3);
                 comb + uniform()
             })
             .collect();
@@ -847,12 +853,7 @@ mod tests {
             (0..(fs * secs) as usize)
                 .map(|i| {
                     let t = i as f64 / fs;
-                    let c: f64 = (1..=10)
-                        .map(|k| {
-                            let k = f64::from(k);
-                            0.2 * (2.0 * std::f64::consts::PI * k * fr * t + 0.4 * k).cos()
-                        })
-                        .sum();
+                    let c = shaft_comb(t, fr, 0.2, 0.4);
                     c + (rng.random::<f64>() - 0.5)
                 })
                 .collect::<Vec<f64>>()
@@ -902,12 +903,7 @@ mod tests {
             let x: Vec<f64> = (0..(fs * 6.0) as usize)
                 .map(|i| {
                     let t = i as f64 / fs;
-                    let shaft: f64 = (1..=10)
-                        .map(|k| {
-                            let k = f64::from(k);
-                            0.3 * (2.0 * std::f64::consts::PI * k * fr * t + 0.4 * k).cos()
-                        })
-                        .sum();
+                    let shaft = shaft_comb(t, fr, 0.3, 0.4);
                     let supply = (2.0 * std::f64::consts::PI * 49.98 * t).cos()
                         + 0.5 * (2.0 * std::f64::consts::PI * 99.96 * t).cos();
                     shaft + supply + (rng.random::<f64>() - 0.5)

@@ -1424,6 +1424,32 @@ mod calibration {
         (fr, fr / 16.0, all)
     }
 
+    /// Each template of `all` read in every view of `views` (at least three lines each, and
+    /// `check`ed) and searched over them: the band readings' probabilities onto `pb`, the
+    /// searches' onto `ph`.
+    fn read_wide(
+        all: &[Template],
+        views: &[BandView],
+        pb: &mut Vec<f64>,
+        ph: &mut Vec<f64>,
+        check: impl Fn(&Template, &BandView, &BandReading),
+    ) {
+        for t in all {
+            for v in views {
+                let r = read_band(v, t);
+                assert!(
+                    r.terms.len() >= 3,
+                    "{:?}: {} lines",
+                    t.hypothesis,
+                    r.terms.len()
+                );
+                check(t, v, &r);
+                pb.push(r.p);
+            }
+            ph.push(scan(t, all, views, &AT_SPEED, 1).p_healthy);
+        }
+    }
+
     /// Windows widened by 8 % (a catalogue's typical geometry and a speed no comb confirmed)
     /// overlap: a ball's `± FTF` windows reach into its fundamental's. A peak in the overlap
     /// read by both lines would count twice in Fisher's statistic, which asks independent
@@ -1450,19 +1476,7 @@ mod calibration {
         let (mut pb, mut ph) = (Vec::new(), Vec::new());
         for _ in 0..600 {
             let views = noise_views(&mut rng, nbins, df, fr);
-            for t in &all {
-                for v in &views {
-                    let r = read_band(v, t);
-                    assert!(
-                        r.terms.len() >= 3,
-                        "{:?}: {} lines",
-                        t.hypothesis,
-                        r.terms.len()
-                    );
-                    pb.push(r.p);
-                }
-                ph.push(scan(t, &all, &views, &AT_SPEED, 1).p_healthy);
-            }
+            read_wide(&all, &views, &mut pb, &mut ph, |_, _, _| {});
         }
         assert_calibrated(&pb, &ph);
     }
@@ -1492,28 +1506,17 @@ mod calibration {
                     BandView::new(&s, None, fr, view::COMB_TOLERANCE, &[])
                 })
                 .collect();
-            for t in &all {
-                for v in &views {
-                    assert!(v.masks.shaft_orders);
-                    let r = read_band(v, t);
+            read_wide(&all, &views, &mut pb, &mut ph, |t, v, r| {
+                assert!(v.masks.shaft_orders);
+                for term in &r.terms {
                     assert!(
-                        r.terms.len() >= 3,
-                        "{:?}: {} lines",
+                        term.null_size >= linetest::MIN_TAIL_WINDOWS,
+                        "{:?}: {} reference windows",
                         t.hypothesis,
-                        r.terms.len()
+                        term.null_size
                     );
-                    for term in &r.terms {
-                        assert!(
-                            term.null_size >= linetest::MIN_TAIL_WINDOWS,
-                            "{:?}: {} reference windows",
-                            t.hypothesis,
-                            term.null_size
-                        );
-                    }
-                    pb.push(r.p);
                 }
-                ph.push(scan(t, &all, &views, &AT_SPEED, 1).p_healthy);
-            }
+            });
         }
         assert_calibrated(&pb, &ph);
     }

@@ -232,15 +232,20 @@ impl BandView {
     /// Whether the evidence holds a line (≥ [`LINE_THRESHOLD_DB`]) within `half_width` Hz of
     /// `f` (at least the nearest bin), below the band's top.
     pub(crate) fn holds_line(&self, f: f64, half_width: f64) -> bool {
-        f < self.top_hz && view_max(&self.d, self.df, f, half_width / self.df) >= LINE_THRESHOLD_DB
+        self.line_in(&self.d, f, half_width)
     }
 
     /// Whether the evidence before any mask holds a line (≥ [`LINE_THRESHOLD_DB`]) within
     /// `half_width` Hz of `f` (at least the nearest bin), below the band's top: a comb masked as
     /// the shaft's, or as a mains multiple's, is still a comb.
     pub(crate) fn holds_line_unmasked(&self, f: f64, half_width: f64) -> bool {
-        f < self.top_hz
-            && view_max(&self.unmasked, self.df, f, half_width / self.df) >= LINE_THRESHOLD_DB
+        self.line_in(&self.unmasked, f, half_width)
+    }
+
+    /// Whether `evidence` (this view's bins) holds a line within `half_width` Hz of `f`, below
+    /// the band's top.
+    fn line_in(&self, evidence: &[f64], f: f64, half_width: f64) -> bool {
+        f < self.top_hz && view_max(evidence, self.df, f, half_width / self.df) >= LINE_THRESHOLD_DB
     }
 
     /// This view with the shaft's integer orders of `fr` masked besides what it masks already
