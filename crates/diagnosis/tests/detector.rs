@@ -598,7 +598,7 @@ fn one_fault_or_uncertain(d: &Diagnosis, location: Hypothesis) {
 /// `uncertain`, naming both. Never `inner+outer`, never `outer+ball`; the outer race is the
 /// one named (alone, or first among the candidates).
 #[test]
-#[ignore = "detector: reads inner (p_healthy 3.1e-7 over five lines against outer 2.2e-4 over three, depths 0.74 and 0.88): the outer race's fr sidebands fill the inner template's sidebands too, so tell_apart's two-decade probability rule favours the template with more lines; the carriers (BPFO x1-3 1.9 dB above the BPFI lines) are not compared"]
+#[ignore = "detector: reads inner (p_healthy 3.1e-7 over five lines). At this unconfirmed speed the outer race's family is a near-comb itself (BPFO/3 = 1.017 fr with its fr sidebands) and is read as a shaft comb at 20.36 Hz (p_healthy 1) before the two are compared; with the shaft's unbalance comb added (speed measured) three seeds give `uncertain`, [outer, ball] twice and [inner, outer] once, whether the two are compared on the whole template or on the harmonics alone (journal 2026-12-07, fourth session)"]
 fn coincident_families_give_one_fault_or_uncertain_never_both() {
     let spec = BearingSpec::parse("UC204").unwrap();
     let x = uc204_in_a_rotating_load(spec.orders.bpfo * 20.0, 41);

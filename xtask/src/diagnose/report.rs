@@ -709,6 +709,21 @@ fn false_alarm_markdown(h: Option<&FalseAlarmHeadline>) -> String {
             "the same with a localized fault",
             "detected (verdict ≠ `normal`)",
         ),
+        (
+            "healthy-short-record",
+            "simulated healthy machines recorded for 24–48 shaft turns",
+            "false alarms",
+        ),
+        (
+            "faulty-short-record",
+            "the same with a localized fault",
+            "detected (verdict ≠ `normal`)",
+        ),
+        (
+            "real-short-record",
+            "real healthy recordings cut into pieces of 32 shaft turns",
+            "false alarms",
+        ),
     ];
     for (kind, what, counted) in names {
         if let Some(c) = h.kinds.get(kind) {
