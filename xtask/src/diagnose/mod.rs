@@ -251,7 +251,10 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
     let peer_path = out.join("peer_openconmo.csv");
     let peer = summary::read_peer(&peer_path)
         .with_context(|| format!("reading {}", peer_path.display()))?;
-    let false_alarm = summary::false_alarm_headline(&out.join("false_alarm.json"));
+    let false_alarm = summary::false_alarm_headline(&[
+        &out.join("false_alarm.json"),
+        &out.join("false_alarm_short.json"),
+    ]);
     let run = report::RunInfo {
         wall_s: start.elapsed().as_secs_f64(),
         cwru_s,

@@ -684,7 +684,7 @@ fn false_alarm_markdown(h: Option<&FalseAlarmHeadline>) -> String {
         m += "(`false_alarm.json` was not found when this report was written; see the report.)\n";
         return m;
     };
-    m += "Its headline, counted here from `false_alarm.json`'s records (a false alarm is a \
+    m += "Its headline, counted here from the records of `false_alarm.json` and `false_alarm_short.json` (a false alarm is a \
           verdict other than `normal` on a healthy recording; errors apart):\n\n";
     let names = [
         ("healthy", "simulated healthy machines", "false alarms"),

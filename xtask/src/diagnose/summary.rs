@@ -204,11 +204,27 @@ pub struct FalseAlarmHeadline {
     pub kinds: BTreeMap<String, [usize; 4]>,
 }
 
-/// Read the headline; `None` when the file is absent or not the report's shape.
-pub fn false_alarm_headline(path: &Path) -> Option<FalseAlarmHeadline> {
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
+/// Read the headline from the records of every file of `paths` that is present
+/// (`false_alarm.json`, `false_alarm_short.json`); `None` when the first is absent or any present
+/// one is not the report's shape.
+pub fn false_alarm_headline(paths: &[&Path]) -> Option<FalseAlarmHeadline> {
     let mut h = FalseAlarmHeadline::default();
-    for r in v.get("records")?.as_array()? {
+    for (i, path) in paths.iter().enumerate() {
+        let Ok(text) = std::fs::read_to_string(path) else {
+            if i == 0 {
+                return None;
+            }
+            continue;
+        };
+        let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+        count_records(&mut h, v.get("records")?.as_array()?)?;
+    }
+    Some(h)
+}
+
+/// Add `records` (the report's rows) to the headline `h`.
+fn count_records(h: &mut FalseAlarmHeadline, records: &[serde_json::Value]) -> Option<()> {
+    for r in records {
         let kind = r.get("kind")?.as_str()?.to_string();
         let verdict = r.get("verdict")?.as_str()?;
         let fault = r.get("fault").and_then(|f| f.as_str());
@@ -221,5 +237,5 @@ pub fn false_alarm_headline(path: &Path) -> Option<FalseAlarmHeadline> {
         }
         c[3] += usize::from(fault.is_some_and(|f| f == verdict));
     }
-    Some(h)
+    Some(())
 }

@@ -271,49 +271,53 @@ fn write_csv(rows: &[Row], out: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// One row of `false_alarm.json` (or `false_alarm_short.json`).
+fn record_json(r: &Row) -> serde_json::Value {
+    let e = &r.entry;
+    let mut v = serde_json::json!({
+        "id": e.id,
+        "kind": e.kind.name(),
+        "geometry": e.geometry,
+        "bearing_orders": e.spec.orders,
+        "machine_orders": e.recipe.map(|x| x.geometry.orders()),
+        "rpm_true": e.rpm_true,
+        "rpm_declared": e.rpm_declared,
+        "speed_error": e.speed_error,
+        "fs_hz": e.fs_hz,
+        "duration_s": r.duration_s,
+        "snr_db": snr(r),
+        "nuisances": e.nuisances,
+        "fault": e.fault().map(|f| f.location.name()),
+        "severity_db": severity(r),
+        "seed": r.seed,
+        "machine_of": e.machine_of,
+        "drawn": r.drawn,
+        "verdict": r.verdict(),
+    });
+    let o = v.as_object_mut().expect("an object");
+    match &r.outcome {
+        Ok(d) => {
+            o.insert(
+                "scores_db".into(),
+                serde_json::json!({"inner": d.scores[0], "outer": d.scores[1], "ball": d.scores[2]}),
+            );
+            o.insert("rpm_used".into(), d.rpm_used.into());
+            o.insert("band_hz".into(), serde_json::json!(d.band_hz));
+            o.insert("p_fields".into(), serde_json::json!(d.p_fields));
+        }
+        Err(msg) => {
+            o.insert("error".into(), msg.clone().into());
+        }
+    }
+    v
+}
+
 fn write_json(rows: &[Row], exact: &[Row], full_length: &[Row], out: &Path) -> anyhow::Result<()> {
-    let records: Vec<serde_json::Value> = rows
-        .iter()
-        .map(|r| {
-            let e = &r.entry;
-            let mut v = serde_json::json!({
-                "id": e.id,
-                "kind": e.kind.name(),
-                "geometry": e.geometry,
-                "bearing_orders": e.spec.orders,
-                "machine_orders": e.recipe.map(|x| x.geometry.orders()),
-                "rpm_true": e.rpm_true,
-                "rpm_declared": e.rpm_declared,
-                "speed_error": e.speed_error,
-                "fs_hz": e.fs_hz,
-                "duration_s": r.duration_s,
-                "snr_db": snr(r),
-                "nuisances": e.nuisances,
-                "fault": e.fault().map(|f| f.location.name()),
-                "severity_db": severity(r),
-                "seed": r.seed,
-                "machine_of": e.machine_of,
-                "drawn": r.drawn,
-                "verdict": r.verdict(),
-            });
-            let o = v.as_object_mut().expect("an object");
-            match &r.outcome {
-                Ok(d) => {
-                    o.insert(
-                        "scores_db".into(),
-                        serde_json::json!({"inner": d.scores[0], "outer": d.scores[1], "ball": d.scores[2]}),
-                    );
-                    o.insert("rpm_used".into(), d.rpm_used.into());
-                    o.insert("band_hz".into(), serde_json::json!(d.band_hz));
-                    o.insert("p_fields".into(), serde_json::json!(d.p_fields));
-                }
-                Err(msg) => {
-                    o.insert("error".into(), msg.clone().into());
-                }
-            }
-            v
-        })
-        .collect();
+    // the short-record design and the real pieces go to a file of their own: one file of every
+    // record would pass 2 MiB
+    let is_short = |r: &&Row| r.entry.kind.short() || r.entry.kind == Kind::RealShort;
+    let (short, main): (Vec<&Row>, Vec<&Row>) = rows.iter().partition(is_short);
+    let records: Vec<serde_json::Value> = main.iter().map(|r| record_json(r)).collect();
     let doc = serde_json::json!({
         "generated_by": HEADER,
         "design": {
@@ -334,10 +338,6 @@ fn write_json(rows: &[Row], exact: &[Row], full_length: &[Row], out: &Path) -> a
             "designated_faulty_per_cell": corpus::DESIGNATED_FAULTY_PER_CELL,
             "designated_seed": corpus::DESIGNATED_SEED,
             "designated_pitch_spread": corpus::PITCH_SPREAD,
-            "short_healthy": corpus::N_SHORT,
-            "short_faulty_per_cell": corpus::SHORT_FAULTY_PER_CELL,
-            "short_seed": corpus::SHORT_SEED,
-            "short_turns": corpus::SHORT_TURNS,
             "speed_errors": corpus::SPEED_ERRORS.iter().map(|e| serde_json::json!({"error": e.0, "count": e.1})).collect::<Vec<_>>(),
             "severities_db": corpus::SEVERITIES_DB,
             "rms_range_ms2": [corpus::RMS_RANGE_MS2.0, corpus::RMS_RANGE_MS2.1],
@@ -350,14 +350,30 @@ fn write_json(rows: &[Row], exact: &[Row], full_length: &[Row], out: &Path) -> a
             .iter()
             .map(|r| serde_json::json!({"id": r.entry.id, "verdict": r.verdict()}))
             .collect::<Vec<_>>(),
+    });
+    std::fs::write(
+        out.join("false_alarm.json"),
+        serde_json::to_string(&doc)? + "\n",
+    )?;
+    let short_doc = serde_json::json!({
+        "generated_by": HEADER,
+        "design": {
+            "short_healthy": corpus::N_SHORT,
+            "short_faulty_per_cell": corpus::SHORT_FAULTY_PER_CELL,
+            "short_seed": corpus::SHORT_SEED,
+            "short_turns": corpus::SHORT_TURNS,
+            "real_cut_turns": corpus::REAL_CUT_TURNS,
+            "real_cuts": corpus::REAL_CUTS,
+        },
+        "records": short.iter().map(|r| record_json(r)).collect::<Vec<_>>(),
         "short_at_full_length": full_length
             .iter()
             .map(|r| serde_json::json!({"id": r.entry.id, "duration_s": r.duration_s, "verdict": r.verdict()}))
             .collect::<Vec<_>>(),
     });
     std::fs::write(
-        out.join("false_alarm.json"),
-        serde_json::to_string(&doc)? + "\n",
+        out.join("false_alarm_short.json"),
+        serde_json::to_string(&short_doc)? + "\n",
     )?;
     Ok(())
 }
@@ -1022,7 +1038,7 @@ fn real_cuts_table(md: &mut String, cuts: &[&Row]) {
 /// The short-record design beside the same machines recorded for 6 s (`full_length`): false
 /// alarms of its healthy machines and detection and typing of its faulty ones per record length,
 /// the healthy machines' alarms per nuisance mix, and the faulty machines per fault and severity.
-fn short_section(md: &mut String, sets: &Sets<'_>, full_length: &[Row]) {
+fn short_section<'a>(md: &mut String, sets: &Sets<'a>, full_length: &'a [Row]) {
     let (healthy, faulty) = (&sets.short, &sets.short_faulty);
     if healthy.is_empty() {
         return;
@@ -1063,47 +1079,40 @@ fn short_section(md: &mut String, sets: &Sets<'_>, full_length: &[Row]) {
         .iter()
         .filter(|r| r.entry.kind == Kind::ShortFaulty)
         .collect();
-    let mut groups: Vec<(String, &str, &str, Vec<&Row>, bool)> = Vec::new();
     for (what, set, long, is_faulty) in [
         ("healthy machines", healthy, &long_h, false),
         ("faulty machines", faulty, &long_f, true),
     ] {
         for (told, exact) in [("exact geometry", true), ("designation", false)] {
-            let (short, long): (Vec<&Row>, Vec<&Row>) = (
-                set.iter()
+            let told_so = |rows: &[&'a Row]| -> Vec<&'a Row> {
+                rows.iter()
                     .copied()
                     .filter(|r| r.entry.told_exact() == exact)
-                    .collect(),
-                long.iter()
-                    .copied()
-                    .filter(|r| r.entry.told_exact() == exact)
-                    .collect(),
-            );
+                    .collect()
+            };
+            let short = told_so(set);
             for t in corpus::SHORT_TURNS {
-                groups.push((
-                    format!("{t:.0} turns"),
-                    what,
-                    told,
-                    short
-                        .iter()
-                        .copied()
-                        .filter(|r| (turns(r) - t).abs() < 0.5)
-                        .collect(),
+                let of_t: Vec<&Row> = short
+                    .iter()
+                    .copied()
+                    .filter(|r| (turns(r) - t).abs() < 0.5)
+                    .collect();
+                alarms_row(
+                    md,
+                    &format!("{what} | {told} | {t:.0} turns"),
+                    &of_t,
                     is_faulty,
-                ));
+                );
             }
-            groups.push(("24–48 turns".into(), what, told, short, is_faulty));
-            groups.push((
-                format!("the same, {} s", corpus::DURATION_S),
-                what,
-                told,
-                long,
+            alarms_row(
+                md,
+                &format!("{what} | {told} | 24–48 turns"),
+                &short,
                 is_faulty,
-            ));
+            );
+            let full = format!("{what} | {told} | the same, {} s", corpus::DURATION_S);
+            alarms_row(md, &full, &told_so(long), is_faulty);
         }
-    }
-    for (record, what, told, set, is_faulty) in &groups {
-        alarms_row(md, &format!("{what} | {told} | {record}"), set, *is_faulty);
     }
     *md += "\nHealthy machines per nuisance mix (short record, and the same machines at full length):\n\n| nuisance mix | short: false alarms | rate | 95 % CI | full length: false alarms | rate | 95 % CI |\n|---|---:|---:|---:|---:|---:|---:|\n";
     for mix in corpus::MIXES {
@@ -1301,7 +1310,7 @@ fn design_section(md: &mut String, sets: &Sets<'_>, levels: &Levels) {
         "| declared-speed error | {} |",
         per_level(&|r| speed_error_label(r.entry.speed_error), &levels.errs)
     );
-    *md += "\nPer recording: `false_alarm.csv` (one row each; columns named `…p_…` are every probability-like field the diagnosis's JSON holds, read by name, so new ones appear without a code change) and `false_alarm.json` (the same with the drawn parameters that matter: modes, gear teeth, mains frequency, the fault's mode and slip).\n";
+    *md += "\nPer recording: `false_alarm.csv` (one row each; columns named `…p_…` are every probability-like field the diagnosis's JSON holds, read by name, so new ones appear without a code change) and `false_alarm.json` (the same with the drawn parameters that matter: modes, gear teeth, mains frequency, the fault's mode and slip; the short-record design's and the real pieces' in `false_alarm_short.json`).\n";
 }
 
 #[cfg(test)]
