@@ -351,7 +351,7 @@ impl CheckedOptions {
             comb_orders: spectrum.map(|m| [m.orders_present, m.orders]),
             comb_contrast: spectrum.map(|m| m.contrast),
             note: format!(
-                "no shaft comb in the spectrum or the envelope between {lo:.0} and {hi:.0} rpm: the fault lines are read at {rpm:.0} rpm, and when none is found there, with the templates searching ± {:.1} % around it (each reading at half the false-alarm probability; the null read with the same windows)",
+                "no shaft comb in the spectrum or the envelope between {lo:.0} and {hi:.0} rpm: the fault lines are read at {rpm:.0} rpm and with the templates searching ± {:.1} % around it (each reading at half the false-alarm probability; the null read with the same windows; where both find a fault, the declared reading names it unless the searched one is 100 times rarer on a healthy machine)",
                 100.0 * rel
             ),
             read_at: None,

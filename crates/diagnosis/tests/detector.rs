@@ -208,7 +208,6 @@ fn machine_faults_at_0_db_are_found_and_typed() {
 /// the 6203 (1500 rpm), the UC204 (1200 rpm) and a 6308 (1000 rpm) is as plain to a vibration
 /// engineer as the outer-race and ball faults of those machines, which the detector finds.
 #[test]
-#[ignore = "detector: inner-race faults of machine recordings missed (p_healthy 3e-2..0.8 after the speed search; shaft-order masks from the fault's own load-zone comb, a null holding the fault's own higher harmonics)"]
 fn machine_inner_race_faults_at_0_db_are_found_and_typed() {
     let mut missed = Vec::new();
     for (name, fs, rpm) in [
@@ -314,7 +313,6 @@ fn a_speed_range_is_searched_and_bad_ranges_are_refused() {
 /// and the integer orders are the strongest, and searched over 300–3600 rpm the speed is the
 /// integer orders' comb, not the half-speed comb the half orders complete.
 #[test]
-#[ignore = "speed search: a loose machine's half orders make the half-speed comb win (747 rpm for 1500; the outer-race fault then reads normal)"]
 fn a_loose_machine_s_half_orders_do_not_halve_the_searched_speed() {
     let spec = BearingSpec::parse("6205").unwrap();
     let g = spec.geometry.unwrap();

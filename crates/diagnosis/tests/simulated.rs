@@ -255,7 +255,6 @@ fn near_comb_record(rpm: f64, fs: f64) -> Vec<f64> {
 /// The record of [`skf_6203_inner_race_near_comb_does_not_move_the_speed`] reads `inner`: its
 /// BPFI lines stand 20–22 dB over the local median.
 #[test]
-#[ignore = "detector: 6203 inner race (6 s, 25.6 kHz) reads normal: BPFI×1-3 at 22/20/21 dB give p_band 8.5e-5 (the band's reference windows hold the fault's own harmonics 4-16 at 7-19 dB), p_healthy 0.11 after the speed search"]
 fn skf_6203_inner_race_with_a_near_comb_is_found() {
     let spec = BearingSpec::parse("6203").unwrap();
     let (rpm, fs) = (900.0, 25_600.0);
