@@ -24,7 +24,8 @@ pub type Line = SearchedLine;
 pub struct HypothesisEvidence {
     /// Which fault.
     pub hypothesis: Hypothesis,
-    /// Kinematic fault frequency (harmonic 1) at the declared speed, Hz.
+    /// Kinematic fault frequency (harmonic 1) at the speed its lines were read at (the speed
+    /// used, times [`crate::Significance::speed_ratio`] where the templates searched it), Hz.
     pub fault_hz: f64,
     /// The band this hypothesis reads strongest in (each hypothesis has its own).
     pub band_hz: [f64; 2],

@@ -269,6 +269,31 @@ fn one() -> f64 {
 }
 
 impl Diagnosis {
+    /// Where a reported fault's lines were read off the speed used (a declared speed no comb
+    /// confirmed, the templates searching its range): of `evidence`, the reported hypothesis
+    /// (detected, or an `uncertain` candidate) with the smallest `p_healthy`, and the shaft speed
+    /// (rpm) its lines imply: the speed used times its [`crate::Significance::speed_ratio`] (a
+    /// step of the searched grid) times its fundamental found over the one expected there
+    /// (`fault_hz`, at that ratio; the fault's slip, 1–2 % for a bearing, included). `None`
+    /// when that hypothesis was read at the speed used, or none is reported.
+    pub fn fault_read_at_rpm(&self, evidence: &[HypothesisEvidence]) -> Option<(Hypothesis, f64)> {
+        let rpm = self.operating_point.rpm_used;
+        evidence
+            .iter()
+            .filter(|e| e.detected || self.candidates.contains(&e.hypothesis))
+            .filter_map(|e| e.significance.as_ref().map(|s| (e, s)))
+            .min_by(|a, b| a.1.p_healthy.total_cmp(&b.1.p_healthy))
+            .filter(|(_, s)| (s.speed_ratio - 1.0).abs() > 1e-9)
+            .map(|(e, s)| {
+                let ratio = if s.fundamental_hz > 0.0 && e.fault_hz > 0.0 {
+                    s.speed_ratio * s.fundamental_hz / e.fault_hz
+                } else {
+                    s.speed_ratio
+                };
+                (e.hypothesis, rpm * ratio)
+            })
+    }
+
     /// Why the verdict differs from a known `label` (`normal`, `inner`, `outer`, `ball`), from
     /// the evidence: the labelled fault's probability under healthy against `α/3`, its
     /// modulation depth against the depth a defect needs, and its lines (evidence in dB); and

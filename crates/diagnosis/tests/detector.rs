@@ -619,3 +619,37 @@ fn coincident_families_of_an_inner_race_fault_give_inner_or_uncertain() {
     show("UC204 inner race in a load zone", &d);
     one_fault_or_uncertain(&d, Hypothesis::Inner);
 }
+
+/// A 6205 with an outer-race fault at 1500 rpm and no shaft comb, its speed declared 3 % fast
+/// (no comb confirms it): the fault is read over the range, and the report names the speed its
+/// lines imply (`Diagnosis::fault_read_at_rpm`, what the figure's markers are drawn at) within
+/// 1 % of the machine's (0.3 % here: the fault's slip and a bin). Declared right, the lines are
+/// read at the declared speed and nothing is named.
+#[test]
+fn a_fault_read_over_the_range_names_the_speed_its_lines_imply() {
+    let spec = BearingSpec::parse("6205").unwrap();
+    let g = spec.geometry.unwrap();
+    let (fs, rpm) = (12_000.0, 1500.0);
+    let x = MachineRecipe::healthy(g, rpm, fs, 6.0, 1)
+        .unwrap()
+        .with_fault(LocalizedFault {
+            location: FaultLocation::Outer,
+            severity_db: 0.0,
+        })
+        .synthesize()
+        .unwrap()
+        .accel;
+    let d = diagnose(&sig(&x, fs), 1.03 * rpm, &spec, None).unwrap();
+    show("outer race, declared 3 % fast", &d);
+    assert_eq!(d.verdict, "outer");
+    let sp = d.operating_point.speed.as_ref().unwrap();
+    assert_eq!(sp.source, SpeedSource::Declared, "{sp:?}");
+    let (h, found) = d
+        .fault_read_at_rpm(&d.evidence)
+        .expect("read over the range");
+    assert_eq!(h, Hypothesis::Outer);
+    assert!((found / rpm - 1.0).abs() < 0.01, "{found} rpm");
+    let d = diagnose(&sig(&x, fs), rpm, &spec, None).unwrap();
+    assert_eq!(d.verdict, "outer");
+    assert_eq!(d.fault_read_at_rpm(&d.evidence), None);
+}

@@ -49,6 +49,13 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         m += &bearing_guess_section(g);
     }
     m += &speed_line(&d.operating_point);
+    if let Some((h, rpm)) = d.fault_read_at_rpm(&d.evidence) {
+        m += &format!(
+            "- fault lines read over the range: {} at {rpm:.1} rpm ({:+.1} % from the speed used), read there because the declared speed's own reading found no fault, or one a healthy machine shows at least 100 times as often; the figure's markers are drawn at it\n",
+            h.name(),
+            100.0 * (rpm / d.operating_point.rpm_used - 1.0)
+        );
+    }
     m += &facts_section(o);
     m += &format!("Rule: {}.\n\n", d.thresholds.rule);
     m += &evidence_table(d);

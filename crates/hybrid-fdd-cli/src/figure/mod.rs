@@ -200,8 +200,30 @@ fn envelope_panel(
     caption: String,
 ) -> anyhow::Result<()> {
     let text = font_available();
-    let f = &d.operating_point.frequencies_hz;
-    let fr = d.operating_point.shaft_hz;
+    // the markers at the speed the reported fault's lines were read at (over the range, when
+    // no comb confirmed the declared speed), else at the speed used
+    let rho = d
+        .fault_read_at_rpm(evidence)
+        .map_or(1.0, |(_, rpm)| rpm / d.operating_point.rpm_used);
+    let scaled;
+    let f = if rho == 1.0 {
+        &d.operating_point.frequencies_hz
+    } else {
+        scaled = d
+            .operating_point
+            .orders
+            .at(rho * d.operating_point.shaft_hz);
+        &scaled
+    };
+    let fr = rho * d.operating_point.shaft_hz;
+    let caption = if rho == 1.0 {
+        caption
+    } else {
+        format!(
+            "{caption}; markers at {:.0} rpm",
+            rho * d.operating_point.rpm_used
+        )
+    };
     let top = 3.4 * f.bpfo.max(f.bpfi).max(f.ball_defect) + fr;
     let pts: Vec<(f64, f64)> = env
         .power
