@@ -880,6 +880,11 @@ fn alarms_row(md: &mut String, label: &str, set: &[&Row], is_faulty: bool) {
 /// The designation design beside the same machines told their exact geometry (`exact`): false
 /// alarms of its healthy machines per designation and by how far the machine's own fault orders
 /// lie from the declared row's; its faulty machines' detection and typing.
+/// The rows of `rows` whose entry is of `kind`.
+fn of_kind(rows: &[Row], kind: Kind) -> Vec<&Row> {
+    rows.iter().filter(|r| r.entry.kind == kind).collect()
+}
+
 fn designation_section(md: &mut String, sets: &Sets<'_>, exact: &[Row]) {
     let (healthy, faulty) = (&sets.designated, &sets.designated_faulty);
     if healthy.is_empty() {
@@ -910,14 +915,8 @@ fn designation_section(md: &mut String, sets: &Sets<'_>, exact: &[Row]) {
         nf = faulty.len(),
         pc = corpus::DESIGNATED_FAULTY_PER_CELL,
     );
-    let exact_h: Vec<&Row> = exact
-        .iter()
-        .filter(|r| r.entry.kind == Kind::DesignatedHealthy)
-        .collect();
-    let exact_f: Vec<&Row> = exact
-        .iter()
-        .filter(|r| r.entry.kind == Kind::DesignatedFaulty)
-        .collect();
+    let exact_h = of_kind(exact, Kind::DesignatedHealthy);
+    let exact_f = of_kind(exact, Kind::DesignatedFaulty);
     for (what, told, set, is_faulty) in [
         ("healthy machines", "designation", healthy.as_slice(), false),
         (
@@ -1071,14 +1070,8 @@ fn short_section<'a>(md: &mut String, sets: &Sets<'a>, full_length: &'a [Row]) {
         pc = corpus::SHORT_FAULTY_PER_CELL,
     );
     let turns = |r: &Row| r.duration_s * r.entry.rpm_true / 60.0;
-    let long_h: Vec<&Row> = full_length
-        .iter()
-        .filter(|r| r.entry.kind == Kind::ShortHealthy)
-        .collect();
-    let long_f: Vec<&Row> = full_length
-        .iter()
-        .filter(|r| r.entry.kind == Kind::ShortFaulty)
-        .collect();
+    let long_h = of_kind(full_length, Kind::ShortHealthy);
+    let long_f = of_kind(full_length, Kind::ShortFaulty);
     for (what, set, long, is_faulty) in [
         ("healthy machines", healthy, &long_h, false),
         ("faulty machines", faulty, &long_f, true),

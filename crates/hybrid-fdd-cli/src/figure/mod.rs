@@ -202,27 +202,16 @@ fn envelope_panel(
     let text = font_available();
     // the markers at the speed the reported fault's lines were read at (over the range, when
     // no comb confirmed the declared speed), else at the speed used
-    let rho = d
-        .fault_read_at_rpm(evidence)
-        .map_or(1.0, |(_, rpm)| rpm / d.operating_point.rpm_used);
+    let op = &d.operating_point;
+    let read_at = d.fault_read_at_rpm(evidence).map(|(_, rpm)| rpm);
+    let fr = read_at.map_or(op.shaft_hz, |rpm| op.shaft_hz * rpm / op.rpm_used);
     let scaled;
-    let f = if rho == 1.0 {
-        &d.operating_point.frequencies_hz
-    } else {
-        scaled = d
-            .operating_point
-            .orders
-            .at(rho * d.operating_point.shaft_hz);
-        &scaled
-    };
-    let fr = rho * d.operating_point.shaft_hz;
-    let caption = if rho == 1.0 {
-        caption
-    } else {
-        format!(
-            "{caption}; markers at {:.0} rpm",
-            rho * d.operating_point.rpm_used
-        )
+    let (f, caption) = match read_at {
+        None => (&op.frequencies_hz, caption),
+        Some(rpm) => {
+            scaled = op.orders.at(fr);
+            (&scaled, format!("{caption}; markers at {rpm:.0} rpm"))
+        }
     };
     let top = 3.4 * f.bpfo.max(f.bpfi).max(f.ball_defect) + fr;
     let pts: Vec<(f64, f64)> = env
