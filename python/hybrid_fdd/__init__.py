@@ -231,6 +231,10 @@ class Diagnosis:
             not write in its JSON: ``band_hz``, ``resolution_hz``, ``power`` (a float64 array,
             one value per bin), ``spectral_kurtosis``, ``segments``.
         rust_seconds: the time the Rust diagnosis itself took (no reading, copying or JSON), s.
+        order_tracking: how a recording whose speed changed was resampled at equal shaft angles
+            before it was diagnosed (``source`` — ``{"kind": "tachometer", ...}`` or
+            ``{"kind": "shaft_comb", ...}`` —, ``min_rpm``, ``max_rpm``, ``mean_rpm``,
+            ``samples_per_rev``, ``max_order``, ...); ``None`` for a steady speed.
     """
 
     def __init__(
@@ -266,6 +270,9 @@ class Diagnosis:
         self.unit_statement = unit_statement
         self.source = source
         self.notes: Tuple[str, ...] = tuple(notes)
+        tracking = report.get("order_tracking")
+        self.order_tracking: Optional[Dict[str, Any]] = (
+            None if tracking is None else dict(tracking))
 
     @classmethod
     def _from_native(cls, d: Dict[str, Any], source: Optional[str] = None) -> "Diagnosis":
@@ -486,6 +493,12 @@ def _unpack(results: List[Tuple[str, Any]], sources: Sequence[Optional[str]],
     return out
 
 
+def _tach(tach: Optional[str], pulses_per_rev: Any) -> Dict[str, Any]:
+    if tach is None:
+        return {}
+    return dict(tach=str(tach), pulses_per_rev=_num(pulses_per_rev, "pulses_per_rev"))
+
+
 def diagnose(
     x: Any,
     fs: Optional[float] = None,
@@ -497,6 +510,8 @@ def diagnose(
     *,
     channel: Optional[str] = None,
     unit: Optional[str] = None,
+    tach: Optional[str] = None,
+    pulses_per_rev: float = 1.0,
 ) -> Diagnosis:
     """Diagnose one recording: ``normal``, ``inner``, ``outer``, ``ball``, a combination or
     ``uncertain``, training-free (``hybrid-fdd diagnose``).
@@ -522,6 +537,12 @@ def diagnose(
         channel: channel or column of a path ``x`` and of a baseline file (default ``DE``).
         unit: unit of an array's samples (``"g"``, ``"m/s^2"``); checked against a machine-model
             baseline's.
+        tach: a tachometer channel of the same file (path ``x`` only), as ``--tach``: the
+            recording is resampled at equal shaft angles from its pulses and diagnosed at their
+            mean speed (give no ``rpm`` or ``rpm_range``). Without one, a self-referenced
+            recording whose speed changes is tracked along its own shaft comb where it can be
+            (:attr:`Diagnosis.order_tracking` says how).
+        pulses_per_rev: the tachometer's pulses a shaft turn (an encoder's lines; 1 for a key).
 
     Returns:
         A :class:`Diagnosis`.
@@ -541,8 +562,10 @@ def diagnose(
     if _is_path(x):
         res = _native.diagnose_files(
             [os.fspath(x)], fs=_num(fs, "fs"), rpm=_num(rpm, "rpm"), one_file=True,
-            **base, **common)
+            **base, **common, **_tach(tach, pulses_per_rev))
         return _unpack(res, [os.fspath(x)], "raise")[0]
+    if tach is not None:
+        raise InputError("tach names a channel of a file: give x as a path")
     if isinstance(x, Recording):
         fs = x.fs if fs is None else fs
         rpm = x.rpm if rpm is None else rpm
@@ -583,6 +606,8 @@ def diagnose_many(
     unit: Any = None,
     threads: Optional[int] = None,
     errors: str = "raise",
+    tach: Optional[str] = None,
+    pulses_per_rev: float = 1.0,
 ) -> List[Any]:
     """Diagnose many recordings in parallel on all cores, with the interpreter released.
 
@@ -599,6 +624,7 @@ def diagnose_many(
         threads: worker threads (default: all cores).
         errors: ``"raise"`` (default) raises the first failure in input order, its message
             prefixed with the item; ``"return"`` puts the exception object in that item's place.
+        tach, pulses_per_rev: as :func:`diagnose` (paths only): each file's tachometer channel.
 
     Returns:
         One :class:`Diagnosis` per signal, in input order.
@@ -631,8 +657,10 @@ def diagnose_many(
         paths = [os.fspath(s) for s in items]
         res = _native.diagnose_files(
             paths, fs=_num(fs, "fs"), rpm=_num(rpm, "rpm"), one_file=False,
-            **_baseline(baseline, None), **common)
+            **_baseline(baseline, None), **common, **_tach(tach, pulses_per_rev))
         return _unpack(res, paths, errors)
+    if tach is not None:
+        raise InputError("tach names a channel of a file: give paths")
     if any(_is_path(s) for s in items):
         raise InputError("signals mixes paths and arrays: give one kind")
     n = len(items)

@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 use hybrid_fdd_cli::diagnose::{
     BaselineSource, FsFlag, Loaded, Plan, RecordingFlags, Search, diagnose_loaded_with,
-    read_recording,
+    read_recording, read_recording_tracked,
 };
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::create_exception;
@@ -284,13 +284,27 @@ impl Setup {
     /// Diagnose a loaded recording with `rpm` declared (else the file's own speed), as
     /// `diagnose` does.
     fn diagnose(&self, l: &Loaded, rpm: Option<f64>) -> Result<Done, Failure> {
+        self.diagnose_tracked(l, rpm, None)
+    }
+
+    /// [`Setup::diagnose`] of a recording order tracked from its tachometer (`tracking`, which
+    /// the report then states).
+    fn diagnose_tracked(
+        &self,
+        l: &Loaded,
+        rpm: Option<f64>,
+        tracking: Option<residual_features::OrderTracked>,
+    ) -> Result<Done, Failure> {
         let plan = Plan {
             rpm,
             ..self.plan.clone()
         };
         let t = std::time::Instant::now();
-        let o = diagnose_loaded_with(l, &plan, self.baseline.as_deref(), &self.search)
+        let mut o = diagnose_loaded_with(l, &plan, self.baseline.as_deref(), &self.search)
             .map_err(|e| Failure::new(Kind::Input, &e))?;
+        if tracking.is_some() {
+            o.diagnosis.order_tracking = tracking;
+        }
         let rust_s = t.elapsed().as_secs_f64();
         let json = serde_json::to_string(&o.diagnosis).map_err(|e| Failure {
             kind: Kind::Internal,
@@ -520,7 +534,8 @@ fn diagnose_arrays<'py>(
 #[pyfunction]
 #[pyo3(signature = (paths, bearing, channel = "DE", fs = None, rpm = None, rpm_range = None,
     alpha = None, baseline_path = None, baseline_samples = None, baseline_fs = None,
-    baseline_machine = None, baseline_prepared = None, one_file = false, threads = None))]
+    baseline_machine = None, baseline_prepared = None, one_file = false, threads = None,
+    tach = None, pulses_per_rev = 1.0))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose_files<'py>(
     py: Python<'py>,
@@ -538,7 +553,28 @@ fn diagnose_files<'py>(
     baseline_prepared: Option<Bound<'py, PreparedBaseline>>,
     one_file: bool,
     threads: Option<usize>,
+    tach: Option<String>,
+    pulses_per_rev: f64,
 ) -> PyResult<Vec<(String, Bound<'py, PyAny>)>> {
+    if tach.is_some()
+        && (baseline_path.is_some()
+            || baseline_samples.is_some()
+            || baseline_machine.is_some()
+            || baseline_prepared.is_some())
+    {
+        return Err(Failure {
+            kind: Kind::Input,
+            message: "tach with a baseline is not supported: the baseline would need the same order tracking (diagnose the tracked recording self-referenced)".into(),
+        }
+        .into_py());
+    }
+    if tach.is_some() && (rpm.is_some() || rpm_range.is_some()) {
+        return Err(Failure {
+            kind: Kind::Input,
+            message: "tach measures the speed: leave out rpm and rpm_range (the recording is diagnosed at the tachometer's mean speed)".into(),
+        }
+        .into_py());
+    }
     let bx = baseline_samples.as_ref().map(samples_of);
     let prepared = baseline_prepared.map(|b| b.get().src.clone());
     let bearing = bearing.to_string();
@@ -566,12 +602,16 @@ fn diagnose_files<'py>(
         par_map(paths.len(), threads, |i| {
             guarded(|| {
                 let p = &paths[i];
-                let (l, declared, notes) = read_recording(p, &channel, fs, rpm, flag)
-                    .map_err(|e| Failure::new(Kind::Data, &e))?;
-                let mut d = setup.diagnose(&l, declared).map_err(|f| Failure {
-                    message: format!("{}: {}", p.display(), f.message),
-                    ..f
-                })?;
+                let tach = tach.as_deref().map(|c| (c, pulses_per_rev));
+                let (l, declared, notes, tracking) =
+                    read_recording_tracked(p, &channel, tach, fs, rpm, flag)
+                        .map_err(|e| Failure::new(Kind::Data, &e))?;
+                let mut d = setup
+                    .diagnose_tracked(&l, declared, tracking)
+                    .map_err(|f| Failure {
+                        message: format!("{}: {}", p.display(), f.message),
+                        ..f
+                    })?;
                 d.notes = notes;
                 Ok(d)
             })

@@ -1,5 +1,6 @@
 //! [`diagnose`]: the steps of the method (crate docs, "Method") on one recording.
 
+use residual_features::order::{self, OrderTracked};
 use residual_features::{Band, SpectralEngine};
 
 use crate::bands::{envelope_spectra, healthy_spectra};
@@ -48,7 +49,82 @@ pub fn diagnose_with_options(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    with_engine(|engine| diagnose_in(engine, signal, bearing, baseline, options))
+    with_engine(|engine| diagnose_in(engine, signal, bearing, baseline, options, true))
+}
+
+/// A recording whose shaft speed spreads more than this (fastest over slowest, less one) through
+/// it, read from its own shaft comb frame by frame, is order tracked before it is diagnosed: at
+/// 4 % a line's 3rd harmonic smears over more than a slip window (2 %) and its windows.
+pub const SPEED_VARIES: f64 = 0.04;
+
+/// What the recording's whole spectrum and, where that holds no comb, its frames say about its
+/// speed.
+pub(crate) enum FirstLook {
+    /// A steady speed (or none read): the whole recording's shaft comb, if any.
+    Steady(Option<speed::SpeedEstimate>),
+    /// A speed that changes: the recording resampled at equal shaft angles.
+    Varying(OrderTracked),
+}
+
+/// Step 0 of a diagnosis: the length check, the whole recording's shaft comb over the range
+/// searched and — self-referenced, with `track`, and only where that comb is not accepted (a
+/// comb the whole recording holds is a steady speed's) — the speed frame by frame
+/// (`residual_features::order::speed_profile`); a spread over [`SPEED_VARIES`] has the
+/// recording resampled at equal shaft angles along it. Against a baseline nothing is tracked
+/// (the baseline would have to be resampled alike).
+pub(crate) fn first_look(
+    engine: &mut SpectralEngine,
+    signal: &Signal<'_>,
+    baseline: Option<&Baseline>,
+    options: &crate::options::CheckedOptions,
+    track: bool,
+) -> Result<FirstLook> {
+    let (x, fs_hz) = (signal.samples(), signal.fs_hz());
+    let [rpm_low, rpm_high] = options.search_rpm();
+    check_length(x, fs_hz, rpm_low)?;
+    let comb = speed::estimate_speed_in(engine, x, fs_hz, rpm_low, rpm_high)?;
+    if !track || baseline.is_some() || comb.is_some_and(|m| m.accepted || m.refined_rpm.is_some()) {
+        return Ok(FirstLook::Steady(comb));
+    }
+    let Some(p) = order::speed_profile(engine, x, fs_hz, rpm_low, rpm_high)? else {
+        return Ok(FirstLook::Steady(comb));
+    };
+    if p.spread() <= SPEED_VARIES {
+        return Ok(FirstLook::Steady(comb));
+    }
+    let t = order::order_track_profile(engine, x, fs_hz, &p)?;
+    // the profile is a speed only if tracking along it shows what the recording did not: a
+    // shaft comb the whole tracked record holds, accepted and refined at the mean speed (frames
+    // of a short or faulty record can follow a fault's near-comb from frame to frame; tracked
+    // along that, the true comb smears and none is accepted)
+    let shown = speed::estimate_speed(engine, &t.samples, t.equivalent_fs_hz, t.mean_rpm)?
+        .and_then(|m| m.accepted.then_some(m.refined_rpm).flatten())
+        .is_some_and(|r| (r / t.mean_rpm - 1.0).abs() <= TRACKED_COMB_AGREEMENT);
+    Ok(if shown {
+        FirstLook::Varying(t)
+    } else {
+        FirstLook::Steady(comb)
+    })
+}
+
+/// A tracked record's refined comb must stand within this of the profile's mean speed.
+pub const TRACKED_COMB_AGREEMENT: f64 = 0.005;
+
+/// `run` on the order-tracked recording `t` (at its equivalent rate, declared at its mean speed,
+/// false-alarm probability `alpha`), the diagnosis then saying how it was tracked.
+pub(crate) fn diagnose_tracked(
+    t: OrderTracked,
+    alpha: f64,
+    run: impl FnOnce(&Signal<'_>, &DiagnoseOptions) -> Result<Diagnosis>,
+) -> Result<Diagnosis> {
+    let signal = Signal::new(&t.samples, t.equivalent_fs_hz)?;
+    let options = DiagnoseOptions::declared(t.mean_rpm).with_false_alarm(alpha);
+    let mut d = run(&signal, &options)?;
+    d.order_tracking = Some(OrderTracked {
+        samples: Vec::new(),
+        ..t
+    });
+    Ok(d)
 }
 
 /// Run `f` with this thread's spectral engine: FFT plans and Hann windows kept between
@@ -117,11 +193,12 @@ pub(crate) fn analyse(
     near_comb: f64,
     baseline: Option<&Baseline>,
     options: &crate::options::CheckedOptions,
+    spectrum_comb: Option<speed::SpeedEstimate>,
 ) -> Result<Analysis> {
-    // finite, non-empty, a positive rate: a `Signal` is checked when it is made
+    // finite, non-empty, a positive rate: a `Signal` is checked when it is made; its length
+    // and the whole recording's comb (step 0) were read by `first_look`
     let (x, fs_hz) = (signal.samples(), signal.fs_hz());
     let [rpm_low, rpm_high] = options.search_rpm();
-    check_length(x, fs_hz, rpm_low)?;
     if let Some(b) = baseline
         && (b.whitener.fs_hz - fs_hz).abs() > 1e-9 * fs_hz
     {
@@ -130,9 +207,6 @@ pub(crate) fn analyse(
             baseline_hz: b.whitener.fs_hz,
         });
     }
-
-    // 0. the speed the recording's own spectrum shows (its shaft comb over the search range)
-    let spectrum_comb = speed::estimate_speed_in(engine, x, fs_hz, rpm_low, rpm_high)?;
 
     // 1. residual
     let (whitener, reference) = match baseline {
@@ -204,14 +278,31 @@ fn diagnose_in(
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
+    track: bool,
 ) -> Result<Diagnosis> {
     let fs_hz = signal.fs_hz();
     check_fs(fs_hz)?;
     let options = options.check()?;
+    let spectrum_comb = match first_look(engine, signal, baseline, &options, track)? {
+        FirstLook::Steady(c) => c,
+        FirstLook::Varying(t) => {
+            return diagnose_tracked(t, options.false_alarm, |s, o| {
+                diagnose_in(engine, s, bearing, None, o, false)
+            });
+        }
+    };
     let o = bearing.orders;
     let rate_uncertainty = options.rate_uncertainty(bearing);
     let near_comb = crate::options::near_comb_distance(&o, rate_uncertainty);
-    let a = analyse(engine, signal, &o, near_comb, baseline, &options)?;
+    let a = analyse(
+        engine,
+        signal,
+        &o,
+        near_comb,
+        baseline,
+        &options,
+        spectrum_comb,
+    )?;
     let fr = a.fr;
 
     // 3. the detector: each hypothesis's lines against the band's clear windows
@@ -415,6 +506,7 @@ fn report(
         p_healthy: (Hypothesis::ALL.len() as f64 * p_min).min(1.0),
         false_alarm: alpha,
         bearing_guess: None,
+        order_tracking: None,
     }
 }
 

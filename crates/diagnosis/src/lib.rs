@@ -97,7 +97,7 @@ use serde::{Deserialize, Serialize};
 pub use bands::{candidate_bands, min_band_width_hz};
 pub use bearing_model::BearingSpec;
 pub use detect::{DEFAULT_FALSE_ALARM, Masks, Significance};
-pub use driver::{diagnose, diagnose_with_options};
+pub use driver::{SPEED_VARIES, TRACKED_COMB_AGREEMENT, diagnose, diagnose_with_options};
 pub use error::{DiagnosisError, Result};
 #[allow(deprecated)]
 pub use evidence::Line;

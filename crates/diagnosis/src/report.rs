@@ -262,6 +262,12 @@ pub struct Diagnosis {
     /// named from it and on what basis — a guess, and the report says so.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bearing_guess: Option<crate::BearingGuess>,
+    /// A recording whose speed changed through it: how it was resampled at equal shaft angles
+    /// before it was diagnosed (from its own shaft comb frame by frame, or from a tachometer the
+    /// caller tracked it with); every frequency of the diagnosis is then an order × the mean
+    /// shaft rate. Absent for a steady speed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub order_tracking: Option<residual_features::OrderTracked>,
 }
 
 fn one() -> f64 {

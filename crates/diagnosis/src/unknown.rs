@@ -47,7 +47,7 @@ use crate::detect::linetest::{BandReading, LineTest};
 use crate::detect::template::{Sidebands, Template, Term, Window};
 use crate::detect::view::{self, BandView};
 use crate::detect::{MIN_MODULATION_DEPTH, Masks, Significance};
-use crate::driver::analyse;
+use crate::driver::{FirstLook, analyse, diagnose_tracked, first_look};
 use crate::report::band_choice;
 use crate::{
     Baseline, DiagnoseOptions, Diagnosis, EnvelopeSpectrum, HARMONICS, Hypothesis,
@@ -121,7 +121,7 @@ pub fn diagnose_unknown_bearing(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    crate::driver::with_engine(|engine| unknown_in(engine, signal, baseline, options))
+    crate::driver::with_engine(|engine| unknown_in(engine, signal, baseline, options, true))
 }
 
 fn unknown_in(
@@ -129,10 +129,19 @@ fn unknown_in(
     signal: &crate::Signal<'_>,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
+    track: bool,
 ) -> Result<Diagnosis> {
     let fs_hz = signal.fs_hz();
     check_fs(fs_hz)?;
     let options = options.check()?;
+    let spectrum_comb = match first_look(engine, signal, baseline, &options, track)? {
+        FirstLook::Steady(c) => c,
+        FirstLook::Varying(t) => {
+            return diagnose_tracked(t, options.false_alarm, |s, o| {
+                unknown_in(engine, s, None, o, false)
+            });
+        }
+    };
     // bands wide enough for three harmonics of the highest order searched
     let plan_orders = FaultOrders {
         ftf: CAGE_ORDERS.1,
@@ -141,7 +150,15 @@ fn unknown_in(
         ball_spin: 0.5 * MAX_ORDER,
         ball_defect: MAX_ORDER,
     };
-    let a = analyse(engine, signal, &plan_orders, 0.0, baseline, &options)?;
+    let a = analyse(
+        engine,
+        signal,
+        &plan_orders,
+        0.0,
+        baseline,
+        &options,
+        spectrum_comb,
+    )?;
     let fr = a.fr;
     // no comb gave the speed: the fault's fundamental is still a comb in Hz (its harmonics
     // k·f within the slip window whatever the shaft's rate), so the lines are read at the comb
@@ -667,6 +684,7 @@ fn report(
         p_healthy: guess.as_ref().map_or(1.0, |g| g.p_healthy),
         false_alarm: alpha,
         bearing_guess: guess,
+        order_tracking: None,
     }
 }
 

@@ -56,6 +56,38 @@ pub enum FeatureError {
         /// Number of samples left over.
         tail: usize,
     },
+    /// A tachometer channel whose pulses span too few shaft turns (a constant channel has none).
+    #[error(
+        "tachometer: {pulses} pulses span {turns:.1} shaft turns; order tracking needs at least {needed_turns} (is it a pulse channel, and are the pulses per turn right?)"
+    )]
+    TachPulses {
+        /// Pulses found.
+        pulses: usize,
+        /// Turns they span at the pulses per turn given.
+        turns: f64,
+        /// Turns needed.
+        needed_turns: f64,
+    },
+    /// A tachometer pulse interval far from its neighbours': a missed or spurious pulse.
+    #[error(
+        "tachometer: pulse interval {pulse} is {ratio:.2} times the median of its neighbours (a missed or spurious pulse)"
+    )]
+    TachIrregular {
+        /// Index of the interval (1 = between the first two pulses).
+        pulse: usize,
+        /// Its length over its neighbours' median.
+        ratio: f64,
+    },
+    /// The tachometer and the signal differ in length.
+    #[error(
+        "tachometer has {tach} samples but the signal {signal}: they must be recorded together"
+    )]
+    TachLength {
+        /// Signal samples.
+        signal: usize,
+        /// Tachometer samples.
+        tach: usize,
+    },
     /// The FFT backend reported a length or buffer mismatch (should not happen; reported, not panicked).
     #[error("FFT buffer mismatch for length {len}")]
     Fft {

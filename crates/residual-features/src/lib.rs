@@ -7,6 +7,9 @@
 //! characteristic frequencies, and it exposes the spectral tools (amplitude spectrum, Welch PSD,
 //! Hilbert envelope, envelope spectrum, FFT band-pass) for reuse by `close-loop`.
 //!
+//! [`order`] resamples a recording whose shaft speed changes at equal shaft angles (computed order
+//! tracking, from a tachometer or from the recording's own shaft comb).
+//!
 //! Works equally on a residual or on the raw signal. Knows nothing about classifiers or
 //! observers.
 //!
@@ -31,6 +34,7 @@
 
 mod error;
 mod features;
+pub mod order;
 pub mod spectral;
 pub mod speed;
 pub mod stats;
@@ -41,6 +45,7 @@ pub use features::{
     EnvelopeSettings, FaultLine, FaultOrders, Feature, FeatureConfig, FeatureExtractor,
     FeatureTable,
 };
+pub use order::{OrderTracked, order_track, tach_pulse_times};
 pub use spectral::{
     Band, BandEnvelope, SpectralEngine, SpectralPeak, Spectrum, Taper, WelchConfig,
     amplitude_spectrum, band_energy, band_squared_envelopes, bandpass_fft, envelope_spectrum,

@@ -193,6 +193,31 @@ fn smooth_size(n: usize) -> usize {
     m
 }
 
+/// `x`'s length after the checks of a transform at `fs_hz`: finite samples, at least two, a
+/// finite positive rate.
+fn checked_pair(x: &[f64], fs_hz: f64) -> Result<usize> {
+    check_finite(x)?;
+    check_positive("fs_hz", fs_hz)?;
+    if x.len() < 2 {
+        return Err(FeatureError::TooShort {
+            needed: 2,
+            found: x.len(),
+        });
+    }
+    Ok(x.len())
+}
+
+/// Largest `m ≤ n` (`n ≥ 1`) whose only prime factors are 2, 3 and 5: a count of bins
+/// [`SpectralEngine::low_pass_resample`] keeps without a zero band above it (it transforms back
+/// on twice the smallest 5-smooth count ≥ the bins kept).
+pub(crate) fn smooth5_floor(n: usize) -> usize {
+    let mut m = n.max(1);
+    while !is_smooth(m, &[2, 3, 5]) {
+        m -= 1;
+    }
+    m
+}
+
 /// Largest `m ≤ n` (`n ≥ 1`) whose only prime factors are 2, 3, 5 and 7: how many samples of
 /// a record of `n` to transform so that its FFT is fast. A length with a large prime factor (a
 /// 10 s, 12 kHz record less an AR filter's warm-up, 119 992 = 2³·53·283) takes a Bluestein FFT
@@ -522,6 +547,43 @@ impl SpectralEngine {
         Ok(z.iter().map(|c| c.norm() * scale).collect())
     }
 
+    /// Unwrapped phase (rad) of the analytic signal of `x` band-limited to `band`: the zero-phase
+    /// brick wall of [`SpectralEngine::bandpass_fft`] and the one-sided spectrum of
+    /// [`SpectralEngine::hilbert_envelope`] in one transform. A band holding one line gives that
+    /// line's phase sample by sample (`residual_features::order` reads a shaft order's).
+    ///
+    /// # Errors
+    /// Input errors, invalid `fs_hz`, [`FeatureError::TooShort`] below 2 samples.
+    pub fn band_phase(&mut self, x: &[f64], fs_hz: f64, band: Band) -> Result<Vec<f64>> {
+        let n = checked_pair(x, fs_hz)?;
+        let df = fs_hz / n as f64;
+        let spec = self.rfft(x.to_vec())?;
+        let keep = band.bins(df, spec.len());
+        let mut z = vec![Complex::new(0.0, 0.0); n];
+        for k in keep {
+            z[k] = spec[k] * one_sided(k, n);
+        }
+        let inv = self.complex_inverse(n);
+        inv.process(&mut z);
+        let mut out = Vec::with_capacity(n);
+        let mut offset = 0.0;
+        let mut prev = 0.0;
+        for (i, c) in z.iter().enumerate() {
+            let a = c.im.atan2(c.re);
+            if i > 0 {
+                let d = a - prev;
+                if d > std::f64::consts::PI {
+                    offset -= 2.0 * std::f64::consts::PI;
+                } else if d < -std::f64::consts::PI {
+                    offset += 2.0 * std::f64::consts::PI;
+                }
+            }
+            prev = a;
+            out.push(a + offset);
+        }
+        Ok(out)
+    }
+
     /// Envelope spectrum: the amplitude spectrum of the mean-removed Hilbert envelope of `x`,
     /// optionally band-passed first (the demodulation band).
     ///
@@ -614,15 +676,7 @@ impl SpectralEngine {
     /// # Errors
     /// Input errors, invalid `fs_hz`, [`FeatureError::TooShort`] below 2 samples.
     pub fn bandpass_fft(&mut self, x: &[f64], fs_hz: f64, band: Band) -> Result<Vec<f64>> {
-        check_finite(x)?;
-        check_positive("fs_hz", fs_hz)?;
-        let n = x.len();
-        if n < 2 {
-            return Err(FeatureError::TooShort {
-                needed: 2,
-                found: n,
-            });
-        }
+        let n = checked_pair(x, fs_hz)?;
         let df = fs_hz / n as f64;
         let mut spec = self.rfft(x.to_vec())?;
         let keep = band.bins(df, spec.len());

@@ -676,7 +676,7 @@ impl CombSpectrum {
 /// The shaft comb of `x` (sampled at `fs_hz`) searched over `rpm` ± `search` in quarter-bin
 /// steps of its top order, the best ratio assessed ([`CombSpectrum::assess`]) and, when the
 /// bins are at most `refine_resolution` × fr wide, refined by the zoom DFT ([`refine`]).
-fn comb_speed(
+pub(crate) fn comb_speed(
     engine: &mut SpectralEngine,
     x: &[f64],
     fs_hz: f64,

@@ -33,6 +33,19 @@ pub struct Args {
     /// to the report under `"classifier"` beside the training-free verdict.
     #[arg(long)]
     pub classifier: Option<PathBuf>,
+    /// Tachometer channel recorded beside the vibration in the same file (a column name or
+    /// number of a text file, a MAT-file variable): its pulses give the shaft's angle, and the
+    /// recording is resampled at equal shaft angles (computed order tracking) before it is
+    /// diagnosed at its mean speed — for a speed that changes during the recording (a run-up,
+    /// a coast-down, a variable-speed drive), whose fault lines would otherwise smear. `--rpm`,
+    /// `--rpm-range` and `--baseline` are then refused: the tachometer measures the speed, and a
+    /// baseline would need the same tracking. Without `--tach` a self-referenced recording whose
+    /// speed changes is tracked along its own shaft comb where it holds one.
+    #[arg(long)]
+    pub tach: Option<String>,
+    /// Pulses per shaft turn of `--tach` (an encoder's lines; 1 for a once-per-turn key).
+    #[arg(long, default_value_t = 1.0)]
+    pub pulses_per_rev: f64,
 }
 
 /// The flags `diagnose` and `train-classifier` share: channel and rate ([`SignalFlags`], which

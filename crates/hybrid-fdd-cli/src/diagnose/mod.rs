@@ -7,6 +7,7 @@ mod classifier;
 mod loader;
 mod report;
 mod text;
+mod tracking;
 
 use std::path::{Path, PathBuf};
 
@@ -28,6 +29,7 @@ pub use loader::{
     bearing_or_sidecar, load, load_with, rpm_or_sidecar, sidecar_bearing, sidecar_rpm,
 };
 pub use report::{markdown, write_reports};
+pub use tracking::order_tracked;
 
 /// Options shared by every recording of a run.
 #[derive(Debug, Clone)]
@@ -204,6 +206,42 @@ pub fn read_recording(
     Ok((l, rpm, notes))
 }
 
+/// What [`read_recording_tracked`] returns: the samples (order tracked when a tachometer was
+/// given), the speed to declare, the loader's notes and the tracking.
+pub type TrackedRead = (
+    Loaded,
+    Option<f64>,
+    Vec<String>,
+    Option<residual_features::OrderTracked>,
+);
+
+/// [`read_recording`], then — with a tachometer channel of the same file and its pulses a turn
+/// (`--tach`, `--pulses-per-rev`) — the recording resampled at equal shaft angles
+/// ([`order_tracked`]) and declared at the tachometer's mean speed; the tracking is returned to
+/// be set on the diagnosis (`Diagnosis::order_tracking`). The command and the Python binding
+/// both call it.
+///
+/// # Errors
+/// As [`read_recording`] and [`order_tracked`].
+pub fn read_recording_tracked(
+    path: &Path,
+    channel: &str,
+    tach: Option<(&str, f64)>,
+    fs: Option<f64>,
+    rpm: Option<f64>,
+    flag: FsFlag,
+) -> anyhow::Result<TrackedRead> {
+    let (l, rpm, notes) = read_recording(path, channel, fs, rpm, flag)?;
+    let Some((tach, pulses_per_rev)) = tach else {
+        return Ok((l, rpm, notes, None));
+    };
+    let t = load_with(path, tach, fs, flag)
+        .with_context(|| format!("{}: tachometer", path.display()))?;
+    let (tracked, summary) =
+        order_tracked(&l, &t, pulses_per_rev).with_context(|| path.display().to_string())?;
+    Ok((tracked, Some(summary.mean_rpm), notes, Some(summary)))
+}
+
 /// Run `diagnose` with these flags (one file, or a directory in parallel with a progress bar).
 ///
 /// # Errors
@@ -227,14 +265,29 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     } else {
         FsFlag::MustAgree
     };
+    if args.tach.is_some() && (args.recording.rpm.is_some() || search.rpm_range.is_some()) {
+        anyhow::bail!(
+            "--tach measures the speed: leave out --rpm and --rpm-range (the recording is diagnosed at the tachometer's mean speed)"
+        );
+    }
+    if args.tach.is_some() && baseline.is_some() {
+        anyhow::bail!(
+            "--tach with --baseline is not supported: the baseline would need the same order tracking (diagnose the tracked recording self-referenced)"
+        );
+    }
     let one = |path: &Path, out: &Path| -> anyhow::Result<(Outcome, Vec<String>)> {
-        let (l, rpm, notes) = read_recording(path, &plan.channel, plan.fs, plan.rpm, flag)?;
+        let tach = args.tach.as_deref().map(|c| (c, args.pulses_per_rev));
+        let (l, rpm, notes, tracking) =
+            read_recording_tracked(path, &plan.channel, tach, plan.fs, plan.rpm, flag)?;
         let plan = Plan {
             rpm,
             ..plan.clone()
         };
         let mut o = diagnose_loaded_with(&l, &plan, baseline.as_ref(), &search)
             .with_context(|| path.display().to_string())?;
+        if tracking.is_some() {
+            o.diagnosis.order_tracking = tracking;
+        }
         if let Some((t, p)) = &trained {
             apply_classifier(&mut o, t, p, &l, &plan, baseline.as_ref())
                 .with_context(|| path.display().to_string())?;

@@ -49,6 +49,9 @@ pub fn markdown(o: &Outcome, title: &str) -> String {
         m += &bearing_guess_section(g);
     }
     m += &speed_line(&d.operating_point);
+    if let Some(t) = &d.order_tracking {
+        m += &tracking_line(t);
+    }
     if let Some((h, rpm)) = d.fault_read_at_rpm(&d.evidence) {
         m += &format!(
             "- fault lines read over the range: {} at {rpm:.1} rpm ({:+.1} % from the speed used), read there because the declared speed's own reading found no fault, or one a healthy machine shows at least 100 times as often; the figure's markers are drawn at it\n",
@@ -254,6 +257,38 @@ fn shaft_harmonics_line(d: &diagnosis::Diagnosis) -> String {
 }
 
 /// The speed as the report states it: declared, searched, found, how.
+/// How the recording was order tracked (`--tach`).
+fn tracking_line(t: &residual_features::OrderTracked) -> String {
+    let source = match t.source {
+        residual_features::order::AngleSource::Tachometer {
+            pulses,
+            pulses_per_rev,
+        } => format!("the tachometer ({pulses} pulses, {pulses_per_rev} a turn)"),
+        residual_features::order::AngleSource::ShaftComb {
+            frames,
+            frames_read,
+            frame_s,
+            phase_order,
+        } => format!(
+            "the recording's own shaft comb, read in {frames_read} of {frames} frames of {frame_s:.2} s{} (the speed changed through the recording; a tachometer, `--tach`, measures it better)",
+            phase_order.map_or(String::new(), |k| format!(
+                ", the angle then from the phase of its order {k}"
+            ))
+        ),
+    };
+    format!(
+        "- order tracked from {source} over {:.1} turns: speed {:.1}–{:.1} rpm ({:.1} % apart), mean {:.1} rpm; resampled at {:.1} samples a turn (orders up to {:.1} kept: the band every turn holds) and diagnosed as a recording at the mean speed: every frequency below is an order × the mean shaft rate (equivalent rate {:.1} Hz)\n",
+        t.turns,
+        t.min_rpm,
+        t.max_rpm,
+        100.0 * (t.max_rpm / t.min_rpm - 1.0),
+        t.mean_rpm,
+        t.samples_per_rev,
+        t.max_order,
+        t.equivalent_fs_hz,
+    )
+}
+
 fn speed_line(op: &diagnosis::OperatingPointUsed) -> String {
     let Some(f) = &op.speed else {
         return format!("- speed: {:.1} rpm\n", op.rpm_used);

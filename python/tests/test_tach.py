@@ -1,0 +1,74 @@
+"""A recording whose speed sweeps, diagnosed from Python with its tachometer channel (``tach``,
+as ``hybrid-fdd diagnose --tach``): order tracked, the fault named, the tracking in the report;
+and the errors of a tachometer given where it cannot be read."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import hybrid_fdd as hf
+
+FS = 20_000.0
+SECS = 8.0
+PPR = 60
+BEARING = "n=12,d=7.94mm,D=38.5mm,angle=0deg"
+
+
+def sweep_csv(path, f0=25.0, f1=15.0, outer=True, seed=3):
+    """A coast-down from f0 to f1 Hz: noise, a 1x line, outer-race impacts at the bearing's
+    BPFO of the shaft's angle ringing 3 kHz (1 % jitter accumulating), and a tachometer of PPR
+    square pulses a turn; written as ``accel,tach``."""
+    rng = np.random.default_rng(seed)
+    n = int(FS * SECS)
+    t = np.arange(n) / FS
+    theta = f0 * t + 0.5 * (f1 - f0) / SECS * t * t
+    x = 0.2 * np.sin(2 * np.pi * theta + 0.3) + 0.5 * rng.standard_normal(n)
+    if outer:
+        r = 7.94 / 38.5
+        step = 1.0 / (6.0 * (1.0 - r))
+        angles = np.cumsum(step * (1.0 + 0.01 * rng.standard_normal(int(theta[-1] / step) + 10)))
+        angles = angles[angles < theta[-1]]
+        k0 = np.searchsorted(theta, angles)
+        kt = np.arange(int(0.0064 * FS)) / FS
+        kernel = np.exp(-kt / 0.0008) * np.sin(2 * np.pi * 3000.0 * kt)
+        for k in k0:
+            m = min(len(kernel), n - k)
+            x[k:k + m] += kernel[:m]
+    tach = np.where(np.mod(theta * PPR, 1.0) < 0.5, 5.0, 0.0)
+    np.savetxt(path, np.column_stack([x, tach]), delimiter=",", header="accel,tach",
+               comments="", fmt="%.6f")
+    return path
+
+
+def test_a_coast_down_is_named_with_its_tachometer(tmp_path, cli):
+    csv = sweep_csv(tmp_path / "coast.csv")
+    d = hf.diagnose(csv, fs=FS, bearing=BEARING, channel="accel", tach="tach",
+                    pulses_per_rev=PPR)
+    assert d.verdict == "outer", d
+    t = d.order_tracking
+    assert t is not None and t["source"]["kind"] == "tachometer"
+    assert abs(t["min_rpm"] - 900) < 10 and abs(t["max_rpm"] - 1500) < 10, t
+    # the same file at one speed: the lines smear over the sweep
+    flat = hf.diagnose(csv, fs=FS, rpm=1200, bearing=BEARING, channel="accel")
+    assert flat.verdict == "normal" and flat.order_tracking is None
+    # the command's report, key for key
+    out = tmp_path / "cli.json"
+    subprocess.run([str(cli), "diagnose", "--input", str(csv), "--fs", str(FS), "--channel",
+                    "accel", "--bearing", BEARING, "--tach", "tach", "--pulses-per-rev",
+                    str(PPR), "--report", str(out)], check=True, capture_output=True)
+    assert json.loads(out.read_text()) == d.to_dict()
+
+
+def test_a_tachometer_where_it_cannot_be_read_is_an_input_error(tmp_path):
+    csv = sweep_csv(tmp_path / "coast.csv", outer=False)
+    with pytest.raises(hf.InputError, match="leave out rpm"):
+        hf.diagnose(csv, fs=FS, rpm=1200, bearing=BEARING, channel="accel", tach="tach")
+    with pytest.raises(hf.InputError, match="give x as a path"):
+        hf.diagnose(np.zeros(40_000), fs=FS, rpm=1200, bearing=BEARING, tach="tach")
+    with pytest.raises(hf.DataError, match="tachometer"):
+        hf.diagnose(csv, fs=FS, bearing=BEARING, channel="accel", tach="tach",
+                    pulses_per_rev=6000)
