@@ -247,8 +247,15 @@ fn envelope_panel(
     let mut mesh = c.configure_mesh();
     mesh.light_line_style(TRANSPARENT);
     if text {
-        mesh.x_desc("envelope frequency (Hz)")
-            .y_desc("power re median (dB)");
+        mesh.x_desc(match &d.order_tracking {
+            // an order-tracked record: its "Hz" are orders × the mean shaft rate
+            Some(t) => format!(
+                "envelope frequency (Hz at the mean speed, {:.0} rpm: order tracked over {:.0}–{:.0} rpm)",
+                t.mean_rpm, t.min_rpm, t.max_rpm
+            ),
+            None => "envelope frequency (Hz)".to_string(),
+        })
+        .y_desc("power re median (dB)");
     } else {
         mesh.x_labels(0).y_labels(0);
     }
