@@ -62,8 +62,9 @@ pub const SPEED_VARIES: f64 = 0.04;
 pub(crate) enum FirstLook {
     /// A steady speed (or none read): the whole recording's shaft comb, if any.
     Steady(Option<speed::SpeedEstimate>),
-    /// A speed that changes: the recording resampled at equal shaft angles.
-    Varying(OrderTracked),
+    /// A speed that changes: the recording resampled at equal shaft angles (and the whole
+    /// recording's comb, for the reading at one speed should the tracked one fail).
+    Varying(OrderTracked, Option<speed::SpeedEstimate>),
 }
 
 /// Step 0 of a diagnosis: the length check, the whole recording's shaft comb over the range
@@ -92,16 +93,22 @@ pub(crate) fn first_look(
     if p.spread() <= SPEED_VARIES {
         return Ok(FirstLook::Steady(comb));
     }
-    let t = order::order_track_profile(engine, x, fs_hz, &p)?;
+    // tracking is a chance taken, not a step owed: where it cannot be made (a fastest frame
+    // leaving too few samples a turn) the recording is read at one speed, as before
+    let Ok(t) = order::order_track_profile(engine, x, fs_hz, &p) else {
+        return Ok(FirstLook::Steady(comb));
+    };
     // the profile is a speed only if tracking along it shows what the recording did not: a
     // shaft comb the whole tracked record holds, accepted and refined at the mean speed (frames
     // of a short or faulty record can follow a fault's near-comb from frame to frame; tracked
     // along that, the true comb smears and none is accepted)
-    let shown = speed::estimate_speed(engine, &t.samples, t.equivalent_fs_hz, t.mean_rpm)?
+    let shown = speed::estimate_speed(engine, &t.samples, t.equivalent_fs_hz, t.mean_rpm)
+        .ok()
+        .flatten()
         .and_then(|m| m.accepted.then_some(m.refined_rpm).flatten())
         .is_some_and(|r| (r / t.mean_rpm - 1.0).abs() <= TRACKED_COMB_AGREEMENT);
     Ok(if shown {
-        FirstLook::Varying(t)
+        FirstLook::Varying(t, comb)
     } else {
         FirstLook::Steady(comb)
     })
@@ -285,11 +292,14 @@ fn diagnose_in(
     let options = options.check()?;
     let spectrum_comb = match first_look(engine, signal, baseline, &options, track)? {
         FirstLook::Steady(c) => c,
-        FirstLook::Varying(t) => {
-            return diagnose_tracked(t, options.false_alarm, |s, o| {
-                diagnose_in(engine, s, bearing, None, o, false)
-            });
-        }
+        // a tracked record the diagnosis refuses (its equivalent rate too low for the bands,
+        // say) is read at one speed instead
+        FirstLook::Varying(t, c) => match diagnose_tracked(t, options.false_alarm, |s, o| {
+            diagnose_in(engine, s, bearing, None, o, false)
+        }) {
+            Ok(d) => return Ok(d),
+            Err(_) => c,
+        },
     };
     let o = bearing.orders;
     let rate_uncertainty = options.rate_uncertainty(bearing);

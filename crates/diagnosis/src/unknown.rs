@@ -136,11 +136,13 @@ fn unknown_in(
     let options = options.check()?;
     let spectrum_comb = match first_look(engine, signal, baseline, &options, track)? {
         FirstLook::Steady(c) => c,
-        FirstLook::Varying(t) => {
-            return diagnose_tracked(t, options.false_alarm, |s, o| {
-                unknown_in(engine, s, None, o, false)
-            });
-        }
+        // a tracked record the search refuses is read at one speed instead
+        FirstLook::Varying(t, c) => match diagnose_tracked(t, options.false_alarm, |s, o| {
+            unknown_in(engine, s, None, o, false)
+        }) {
+            Ok(d) => return Ok(d),
+            Err(_) => c,
+        },
     };
     // bands wide enough for three harmonics of the highest order searched
     let plan_orders = FaultOrders {
