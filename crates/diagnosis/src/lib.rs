@@ -17,7 +17,11 @@
 //!    envelopes (a defect or load that turns with the shaft modulates the impacts at fr). A comb
 //!    found gives the speed (refined from its lines); without one, the declared speed is used and
 //!    the fault templates' windows are widened by the range, their null read with the same
-//!    windows ([`SpeedFinding`] says which).
+//!    windows ([`SpeedFinding`] says which). A self-referenced recording whose whole spectrum
+//!    holds no comb but whose frames do, spreading more than [`SPEED_VARIES`] (a run-up, a
+//!    coast-down), is resampled at equal shaft angles along them (`residual_features::order`)
+//!    and diagnosed at its mean speed, where the tracked record then shows the shaft comb
+//!    ([`Diagnosis::order_tracking`] says how).
 //! 1. **Residual** ([`whiten`]): an AR linear predictor fitted by least squares on the baseline
 //!    (order by held-out prediction error) is applied as a prediction-error filter to the
 //!    recording: the residual of the healthy model, which pre-whitens the structural path and
@@ -51,7 +55,8 @@
 //! - `bearing-model`: the bearing's kinematics (`BearingSpec`, `FaultOrders`, its catalogue of
 //!   designations), one type for it.
 //! - `laguerre-id`: the AR least squares of the whitening filter.
-//! - `residual-features`: the FFT, band envelopes and Welch spectra.
+//! - `residual-features`: the FFT, band envelopes and Welch spectra, the shaft-speed estimator
+//!   and the order tracking.
 //! - `classify` (only with the feature `trained`, which brings linfa with it): the optional
 //!   trained classifier (its Gini tree and linear SVM, and `Dataset`).
 //! - `sampled-signal`: [`Signal`], the checked recording (samples and rate) every entry point
