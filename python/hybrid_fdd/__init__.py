@@ -48,6 +48,7 @@ __all__ = [
     "close_loop",
     "diagnose",
     "diagnose_many",
+    "order_track",
     "read",
     "recordings_in",
     "simulate",
@@ -493,10 +494,13 @@ def _unpack(results: List[Tuple[str, Any]], sources: Sequence[Optional[str]],
     return out
 
 
-def _tach(tach: Optional[str], pulses_per_rev: Any) -> Dict[str, Any]:
+def _tach(tach: Any, pulses_per_rev: Any) -> Dict[str, Any]:
     if tach is None:
         return {}
-    return dict(tach=str(tach), pulses_per_rev=_num(pulses_per_rev, "pulses_per_rev"))
+    if not isinstance(tach, str):
+        raise InputError("for a path, tach is the name or number of the file's tachometer "
+                         "channel")
+    return dict(tach=tach, pulses_per_rev=_num(pulses_per_rev, "pulses_per_rev"))
 
 
 def diagnose(
@@ -510,7 +514,7 @@ def diagnose(
     *,
     channel: Optional[str] = None,
     unit: Optional[str] = None,
-    tach: Optional[str] = None,
+    tach: Any = None,
     pulses_per_rev: float = 1.0,
 ) -> Diagnosis:
     """Diagnose one recording: ``normal``, ``inner``, ``outer``, ``ball``, a combination or
@@ -537,9 +541,10 @@ def diagnose(
         channel: channel or column of a path ``x`` and of a baseline file (default ``DE``).
         unit: unit of an array's samples (``"g"``, ``"m/s^2"``); checked against a machine-model
             baseline's.
-        tach: a tachometer channel of the same file (path ``x`` only), as ``--tach``: the
-            recording is resampled at equal shaft angles from its pulses and diagnosed at their
-            mean speed (give no ``rpm`` or ``rpm_range``). Without one, a self-referenced
+        tach: a tachometer channel of the same file (for a path ``x``), as ``--tach``, or the
+            tachometer's samples (an array beside an array ``x``, at ``fs``): the recording is
+            resampled at equal shaft angles from its pulses (:func:`order_track`) and diagnosed
+            at their mean speed (give no ``rpm``, ``rpm_range`` or ``baseline``). Without one, a self-referenced
             recording whose speed changes is tracked along its own shaft comb where it can be
             (:attr:`Diagnosis.order_tracking` says how).
         pulses_per_rev: the tachometer's pulses a shaft turn (an encoder's lines; 1 for a key).
@@ -564,8 +569,13 @@ def diagnose(
             [os.fspath(x)], fs=_num(fs, "fs"), rpm=_num(rpm, "rpm"), one_file=True,
             **base, **common, **_tach(tach, pulses_per_rev))
         return _unpack(res, [os.fspath(x)], "raise")[0]
+    tracking = None
     if tach is not None:
-        raise InputError("tach names a channel of a file: give x as a path")
+        if isinstance(tach, str):
+            raise InputError("tach names a channel of a file: give x as a path (or tach as an "
+                             "array of the tachometer's samples)")
+        if rpm is not None or rpm_range is not None or baseline is not None:
+            raise InputError("tach measures the speed: leave out rpm, rpm_range and baseline")
     if isinstance(x, Recording):
         fs = x.fs if fs is None else fs
         rpm = x.rpm if rpm is None else rpm
@@ -577,11 +587,18 @@ def diagnose(
         samples = _signal(x)
     if fs is None:
         raise InputError("fs (the sampling rate, Hz) is required for an array")
+    if tach is not None:
+        samples, tracking = order_track(samples, tach, fs, pulses_per_rev)
+        fs, rpm = tracking["equivalent_fs_hz"], tracking["mean_rpm"]
     if "baseline_samples" in base and base.get("baseline_fs") is None:
         base["baseline_fs"] = _num(fs, "fs")
     res = _native.diagnose_arrays(
         [samples], [_num(fs, "fs")], [_num(rpm, "rpm")], [unit], **base, **common)
-    return _unpack(res, [src], "raise")[0]
+    d = _unpack(res, [src], "raise")[0]
+    if tracking is not None:
+        d._r["order_tracking"] = tracking
+        d.order_tracking = dict(tracking)
+    return d
 
 
 def _per_item(v: Any, n: int, what: str) -> List[Any]:
@@ -697,6 +714,28 @@ def recordings_in(directory: PathLike) -> List[str]:
         DataError: not a directory, or one holding no recording.
     """
     return [os.fspath(p) for p in _native.recordings_in(os.fspath(directory))]
+
+
+def order_track(
+    x: Any, tach: Any, fs: float, pulses_per_rev: float = 1.0
+) -> Tuple["np.ndarray", Dict[str, Any]]:
+    """Resample ``x`` (at ``fs`` Hz) at equal shaft angles from the tachometer ``tach`` recorded
+    beside it (same length; ``pulses_per_rev`` pulses a turn: an encoder's lines, 1 for a key),
+    as ``hybrid-fdd diagnose --tach`` does (computed order tracking).
+
+    Returns:
+        ``(samples, info)``: the resampled samples, ``info["samples_per_rev"]`` a turn, to be read
+        as a recording at ``info["equivalent_fs_hz"]`` and ``info["mean_rpm"]``; ``info`` also
+        holds ``min_rpm``, ``max_rpm``, ``max_order`` (the order band kept), ``turns`` and
+        ``source``.
+
+    Raises:
+        InputError: channels of different lengths, too few pulses, a missed or spurious pulse,
+            a rate too low for the fastest turn.
+    """
+    samples, info = _native.order_track(
+        _signal(x), _signal(tach), _num(fs, "fs"), _num(pulses_per_rev, "pulses_per_rev"))
+    return samples, json.loads(info)
 
 
 def bearing(spec: str) -> Dict[str, Any]:

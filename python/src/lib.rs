@@ -639,6 +639,36 @@ fn recordings_in(py: Python<'_>, directory: PathBuf) -> PyResult<Vec<PathBuf>> {
     .map_err(Failure::into_py)
 }
 
+/// `x` (at `fs` Hz) resampled at equal shaft angles from the tachometer `tach` recorded beside
+/// it (`pulses_per_rev` pulses a turn; `residual_features::order::order_track`, as `diagnose
+/// --tach`): the resampled samples and, as JSON, what the tracking did (`mean_rpm`,
+/// `equivalent_fs_hz`, `samples_per_rev`, `max_order`, `min_rpm`, `max_rpm`, `source`).
+#[pyfunction]
+fn order_track<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    tach: PyReadonlyArray1<'py, f64>,
+    fs: f64,
+    pulses_per_rev: f64,
+) -> PyResult<(Bound<'py, numpy::PyArray1<f64>>, String)> {
+    let (x, tach) = (samples_of(&x), samples_of(&tach));
+    let r = py.detach(move || {
+        guarded(|| {
+            let mut engine = residual_features::SpectralEngine::new();
+            let mut t = residual_features::order_track(&mut engine, &x, &tach, fs, pulses_per_rev)
+                .map_err(|e| Failure::new(Kind::Input, &anyhow::Error::from(e)))?;
+            let samples = std::mem::take(&mut t.samples);
+            let json = serde_json::to_string(&t).map_err(|e| Failure {
+                kind: Kind::Internal,
+                message: format!("serialising the order tracking: {e}"),
+            })?;
+            Ok((samples, json))
+        })
+    });
+    let (samples, json) = r.map_err(Failure::into_py)?;
+    Ok((samples.into_pyarray(py), json))
+}
+
 /// The bearing `spec` names, parsed as `--bearing` parses it (a catalogue designation, a
 /// geometry `n=…,d=…,D=…[,angle=…]`, or the four multiples), as JSON: `name`, `given`,
 /// `geometry` (metres, radians; `null` for multiples) and `orders` (× shaft rate; `ball_defect`
@@ -1277,6 +1307,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(diagnose_files, m)?)?;
     m.add_function(wrap_pyfunction!(recordings_in, m)?)?;
     m.add_function(wrap_pyfunction!(bearing, m)?)?;
+    m.add_function(wrap_pyfunction!(order_track, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(close_loop_file, m)?)?;
     m.add_function(wrap_pyfunction!(machine_model, m)?)?;

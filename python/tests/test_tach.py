@@ -63,12 +63,33 @@ def test_a_coast_down_is_named_with_its_tachometer(tmp_path, cli):
     assert json.loads(out.read_text()) == d.to_dict()
 
 
+def test_arrays_are_tracked_as_the_file_is(tmp_path):
+    csv = sweep_csv(tmp_path / "coast.csv")
+    data = np.loadtxt(csv, delimiter=",", skiprows=1)
+    x, tach = data[:, 0], data[:, 1]
+    samples, info = hf.order_track(x, tach, FS, PPR)
+    assert abs(info["mean_rpm"] - 1200) < 5 and info["source"]["kind"] == "tachometer"
+    assert len(samples) == pytest.approx(info["turns"] * info["samples_per_rev"], rel=0.03)
+    d = hf.diagnose(x, fs=FS, bearing=BEARING, tach=tach, pulses_per_rev=PPR)
+    f = hf.diagnose(csv, fs=FS, bearing=BEARING, channel="accel", tach="tach",
+                    pulses_per_rev=PPR)
+    assert d.verdict == f.verdict == "outer"
+    assert d.p_healthy == f.p_healthy
+    assert d.order_tracking == f.order_tracking
+    with pytest.raises(hf.InputError, match="pulse"):
+        hf.order_track(x, np.zeros_like(x), FS, PPR)
+
+
 def test_a_tachometer_where_it_cannot_be_read_is_an_input_error(tmp_path):
     csv = sweep_csv(tmp_path / "coast.csv", outer=False)
     with pytest.raises(hf.InputError, match="leave out rpm"):
         hf.diagnose(csv, fs=FS, rpm=1200, bearing=BEARING, channel="accel", tach="tach")
     with pytest.raises(hf.InputError, match="give x as a path"):
-        hf.diagnose(np.zeros(40_000), fs=FS, rpm=1200, bearing=BEARING, tach="tach")
+        hf.diagnose(np.zeros(40_000), fs=FS, bearing=BEARING, tach="tach")
+    with pytest.raises(hf.InputError, match="leave out rpm"):
+        hf.diagnose(np.zeros(40_000), fs=FS, rpm=1200, bearing=BEARING, tach=np.zeros(40_000))
+    with pytest.raises(hf.InputError, match="channel"):
+        hf.diagnose(csv, fs=FS, bearing=BEARING, channel="accel", tach=np.zeros(3))
     with pytest.raises(hf.DataError, match="tachometer"):
         hf.diagnose(csv, fs=FS, bearing=BEARING, channel="accel", tach="tach",
                     pulses_per_rev=6000)
