@@ -185,15 +185,10 @@ pub fn order_track(
     // the angle at each sample between the first and the last pulse, linear between pulses
     let first = (t[0] * fs_hz).ceil() as usize;
     let last = ((t[t.len() - 1] * fs_hz).floor() as usize).min(x.len() - 1);
-    let mut theta = Vec::with_capacity(last.saturating_sub(first) + 1);
-    let mut p = 0;
-    for k in first..=last {
-        let tk = k as f64 / fs_hz;
-        while p + 2 < t.len() && t[p + 1] <= tk {
-            p += 1;
-        }
-        theta.push((p as f64 + (tk - t[p]) / (t[p + 1] - t[p])) / pulses_per_rev);
-    }
+    let theta: Vec<f64> = walk_linear(&t, |p| p as f64, (first..=last).map(|k| k as f64 / fs_hz))
+        .into_iter()
+        .map(|pulses| pulses / pulses_per_rev)
+        .collect();
     let a = angular(&x[first..=last], fs_hz, &theta, &turn_rates)?;
     finish(
         engine,
@@ -295,10 +290,7 @@ pub fn speed_profile(
     }
     let frame = |i: usize| &x[i * hop..i * hop + len];
     // the seed: the frame whose comb over the whole range scores best
-    let (centre, search) = (
-        0.5 * (rpm_low + rpm_high),
-        ((rpm_high - rpm_low) / (rpm_high + rpm_low)).max(1e-6),
-    );
+    let (centre, search) = speed::range_search(rpm_low, rpm_high);
     let mut seed: Option<(usize, f64, f64)> = None;
     for i in 0..frames {
         if let Some(m) = speed::comb_speed(engine, frame(i), fs_hz, centre, search, 0.0, true)?
@@ -438,16 +430,7 @@ pub fn order_track_profile(
     // the refined angle at each original sample: between the coarse samples' positions `at`
     let first = at[0].ceil() as usize;
     let last = (at[at.len() - 1].floor() as usize).min(x.len() - 1);
-    let mut refined = Vec::with_capacity(last.saturating_sub(first) + 1);
-    let mut j = 0;
-    for i in first..=last {
-        let u = i as f64;
-        while j + 2 < at.len() && at[j + 1] <= u {
-            j += 1;
-        }
-        let w = (u - at[j]) / (at[j + 1] - at[j]);
-        refined.push(angle[j] + w * (angle[j + 1] - angle[j]));
-    }
+    let refined = walk_linear(at, |j| angle[j], (first..=last).map(|i| i as f64));
     if refined.windows(2).any(|w| w[1] <= w[0]) {
         return finish(engine, coarse, fs_hz, source(None));
     }
@@ -556,18 +539,13 @@ fn angular(x: &[f64], fs_hz: f64, theta: &[f64], rates: &[f64]) -> Result<Angula
         .fold((mean_fr, mean_fr), |(a, b), &r| (a.min(r), b.max(r)));
     let spr = (fs_hz / min_fr).ceil() as usize;
     let total = (turns * spr as f64).floor() as usize;
-    let mut samples = Vec::with_capacity(total);
-    let mut at = Vec::with_capacity(total);
-    let mut k = 0;
-    for j in 0..total {
-        let a = theta[0] + j as f64 / spr as f64;
-        while k + 2 < n && theta[k + 1] <= a {
-            k += 1;
-        }
-        let u = k as f64 + (a - theta[k]) / (theta[k + 1] - theta[k]);
-        samples.push(catmull_rom(&x[..n], u));
-        at.push(u);
-    }
+    // each angle's position in the recording (a fractional index), then the sample there
+    let at = walk_linear(
+        &theta[..n],
+        |k| k as f64,
+        (0..total).map(|j| theta[0] + j as f64 / spr as f64),
+    );
+    let samples = at.iter().map(|&u| catmull_rom(&x[..n], u)).collect();
     Ok(Angular {
         samples,
         at,
@@ -649,6 +627,26 @@ fn check_intervals(dt: &[f64]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The piecewise-linear function through the knots `(xs[i], y(i))` (`xs` increasing, at least
+/// two) at each of the increasing `queries`, one pointer walked once through the knots (beyond
+/// the last knot its last segment extends): a pulse's or a sample's angle, an angle's position.
+fn walk_linear(
+    xs: &[f64],
+    y: impl Fn(usize) -> f64,
+    queries: impl Iterator<Item = f64>,
+) -> Vec<f64> {
+    let mut i = 0;
+    queries
+        .map(|q| {
+            while i + 2 < xs.len() && xs[i + 1] <= q {
+                i += 1;
+            }
+            let w = (q - xs[i]) / (xs[i + 1] - xs[i]);
+            y(i) + w * (y(i + 1) - y(i))
+        })
+        .collect()
 }
 
 /// `y` at fractional index `u` by Catmull–Rom cubic interpolation (the end samples repeated).

@@ -315,7 +315,7 @@ pub fn estimate_speed_in(
 }
 
 /// The centre and relative half-width of a speed range.
-fn range_search(rpm_low: f64, rpm_high: f64) -> (f64, f64) {
+pub(crate) fn range_search(rpm_low: f64, rpm_high: f64) -> (f64, f64) {
     let (lo, hi) = (rpm_low.min(rpm_high), rpm_low.max(rpm_high));
     let centre = 0.5 * (lo + hi);
     (centre, ((hi - lo) / (hi + lo)).max(1e-6))
