@@ -494,6 +494,12 @@ def _unpack(results: List[Tuple[str, Any]], sources: Sequence[Optional[str]],
     return out
 
 
+def _flag(v: Any, what: str) -> bool:
+    if not isinstance(v, (bool, np.bool_)):
+        raise InputError(f"{what} must be True or False, got {v!r}")
+    return bool(v)
+
+
 def _tach(tach: Any, pulses_per_rev: Any) -> Dict[str, Any]:
     if tach is None:
         return {}
@@ -516,6 +522,7 @@ def diagnose(
     unit: Optional[str] = None,
     tach: Any = None,
     pulses_per_rev: float = 1.0,
+    steady_speed: bool = False,
 ) -> Diagnosis:
     """Diagnose one recording: ``normal``, ``inner``, ``outer``, ``ball``, a combination or
     ``uncertain``, training-free (``hybrid-fdd diagnose``).
@@ -548,6 +555,8 @@ def diagnose(
             recording whose speed changes is tracked along its own shaft comb where it can be
             (:attr:`Diagnosis.order_tracking` says how).
         pulses_per_rev: the tachometer's pulses a shaft turn (an encoder's lines; 1 for a key).
+        steady_speed: read the recording at one speed only, never tracked along its own shaft
+            comb (``--steady-speed``): for a machine known to run at one speed, or to compare.
 
     Returns:
         A :class:`Diagnosis`.
@@ -563,7 +572,11 @@ def diagnose(
         rpm_range=_range(rpm_range),
         alpha=_num(alpha, "alpha"),
         channel="DE" if channel is None else str(channel),
+        steady_speed=_flag(steady_speed, "steady_speed"),
     )
+    if tach is not None and steady_speed:
+        raise InputError("tach with steady_speed: the tachometer's order tracking is asked for; "
+                         "leave one of them out")
     if _is_path(x):
         res = _native.diagnose_files(
             [os.fspath(x)], fs=_num(fs, "fs"), rpm=_num(rpm, "rpm"), one_file=True,
@@ -625,6 +638,7 @@ def diagnose_many(
     errors: str = "raise",
     tach: Optional[str] = None,
     pulses_per_rev: float = 1.0,
+    steady_speed: bool = False,
 ) -> List[Any]:
     """Diagnose many recordings in parallel on all cores, with the interpreter released.
 
@@ -642,6 +656,7 @@ def diagnose_many(
         errors: ``"raise"`` (default) raises the first failure in input order, its message
             prefixed with the item; ``"return"`` puts the exception object in that item's place.
         tach, pulses_per_rev: as :func:`diagnose` (paths only): each file's tachometer channel.
+        steady_speed: as :func:`diagnose`.
 
     Returns:
         One :class:`Diagnosis` per signal, in input order.
@@ -659,6 +674,7 @@ def diagnose_many(
         alpha=_num(alpha, "alpha"),
         channel="DE" if channel is None else str(channel),
         threads=threads,
+        steady_speed=_flag(steady_speed, "steady_speed"),
     )
     if _is_path(signals):
         if not os.path.isdir(signals):

@@ -53,6 +53,7 @@ def diagnose_arrays(
     baseline_prepared: Optional[PreparedBaseline] = None,
     channel: str = "DE",
     threads: Optional[int] = None,
+    steady_speed: bool = False,
 ) -> List[_Result]: ...
 def diagnose_files(
     paths: Sequence[str],
@@ -71,6 +72,7 @@ def diagnose_files(
     threads: Optional[int] = None,
     tach: Optional[str] = None,
     pulses_per_rev: float = 1.0,
+    steady_speed: bool = False,
 ) -> List[_Result]: ...
 def recordings_in(directory: str) -> List[str]: ...
 def bearing(spec: str) -> str: ...

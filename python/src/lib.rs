@@ -147,6 +147,7 @@ struct SetupArgs<'a> {
     baseline_fs: Option<f64>,
     baseline_machine: Option<String>,
     baseline_prepared: Option<Arc<BaselineSource>>,
+    steady_speed: bool,
 }
 
 /// A baseline from one of: a file (read by [`BaselineSource::load`], `fs` for a text file that
@@ -245,6 +246,7 @@ impl Setup {
             },
             bearing: Some(a.bearing.to_string()),
             alpha: a.alpha.unwrap_or(diagnosis::DEFAULT_FALSE_ALARM),
+            steady_speed: a.steady_speed,
             ..RecordingFlags::default()
         };
         let plan = flags.plan().map_err(|e| Failure::new(Kind::Input, &e))?;
@@ -467,7 +469,7 @@ fn samples_of(x: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
 #[pyfunction]
 #[pyo3(signature = (signals, fs, rpm, unit, bearing, rpm_range = None, alpha = None,
     baseline_path = None, baseline_samples = None, baseline_fs = None, baseline_machine = None,
-    baseline_prepared = None, channel = "DE", threads = None))]
+    baseline_prepared = None, channel = "DE", threads = None, steady_speed = false))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose_arrays<'py>(
     py: Python<'py>,
@@ -485,6 +487,7 @@ fn diagnose_arrays<'py>(
     baseline_prepared: Option<Bound<'py, PreparedBaseline>>,
     channel: &str,
     threads: Option<usize>,
+    steady_speed: bool,
 ) -> PyResult<Vec<(String, Bound<'py, PyAny>)>> {
     let n = signals.len();
     if fs.len() != n || rpm.len() != n || unit.len() != n {
@@ -512,6 +515,7 @@ fn diagnose_arrays<'py>(
                 baseline_fs,
                 baseline_machine,
                 baseline_prepared: prepared,
+                steady_speed,
             })
         })?;
         par_map(n, threads, |i| {
@@ -535,7 +539,7 @@ fn diagnose_arrays<'py>(
 #[pyo3(signature = (paths, bearing, channel = "DE", fs = None, rpm = None, rpm_range = None,
     alpha = None, baseline_path = None, baseline_samples = None, baseline_fs = None,
     baseline_machine = None, baseline_prepared = None, one_file = false, threads = None,
-    tach = None, pulses_per_rev = 1.0))]
+    tach = None, pulses_per_rev = 1.0, steady_speed = false))]
 #[allow(clippy::too_many_arguments)]
 fn diagnose_files<'py>(
     py: Python<'py>,
@@ -555,7 +559,15 @@ fn diagnose_files<'py>(
     threads: Option<usize>,
     tach: Option<String>,
     pulses_per_rev: f64,
+    steady_speed: bool,
 ) -> PyResult<Vec<(String, Bound<'py, PyAny>)>> {
+    if tach.is_some() && steady_speed {
+        return Err(Failure {
+            kind: Kind::Input,
+            message: "tach with steady_speed: the tachometer's order tracking is asked for; leave one of them out".into(),
+        }
+        .into_py());
+    }
     if tach.is_some()
         && (baseline_path.is_some()
             || baseline_samples.is_some()
@@ -597,6 +609,7 @@ fn diagnose_files<'py>(
                 baseline_samples: bx,
                 baseline_machine,
                 baseline_prepared: prepared,
+                steady_speed,
             })
         })?;
         par_map(paths.len(), threads, |i| {

@@ -93,3 +93,41 @@ def test_a_tachometer_where_it_cannot_be_read_is_an_input_error(tmp_path):
     with pytest.raises(hf.DataError, match="tachometer"):
         hf.diagnose(csv, fs=FS, bearing=BEARING, channel="accel", tach="tach",
                     pulses_per_rev=6000)
+
+
+def comb_sweep(f0=25.0, f1=15.0, seed=5):
+    """A coast-down from f0 to f1 Hz with a shaft comb (orders 1-12 at 1/k) over noise, and no
+    tachometer: the recording's own comb gives its speed."""
+    rng = np.random.default_rng(seed)
+    n = int(FS * SECS)
+    t = np.arange(n) / FS
+    theta = f0 * t + 0.5 * (f1 - f0) / SECS * t * t
+    x = 0.3 * rng.standard_normal(n)
+    for k in range(1, 13):
+        x += (1.0 / k) * np.sin(2 * np.pi * k * theta + 0.7 * k)
+    return x
+
+
+def test_steady_speed_reads_a_sweep_at_one_speed(tmp_path, cli):
+    x = comb_sweep()
+    tracked = hf.diagnose(x, fs=FS, rpm=1200, bearing=BEARING)
+    assert tracked.order_tracking is not None, tracked
+    assert tracked.order_tracking["source"]["kind"] == "shaft_comb"
+    one = hf.diagnose(x, fs=FS, rpm=1200, bearing=BEARING, steady_speed=True)
+    assert one.order_tracking is None and "order_tracking" not in one.to_dict()
+    many = hf.diagnose_many([x, x], fs=FS, rpm=1200, bearing=BEARING, steady_speed=True)
+    assert [m.order_tracking for m in many] == [None, None]
+    # the command's --steady-speed, key for key
+    csv = tmp_path / "comb.csv"
+    np.savetxt(csv, x[:, None], delimiter=",", header="accel", comments="", fmt="%.9f")
+    out = tmp_path / "cli.json"
+    subprocess.run([str(cli), "diagnose", "--input", str(csv), "--fs", str(FS), "--channel",
+                    "accel", "--rpm", "1200", "--bearing", BEARING, "--steady-speed",
+                    "--report", str(out)], check=True, capture_output=True)
+    f = hf.diagnose(csv, fs=FS, rpm=1200, bearing=BEARING, channel="accel", steady_speed=True)
+    assert json.loads(out.read_text()) == f.to_dict()
+    assert f.order_tracking is None
+    with pytest.raises(hf.InputError, match="steady_speed"):
+        hf.diagnose(x, fs=FS, bearing=BEARING, tach=np.zeros_like(x), steady_speed=True)
+    with pytest.raises(hf.InputError, match="steady_speed"):
+        hf.diagnose(x, fs=FS, rpm=1200, bearing=BEARING, steady_speed="yes")

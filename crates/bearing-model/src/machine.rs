@@ -63,7 +63,9 @@
 //!
 //! The speed wanders slowly (1–3 sinusoids at 0.05–0.5 Hz, 0.05–0.3 % RMS, the mean over the
 //! recording exactly the recipe's rpm); the shaft comb, once-per-rev impacts, gear mesh and
-//! fault impacts all follow that one shaft angle. Lines above 0.45·fs are left out.
+//! fault impacts all follow that one shaft angle. A recipe may also sweep its speed
+//! ([`MachineRecipe::with_sweep`]: a run-up, a coast-down or a triangle of a stated span, the
+//! mean kept). Lines above 0.45·fs (at the fastest turn) are left out.
 //!
 //! ```
 //! use bearing_model::machine::{LocalizedFault, MachineRecipe, Nuisances};
@@ -231,6 +233,59 @@ impl Nuisances {
     }
 }
 
+/// The shape of a [`SpeedSweep`]: how the speed moves through the recording.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SweepShape {
+    /// A linear run-up: slowest at the start, fastest at the end.
+    RunUp,
+    /// A linear coast-down: fastest at the start, slowest at the end.
+    CoastDown,
+    /// Up, then down (a triangle): fastest halfway.
+    UpDown,
+    /// Down, then up: slowest halfway.
+    DownUp,
+}
+
+impl SweepShape {
+    /// Every shape, in declaration order.
+    pub const ALL: [Self; 4] = [Self::RunUp, Self::CoastDown, Self::UpDown, Self::DownUp];
+
+    /// `run-up`, `coast-down`, `up-down`, `down-up`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::RunUp => "run-up",
+            Self::CoastDown => "coast-down",
+            Self::UpDown => "up-down",
+            Self::DownUp => "down-up",
+        }
+    }
+
+    /// The profile at `u` ∈ [0, 1] (the fraction of the recording elapsed), between −½ and ½
+    /// with mean 0 over `u`: linear in `u` (a ramp) or piecewise linear (a triangle).
+    pub fn profile(self, u: f64) -> f64 {
+        let tri = 0.5 - (2.0 * u - 1.0).abs(); // −½ at the ends, ½ halfway
+        match self {
+            Self::RunUp => u - 0.5,
+            Self::CoastDown => 0.5 - u,
+            Self::UpDown => tri,
+            Self::DownUp => -tri,
+        }
+    }
+}
+
+/// A speed that changes through the recording, on top of the slow wander: `fr(t) = fr·(1 +
+/// span·shape(t/T) + w(t) − mean)` — the mean over the recording still the recipe's rpm, the
+/// fastest and slowest turn `span` of it apart (a variable-speed drive's ramp; the University
+/// of Ottawa's rig sweeps 40–60 % in 10 s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpeedSweep {
+    /// How the speed moves.
+    pub shape: SweepShape,
+    /// (fastest − slowest) / mean, 0 ..= 1.
+    pub span: f64,
+}
+
 /// A localized bearing fault of a recipe.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LocalizedFault {
@@ -315,6 +370,9 @@ pub struct MachineRecipe {
     pub fault: Option<LocalizedFault>,
     /// Seed of every draw.
     pub seed: u64,
+    /// A speed that changes through the recording (`None`: only the slow wander).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SpeedSweep>,
 }
 
 impl MachineRecipe {
@@ -340,6 +398,7 @@ impl MachineRecipe {
             adc: None,
             fault: None,
             seed,
+            sweep: None,
         };
         r.validate()?;
         Ok(r)
@@ -371,6 +430,7 @@ impl MachineRecipe {
             adc: Some(adc),
             fault: None,
             seed,
+            sweep: None,
         };
         r.validate()?;
         Ok(r)
@@ -412,6 +472,12 @@ impl MachineRecipe {
         self
     }
 
+    /// The same machine with its speed sweeping through the recording.
+    pub fn with_sweep(mut self, sweep: SpeedSweep) -> Self {
+        self.sweep = Some(sweep);
+        self
+    }
+
     /// Number of samples: `round(duration · fs)`.
     pub fn samples(&self) -> usize {
         (self.duration_s * self.fs_hz).round() as usize
@@ -420,6 +486,15 @@ impl MachineRecipe {
     /// Mean shaft rate, Hz.
     pub fn shaft_hz(&self) -> f64 {
         self.rpm / 60.0
+    }
+
+    /// Fastest shaft rate of the sweep (the mean rate without one), Hz: lines above
+    /// [`LINE_MAX_FS_FRACTION`] of fs at this rate are left out.
+    pub fn top_shaft_hz(&self) -> f64 {
+        match self.sweep {
+            Some(s) => self.shaft_hz() * (1.0 + 0.5 * s.span),
+            None => self.shaft_hz(),
+        }
     }
 
     /// Check every field (see the field docs for the ranges).
@@ -457,6 +532,9 @@ impl MachineRecipe {
         }
         if let Some(f) = &self.fault {
             check_range("severity_db", f.severity_db, -60.0, 40.0, "-60 ..= 40 dB")?;
+        }
+        if let Some(w) = &self.sweep {
+            check_range("sweep span", w.span, 0.0, 1.0, "0 ..= 1")?;
         }
         Ok(())
     }
@@ -1487,6 +1565,28 @@ impl MachineParams {
         })
     }
 
+    /// A tachometer recorded beside the machine's samples: `pulses_per_rev` square pulses a
+    /// shaft turn (0 and 5 V, rising at each `1/pulses_per_rev` of a turn from θ = 0), on the
+    /// shaft angle the recording's every component follows — an encoder's lines, or 1 for a
+    /// key. As many samples as [`MachineRecipe::samples`].
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] for `pulses_per_rev` outside 1 ..= 100 000.
+    pub fn tachometer(&self, pulses_per_rev: f64) -> Result<Vec<f64>> {
+        check_range("pulses_per_rev", pulses_per_rev, 1.0, 1e5, "1 ..= 100000")?;
+        Ok(self
+            .shaft_angle(self.recipe.samples())
+            .into_iter()
+            .map(|th| {
+                if (th / TAU * pulses_per_rev).fract() < 0.5 {
+                    5.0
+                } else {
+                    0.0
+                }
+            })
+            .collect())
+    }
+
     /// Shaft angle θ at each sample, rad (θ₀ = 0): the integral of `2π fr (1 + w − mean w)`.
     fn shaft_angle(&self, n: usize) -> Vec<f64> {
         let fs = self.recipe.fs_hz;
@@ -1497,6 +1597,12 @@ impl MachineParams {
             for v in w.iter_mut() {
                 *v += z.im;
                 z = z.mul(rot);
+            }
+        }
+        if let Some(sw) = self.recipe.sweep {
+            let last = (n.max(2) - 1) as f64;
+            for (i, v) in w.iter_mut().enumerate() {
+                *v += sw.span * sw.shape.profile(i as f64 / last);
             }
         }
         let mean = w.iter().sum::<f64>() / n as f64;
@@ -1574,7 +1680,8 @@ impl MachineParams {
     fn render_comb(&self, theta: &[f64], out: &mut [f64]) {
         let r = &self.recipe;
         let fmax = LINE_MAX_FS_FRACTION * r.fs_hz;
-        let fr = r.shaft_hz();
+        // the fastest turn's lines are the highest (the mean's, without a sweep)
+        let fr = r.top_shaft_hz();
         // integer orders as powers of z = e^{iθ}; half orders as odd powers of e^{iθ/2}
         let top = self
             .shaft_comb
@@ -1679,7 +1786,7 @@ impl MachineParams {
         let g = &self.gear_mesh;
         let r = &self.recipe;
         let fmax = LINE_MAX_FS_FRACTION * r.fs_hz;
-        let fr = r.shaft_hz();
+        let fr = r.top_shaft_hz();
         let ratio = g.second_shaft_order();
         let mesh_hz = f64::from(g.z1) * fr;
         // a harmonic's reach: its frequency plus three shaft-rate sidebands
@@ -2054,6 +2161,55 @@ mod tests {
                 .sum();
             assert!((v - want).abs() < 1e-9, "sample {i}: {v} vs {want}");
         }
+    }
+
+    /// A sweep moves the speed by its span in its shape and keeps the mean speed; without one
+    /// the samples are those of the recipe before sweeps existed (the same draw, bit for bit).
+    #[test]
+    fn a_sweep_spans_its_range_and_keeps_the_mean_speed() {
+        for shape in SweepShape::ALL {
+            let r = recipe(5).with_sweep(SpeedSweep { shape, span: 0.4 });
+            let p = r.draw().unwrap();
+            let n = r.samples();
+            let th = p.shaft_angle(n);
+            let rate: Vec<f64> = th
+                .windows(2)
+                .map(|w| (w[1] - w[0]) * r.fs_hz / TAU)
+                .collect();
+            let mean_rate = (th[n - 1] - th[0]) / ((n - 1) as f64 / r.fs_hz) / TAU;
+            assert!((mean_rate / r.shaft_hz() - 1.0).abs() < 1e-3, "{shape:?}");
+            let (lo, hi) = rate
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+            let spread = (hi - lo) / r.shaft_hz();
+            assert!((spread - 0.4).abs() < 0.02, "{shape:?}: {spread}");
+            let (first, mid, last) = (rate[0], rate[n / 2], rate[n - 2]);
+            let ok = match shape {
+                SweepShape::RunUp => first < mid && mid < last,
+                SweepShape::CoastDown => first > mid && mid > last,
+                SweepShape::UpDown => mid > first && mid > last,
+                SweepShape::DownUp => mid < first && mid < last,
+            };
+            assert!(ok, "{shape:?}: {first} {mid} {last}");
+            assert!((r.top_shaft_hz() / r.shaft_hz() - 1.2).abs() < 1e-12);
+        }
+        // its tachometer: one rising edge a turn, as many as the turns
+        let r = recipe(5).with_sweep(SpeedSweep {
+            shape: SweepShape::RunUp,
+            span: 0.4,
+        });
+        let tach = r.draw().unwrap().tachometer(1.0).unwrap();
+        assert_eq!(tach.len(), r.samples());
+        let rises = tach.windows(2).filter(|w| w[1] > w[0]).count() as f64;
+        let turns = r.duration_s * r.shaft_hz();
+        assert!((rises - turns).abs() <= 1.0, "{rises} rises, {turns} turns");
+        assert!(r.draw().unwrap().tachometer(0.5).is_err());
+        let bad = recipe(5).with_sweep(SpeedSweep {
+            shape: SweepShape::RunUp,
+            span: 1.5,
+        });
+        assert!(bad.validate().is_err());
+        assert_eq!(recipe(5).top_shaft_hz(), recipe(5).shaft_hz());
     }
 
     #[test]

@@ -84,7 +84,11 @@ pub(crate) fn first_look(
     let [rpm_low, rpm_high] = options.search_rpm();
     check_length(x, fs_hz, rpm_low)?;
     let comb = speed::estimate_speed_in(engine, x, fs_hz, rpm_low, rpm_high)?;
-    if !track || baseline.is_some() || comb.is_some_and(|m| m.accepted || m.refined_rpm.is_some()) {
+    if !track
+        || options.steady_speed
+        || baseline.is_some()
+        || comb.is_some_and(|m| m.accepted || m.refined_rpm.is_some())
+    {
         return Ok(FirstLook::Steady(comb));
     }
     let Some(p) = order::speed_profile(engine, x, fs_hz, rpm_low, rpm_high)? else {

@@ -41,6 +41,13 @@ pub struct DiagnoseOptions {
     /// for a catalogue row marked typical, 0 otherwise), `0 ≤ u ≤ 0.1`.
     #[serde(default)]
     pub rate_uncertainty: Option<f64>,
+    /// Read the recording at one speed only, never order-tracked (default `false`: a recording
+    /// with no shaft comb over its whole length whose comb frame by frame shows a speed that
+    /// changes is order-tracked, [`crate::Diagnosis::order_tracking`]). For comparing the two
+    /// readings, or for a recording known to run at one speed (the frame-by-frame look then
+    /// costs nothing).
+    #[serde(default)]
+    pub steady_speed: bool,
 }
 
 impl DiagnoseOptions {
@@ -51,6 +58,7 @@ impl DiagnoseOptions {
             rpm_range: None,
             false_alarm: DEFAULT_FALSE_ALARM,
             rate_uncertainty: None,
+            steady_speed: false,
         }
     }
 
@@ -61,6 +69,7 @@ impl DiagnoseOptions {
             rpm_range: Some([low_rpm, high_rpm]),
             false_alarm: DEFAULT_FALSE_ALARM,
             rate_uncertainty: None,
+            steady_speed: false,
         }
     }
 
@@ -73,6 +82,12 @@ impl DiagnoseOptions {
     /// Search `[low, high]` rpm (a declared speed is kept and reported).
     pub fn with_rpm_range(mut self, low_rpm: f64, high_rpm: f64) -> Self {
         self.rpm_range = Some([low_rpm, high_rpm]);
+        self
+    }
+
+    /// Read at one speed only, never order-tracked ([`DiagnoseOptions::steady_speed`]).
+    pub fn with_steady_speed(mut self) -> Self {
+        self.steady_speed = true;
         self
     }
 
@@ -148,6 +163,7 @@ impl DiagnoseOptions {
             range,
             false_alarm: self.false_alarm,
             rate_uncertainty: self.rate_uncertainty,
+            steady_speed: self.steady_speed,
         })
     }
 }
@@ -160,6 +176,8 @@ pub struct CheckedOptions {
     /// False-alarm probability per recording.
     pub false_alarm: f64,
     rate_uncertainty: Option<f64>,
+    /// Never order-track.
+    pub steady_speed: bool,
 }
 
 /// How the speed a diagnosis used was found.
@@ -505,6 +523,7 @@ mod tests {
             rpm_range: None,
             false_alarm: 0.01,
             rate_uncertainty: None,
+            steady_speed: false,
         };
         assert!(msg(none).contains("give a declared speed"));
         let ok = DiagnoseOptions::declared(1000.0).check().unwrap();

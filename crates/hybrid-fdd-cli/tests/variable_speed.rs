@@ -170,6 +170,14 @@ fn a_run_up_is_tracked_from_its_own_shaft_comb() {
         t["max_rpm"].as_f64().unwrap(),
     );
     assert!(lo < 1000.0 && hi > 1400.0, "{lo}–{hi}");
+    // `--steady-speed`: the same file read at one speed, its lines smeared over the run-up
+    let one = diagnose(
+        &csv,
+        &d.join("one.json"),
+        &["--rpm", "1200", "--steady-speed"],
+    );
+    assert!(one.get("order_tracking").is_none(), "{one}");
+    assert_ne!(one["verdict"], "outer", "{}", one["verdict"]);
 }
 
 /// `--tach` with a declared speed, a tachometer without pulses and one without enough of them
@@ -186,6 +194,8 @@ fn a_tachometer_that_is_not_one_is_a_typed_error() {
     assert!(e.contains("leave out --rpm"), "{e}");
     let e = with(&["--tach", "tach", "--baseline", s(&csv)]);
     assert!(e.contains("not supported"), "{e}");
+    let e = with(&["--tach", "tach", "--steady-speed"]);
+    assert!(e.contains("--steady-speed"), "{e}");
     // the vibration itself as the tachometer: its crossings are no pulse train
     let e = with(&["--tach", "accel"]);
     assert!(e.contains("tachometer"), "{e}");

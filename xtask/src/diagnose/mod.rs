@@ -259,6 +259,7 @@ fn all_real(dir: &Path, out: &Path) -> anyhow::Result<()> {
     let false_alarm = summary::false_alarm_headline(&[
         &out.join("false_alarm.json"),
         &out.join("false_alarm_short.json"),
+        &out.join("false_alarm_sweep.json"),
     ]);
     let run = report::RunInfo {
         wall_s: start.elapsed().as_secs_f64(),

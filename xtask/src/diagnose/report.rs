@@ -724,6 +724,26 @@ fn false_alarm_markdown(h: Option<&FalseAlarmHeadline>) -> String {
             "real healthy recordings cut into pieces of 32 shaft turns",
             "false alarms",
         ),
+        (
+            "healthy-speed-sweep",
+            "simulated healthy machines whose speed sweeps 10–50 % through the recording",
+            "false alarms",
+        ),
+        (
+            "faulty-speed-sweep",
+            "the same with a localized fault",
+            "detected (verdict ≠ `normal`)",
+        ),
+        (
+            "healthy-speed-sweep with a tachometer",
+            "the same healthy sweeping machines with a tachometer (one pulse a turn, `--tach`)",
+            "false alarms",
+        ),
+        (
+            "faulty-speed-sweep with a tachometer",
+            "the same faulty sweeping machines with a tachometer",
+            "detected (verdict ≠ `normal`)",
+        ),
     ];
     for (kind, what, counted) in names {
         if let Some(c) = h.kinds.get(kind) {

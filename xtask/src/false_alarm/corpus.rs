@@ -2,7 +2,9 @@
 //! rates, SNRs and nuisance mixes, with which declared speed — fixed here, before any result was
 //! seen, and drawn from one seed. The signals themselves are `bearing_model::machine`'s.
 
-use bearing_model::machine::{Adc, LocalizedFault, MachineRecipe, Nuisances};
+use bearing_model::machine::{
+    Adc, LocalizedFault, MachineRecipe, Nuisances, SpeedSweep, SweepShape,
+};
 use bearing_model::{BearingGeometry, BearingSpec, FaultLocation};
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
@@ -91,6 +93,30 @@ pub const SHORT_SEED: u64 = CORPUS_SEED + 3;
 /// XJTU-SY's.
 pub const SHORT_TURNS: [f64; 3] = [24.0, 32.0, 48.0];
 
+/// Healthy machines whose speed sweeps through the recording (`MachineRecipe::with_sweep`: a
+/// run-up, a coast-down or a triangle, the fastest and slowest turn [`SWEEP_SPANS`] of the mean
+/// apart), as a variable-speed drive runs them and as the University of Ottawa's rig records
+/// every one (40–60 % in 10 s). The first four designs hold one speed (a wander of 0.05–0.3 %
+/// RMS); these are diagnosed as a user would (the mean speed declared, with the first design's
+/// declared-speed errors), so the order tracking along the recording's own comb is what they
+/// measure. Added after the first four designs, with their own seed, so those stay as they
+/// were; the same machines are diagnosed again read at one speed (`--steady-speed`), so what
+/// the tracking does is read pair by pair.
+pub const N_SWEEP: usize = 120;
+/// Faulty recordings per (fault location, severity) cell made from those machines.
+pub const SWEEP_FAULTY_PER_CELL: usize = 5;
+/// Seed of the speed-sweep design.
+pub const SWEEP_SEED: u64 = CORPUS_SEED + 4;
+/// Spans of the sweeps: (fastest − slowest) / mean. 0.1 is a little over the order tracking's
+/// threshold (a spread of 4 % frame to frame), 0.5 the Ottawa rig's.
+pub const SWEEP_SPANS: [f64; 3] = [0.1, 0.25, 0.5];
+/// Shapes of the sweeps.
+pub const SWEEP_SHAPES: [SweepShape; 4] = SweepShape::ALL;
+/// The speed-sweep design's machines are diagnosed a third time with a tachometer of this many
+/// pulses a turn recorded beside them (a once-per-turn key, the commonest in the field): what
+/// `--tach` gives where the recording's own comb cannot be tracked.
+pub const SWEEP_TACH_PULSES_PER_REV: f64 = 1.0;
+
 /// Declared-speed errors (fraction of the true mean speed) and how many healthy recordings get
 /// each: 70 % are declared exactly, 30 % off by ±0.5, ±2 or ±5 %.
 pub const SPEED_ERRORS: [(f64, usize); 7] = [
@@ -165,6 +191,10 @@ pub enum Kind {
     ShortFaulty,
     /// A piece of [`REAL_CUT_TURNS`] shaft turns of a real healthy recording ([`real_cuts`]).
     RealShort,
+    /// A healthy simulated machine whose speed sweeps through the recording ([`N_SWEEP`]).
+    SweepHealthy,
+    /// One of those with a localized fault.
+    SweepFaulty,
 }
 
 impl Kind {
@@ -180,7 +210,14 @@ impl Kind {
             Kind::ShortHealthy => "healthy-short-record",
             Kind::ShortFaulty => "faulty-short-record",
             Kind::RealShort => "real-short-record",
+            Kind::SweepHealthy => "healthy-speed-sweep",
+            Kind::SweepFaulty => "faulty-speed-sweep",
         }
+    }
+
+    /// Whether it is one of the speed-sweep design's ([`sweep_design`]).
+    pub fn sweep(self) -> bool {
+        matches!(self, Kind::SweepHealthy | Kind::SweepFaulty)
     }
 
     /// Whether it is one of the designation design's ([`designation_design`]).
@@ -590,6 +627,41 @@ pub fn short_design(n_healthy: usize, per_cell: usize) -> anyhow::Result<Vec<Ent
     Ok(healthy)
 }
 
+/// The speed-sweep design ([`N_SWEEP`]): `n_healthy` healthy machines of the first design's
+/// bearings (told exactly), mixes, speeds (the mean), rates, SNRs and declared-speed errors
+/// (ids `V001`…), each with a sweep of one of [`SWEEP_SHAPES`] × [`SWEEP_SPANS`] (balanced),
+/// recorded for [`DURATION_S`]; `per_cell` faulty ones per cell (ids `VF001`…); from
+/// [`SWEEP_SEED`] (recipe seeds from 6 000 000).
+pub fn sweep_design(n_healthy: usize, per_cell: usize) -> anyhow::Result<Vec<Entry>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(SWEEP_SEED);
+    let mut out = machines_of(
+        &mut rng,
+        &exact_bearings()?,
+        0.0,
+        &MIXES,
+        (n_healthy, 0, "V", Kind::SweepHealthy),
+        6_000_000,
+        DURATION_S,
+    )?;
+    let cells = SWEEP_SHAPES.len() * SWEEP_SPANS.len();
+    let w_idx = balanced(&mut rng, n_healthy, cells);
+    for (e, &w) in out.iter_mut().zip(&w_idx) {
+        let sweep = SpeedSweep {
+            shape: SWEEP_SHAPES[w / SWEEP_SPANS.len()],
+            span: SWEEP_SPANS[w % SWEEP_SPANS.len()],
+        };
+        e.recipe = e.recipe.map(|r| r.with_sweep(sweep));
+    }
+    let faulty = faulty_of(&mut rng, &out, per_cell, (0, "VF", Kind::SweepFaulty));
+    out.extend(faulty);
+    Ok(out)
+}
+
+/// The speed sweep of a synthetic entry (`None` for one speed, and for a real recording).
+pub fn sweep_of(e: &Entry) -> Option<SpeedSweep> {
+    e.recipe.and_then(|r| r.sweep)
+}
+
 /// A short-record entry recorded for [`DURATION_S`] instead (the same machine, seed and
 /// fault: the comparison the short-record design is reported beside); other entries as they
 /// are.
@@ -662,11 +734,12 @@ pub fn real_cuts(real: &[Entry]) -> Vec<Entry> {
 }
 
 /// What `cargo xtask diagnose --false-alarm` diagnoses: [`declared_design`], then
-/// [`short_design`] at its constants (the speed-range and unknown-bearing tasks keep to the
+/// [`short_design`] and [`sweep_design`] at their constants (the speed-range and unknown-bearing tasks keep to the
 /// designs before it).
 pub fn false_alarm_design() -> anyhow::Result<Vec<Entry>> {
     let mut out = declared_design()?;
     out.extend(short_design(N_SHORT, SHORT_FAULTY_PER_CELL)?);
+    out.extend(sweep_design(N_SWEEP, SWEEP_FAULTY_PER_CELL)?);
     Ok(out)
 }
 
@@ -874,6 +947,54 @@ mod tests {
         let long = with_full_length(faulty[0]);
         assert_eq!(long.recipe.unwrap().duration_s, DURATION_S);
         assert_eq!(long.recipe.unwrap().fault, faulty[0].recipe.unwrap().fault);
+    }
+
+    /// The speed-sweep design follows the others without changing them, balanced over shapes
+    /// and spans, every machine sweeping, its faulty machines made from its own healthy ones.
+    #[test]
+    fn the_sweep_design_is_balanced_over_shapes_and_spans() {
+        let all = false_alarm_design().unwrap();
+        let before = {
+            let mut v = declared_design().unwrap();
+            v.extend(short_design(N_SHORT, SHORT_FAULTY_PER_CELL).unwrap());
+            v
+        };
+        assert_eq!(&all[..before.len()], &before[..]);
+        let added = &all[before.len()..];
+        assert_eq!(
+            added,
+            &sweep_design(N_SWEEP, SWEEP_FAULTY_PER_CELL).unwrap()[..]
+        );
+        let healthy: Vec<_> = added
+            .iter()
+            .filter(|e| e.kind == Kind::SweepHealthy)
+            .collect();
+        assert_eq!(healthy.len(), N_SWEEP);
+        assert_eq!(healthy[0].id, "V001");
+        let cells = SWEEP_SHAPES.len() * SWEEP_SPANS.len();
+        for shape in SWEEP_SHAPES {
+            for span in SWEEP_SPANS {
+                let k = healthy
+                    .iter()
+                    .filter(|e| sweep_of(e) == Some(SpeedSweep { shape, span }))
+                    .count();
+                assert_eq!(k, N_SWEEP / cells, "{shape:?} {span}");
+            }
+        }
+        assert!(healthy.iter().all(|e| e.told_exact()));
+        let faulty: Vec<_> = added
+            .iter()
+            .filter(|e| e.kind == Kind::SweepFaulty)
+            .collect();
+        assert_eq!(faulty.len(), 9 * SWEEP_FAULTY_PER_CELL);
+        for f in &faulty {
+            let m = healthy
+                .iter()
+                .find(|h| Some(&h.id) == f.machine_of.as_ref())
+                .unwrap();
+            assert_eq!(sweep_of(f), sweep_of(m));
+            assert!(f.fault().is_some());
+        }
     }
 
     #[test]

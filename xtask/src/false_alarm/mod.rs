@@ -39,6 +39,9 @@ pub struct Outcome {
     /// Every numeric field of the serialised diagnosis named like a probability (`p_healthy`,
     /// `p_value`, …), by its JSON path (array elements named by their `hypothesis`).
     pub p_fields: BTreeMap<String, f64>,
+    /// The slowest and fastest speed the recording was order-tracked over, rpm (`None`: read
+    /// at one speed).
+    pub tracked_rpm: Option<[f64; 2]>,
 }
 
 /// One recording's row.
@@ -140,20 +143,54 @@ pub enum BearingAs {
     /// The entry's bearing and no declared speed: the speed searched over `[low, high]` rpm
     /// (`hybrid-fdd diagnose --rpm-range low-high` without `--rpm`).
     SpeedSearched([f64; 2]),
+    /// The entry's bearing at its declared speed, read at one speed only, never order-tracked
+    /// (`hybrid-fdd diagnose --steady-speed`).
+    DeclaredSteady,
+    /// The entry's bearing, the recording order-tracked from a tachometer of this many pulses a
+    /// turn recorded beside it (`MachineParams::tachometer`) and diagnosed at the tachometer's
+    /// mean speed (`hybrid-fdd diagnose --tach CH --pulses-per-rev N`); synthetic entries only.
+    Tachometer(f64),
 }
 
-/// Diagnose `x` as the entry declares it (its bearing, or none).
-fn diagnose(x: &[f64], fs: f64, e: &Entry, bearing: BearingAs) -> Result<Outcome, String> {
+/// Diagnose `x` as the entry declares it (its bearing, or none); `tach` the tachometer recorded
+/// beside it, for [`BearingAs::Tachometer`].
+fn diagnose(
+    x: &[f64],
+    fs: f64,
+    e: &Entry,
+    bearing: BearingAs,
+    tach: Option<&[f64]>,
+) -> Result<Outcome, String> {
     let signal = diagnosis::Signal::new(x, fs)
         .map_err(diagnosis::DiagnosisError::from)
         .map_err(|e| e.to_string())?;
     let d = match bearing {
+        BearingAs::Tachometer(ppr) => {
+            let tach = tach.ok_or_else(|| format!("{}: no tachometer", e.id))?;
+            let mut engine = residual_features::SpectralEngine::new();
+            let mut t = residual_features::order_track(&mut engine, x, tach, fs, ppr)
+                .map_err(|e| e.to_string())?;
+            let samples = std::mem::take(&mut t.samples);
+            let tracked = diagnosis::Signal::new(&samples, t.equivalent_fs_hz)
+                .map_err(diagnosis::DiagnosisError::from)
+                .map_err(|e| e.to_string())?;
+            diagnosis::diagnose(&tracked, t.mean_rpm, &e.spec, None).map(|mut d| {
+                d.order_tracking = Some(t);
+                d
+            })
+        }
         BearingAs::Declared => diagnosis::diagnose(&signal, e.rpm_declared, &e.spec, None),
         BearingAs::SpeedSearched([low, high]) => diagnosis::diagnose_with_options(
             &signal,
             &e.spec,
             None,
             &diagnosis::DiagnoseOptions::search(low, high),
+        ),
+        BearingAs::DeclaredSteady => diagnosis::diagnose_with_options(
+            &signal,
+            &e.spec,
+            None,
+            &diagnosis::DiagnoseOptions::declared(e.rpm_declared).with_steady_speed(),
         ),
         BearingAs::Unknown => diagnosis::diagnose_unknown_bearing(
             &signal,
@@ -172,6 +209,7 @@ fn diagnose(x: &[f64], fs: f64, e: &Entry, bearing: BearingAs) -> Result<Outcome
         rpm_used: d.operating_point.rpm_used,
         band_hz: [d.band.low_hz, d.band.high_hz],
         p_fields,
+        tracked_rpm: d.order_tracking.as_ref().map(|t| [t.min_rpm, t.max_rpm]),
     })
 }
 
@@ -215,6 +253,10 @@ fn drawn_summary(p: &bearing_model::machine::MachineParams) -> serde_json::Value
     if let Some(adc) = r.adc {
         o.insert("adc_bits".into(), adc.bits.into());
     }
+    if let Some(w) = r.sweep {
+        o.insert("sweep".into(), w.shape.name().into());
+        o.insert("sweep_span".into(), w.span.into());
+    }
     if let Some(f) = &p.fault {
         o.insert(
             "fault_mode_hz".into(),
@@ -231,22 +273,35 @@ fn drawn_summary(p: &bearing_model::machine::MachineParams) -> serde_json::Value
 /// Make (or load) and diagnose one entry.
 fn run_entry(e: &Entry, data: Option<&Path>, bearing: BearingAs) -> anyhow::Result<Row> {
     let t0 = Instant::now();
-    let (x, fs, seed, drawn) = if let Some(r) = &e.recipe {
+    let (x, fs, seed, drawn, tach) = if let Some(r) = &e.recipe {
         let p = r
             .draw()
             .with_context(|| format!("{}: drawing the machine", e.id))?;
         let rec = p
             .synthesize()
             .with_context(|| format!("{}: synthesising", e.id))?;
-        (rec.accel, rec.fs_hz, Some(r.seed), Some(drawn_summary(&p)))
+        let tach = match bearing {
+            BearingAs::Tachometer(ppr) => Some(
+                p.tachometer(ppr)
+                    .with_context(|| format!("{}: its tachometer", e.id))?,
+            ),
+            _ => None,
+        };
+        (
+            rec.accel,
+            rec.fs_hz,
+            Some(r.seed),
+            Some(drawn_summary(&p)),
+            tach,
+        )
     } else {
         let dir = data.ok_or_else(|| anyhow::anyhow!("{}: no data directory", e.id))?;
         let (x, fs) = load_real(e, dir)?;
-        (x, fs, None, None)
+        (x, fs, None, None, None)
     };
     let make_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let outcome = diagnose(&x, fs, e, bearing);
+    let outcome = diagnose(&x, fs, e, bearing, tach.as_deref());
     Ok(Row {
         duration_s: x.len() as f64 / fs,
         entry: e.clone(),
@@ -382,11 +437,30 @@ pub fn run(ctx: &Context) -> anyhow::Result<()> {
     let (exact_rows, full_rows): (Vec<Row>, Vec<Row>) = again_rows
         .into_iter()
         .partition(|r| r.entry.kind.designated());
+    // the speed-sweep design's machines read at one speed: what the order tracking does
+    let sweeping: Vec<Entry> = entries.iter().filter(|e| e.kind.sweep()).cloned().collect();
+    let steady_rows = run_entries(&sweeping, dir, BearingAs::DeclaredSteady)?;
+    let tach_rows = run_entries(
+        &sweeping,
+        dir,
+        BearingAs::Tachometer(corpus::SWEEP_TACH_PULSES_PER_REV),
+    )?;
     let wall_s = start.elapsed().as_secs_f64();
     let cpu_s = process_cpu_s().zip(cpu0).map(|(b, a)| b - a);
     let out = ctx.root.join("results/diagnosis");
     std::fs::create_dir_all(&out)?;
-    report::write(&rows, &exact_rows, &full_rows, wall_s, cpu_s, &out)?;
+    report::write(
+        &rows,
+        &report::Again {
+            exact: &exact_rows,
+            full_length: &full_rows,
+            steady: &steady_rows,
+            tachometer: &tach_rows,
+        },
+        wall_s,
+        cpu_s,
+        &out,
+    )?;
     println!(
         "wrote {}/false_alarm.{{md,csv,json}} ({} recordings, {wall_s:.0} s)",
         out.display(),

@@ -125,7 +125,9 @@ fn snr(r: &Row) -> Option<f64> {
         | Kind::DesignatedHealthy
         | Kind::DesignatedFaulty
         | Kind::ShortHealthy
-        | Kind::ShortFaulty => r.entry.recipe.map(|x| x.snr_db),
+        | Kind::ShortFaulty
+        | Kind::SweepHealthy
+        | Kind::SweepFaulty => r.entry.recipe.map(|x| x.snr_db),
         _ => None,
     }
 }
@@ -153,19 +155,29 @@ fn factor_table(
 }
 
 /// Write `false_alarm.md`, `.csv` and `.json` into `out`.
-/// `exact`: the designation design's machines diagnosed again with their exact geometry;
-/// `full_length`: the short-record design's machines recorded again for 6 s.
 pub fn write(
     rows: &[Row],
-    exact: &[Row],
-    full_length: &[Row],
+    again: &Again<'_>,
     wall_s: f64,
     cpu_s: Option<f64>,
     out: &Path,
 ) -> anyhow::Result<()> {
     write_csv(rows, out)?;
-    write_json(rows, exact, full_length, out)?;
-    write_md(rows, exact, full_length, wall_s, cpu_s, out)
+    write_json(rows, again.exact, again.full_length, out)?;
+    write_sweep_json(rows, again, out)?;
+    write_md(rows, again, wall_s, cpu_s, out)
+}
+
+/// Designs' machines diagnosed a second way, each beside its own design.
+pub struct Again<'a> {
+    /// The designation design's machines told their exact geometry.
+    pub exact: &'a [Row],
+    /// The short-record design's machines recorded for 6 s.
+    pub full_length: &'a [Row],
+    /// The speed-sweep design's machines read at one speed (never order-tracked).
+    pub steady: &'a [Row],
+    /// The speed-sweep design's machines order-tracked from a tachometer.
+    pub tachometer: &'a [Row],
 }
 
 fn p_columns(rows: &[Row]) -> Vec<String> {
@@ -304,6 +316,9 @@ fn record_json(r: &Row) -> serde_json::Value {
             o.insert("rpm_used".into(), d.rpm_used.into());
             o.insert("band_hz".into(), serde_json::json!(d.band_hz));
             o.insert("p_fields".into(), serde_json::json!(d.p_fields));
+            if let Some(t) = d.tracked_rpm {
+                o.insert("order_tracked_rpm".into(), serde_json::json!(t));
+            }
         }
         Err(msg) => {
             o.insert("error".into(), msg.clone().into());
@@ -316,7 +331,10 @@ fn write_json(rows: &[Row], exact: &[Row], full_length: &[Row], out: &Path) -> a
     // the short-record design and the real pieces go to a file of their own: one file of every
     // record would pass 2 MiB
     let is_short = |r: &&Row| r.entry.kind.short() || r.entry.kind == Kind::RealShort;
-    let (short, main): (Vec<&Row>, Vec<&Row>) = rows.iter().partition(is_short);
+    let (short, main): (Vec<&Row>, Vec<&Row>) = rows
+        .iter()
+        .filter(|r| !r.entry.kind.sweep())
+        .partition(is_short);
     let records: Vec<serde_json::Value> = main.iter().map(|r| record_json(r)).collect();
     let doc = serde_json::json!({
         "generated_by": HEADER,
@@ -378,6 +396,48 @@ fn write_json(rows: &[Row], exact: &[Row], full_length: &[Row], out: &Path) -> a
     Ok(())
 }
 
+/// `false_alarm_sweep.json`: the speed-sweep design's records (each with its sweep among the
+/// drawn parameters, and the speeds it was order-tracked over), and the same machines' verdicts
+/// read at one speed.
+fn write_sweep_json(rows: &[Row], again: &Again<'_>, out: &Path) -> anyhow::Result<()> {
+    let sweep: Vec<&Row> = rows.iter().filter(|r| r.entry.kind.sweep()).collect();
+    if sweep.is_empty() {
+        return Ok(());
+    }
+    let doc = serde_json::json!({
+        "generated_by": HEADER,
+        "design": {
+            "sweep_healthy": corpus::N_SWEEP,
+            "sweep_faulty_per_cell": corpus::SWEEP_FAULTY_PER_CELL,
+            "sweep_seed": corpus::SWEEP_SEED,
+            "sweep_spans": corpus::SWEEP_SPANS,
+            "sweep_shapes": corpus::SWEEP_SHAPES.iter().map(|s| s.name()).collect::<Vec<_>>(),
+            "duration_s": corpus::DURATION_S,
+            "tachometer_pulses_per_rev": corpus::SWEEP_TACH_PULSES_PER_REV,
+        },
+        "records": sweep.iter().map(|r| record_json(r)).collect::<Vec<_>>(),
+        "read_at_one_speed": again.steady
+            .iter()
+            .map(|r| serde_json::json!({"id": r.entry.id, "verdict": r.verdict()}))
+            .collect::<Vec<_>>(),
+        "with_tachometer": again.tachometer
+            .iter()
+            .map(|r| serde_json::json!({
+                "id": r.entry.id,
+                "verdict": r.verdict(),
+                "p_healthy": r.outcome.as_ref().ok().and_then(|o| o.p_fields.get("p_healthy")),
+                "order_tracked_rpm": r.outcome.as_ref().ok().and_then(|o| o.tracked_rpm),
+                "error": r.outcome.as_ref().err(),
+            }))
+            .collect::<Vec<_>>(),
+    });
+    std::fs::write(
+        out.join("false_alarm_sweep.json"),
+        serde_json::to_string(&doc)? + "\n",
+    )?;
+    Ok(())
+}
+
 /// The rows of each kind.
 struct Sets<'r> {
     healthy: Vec<&'r Row>,
@@ -394,6 +454,10 @@ struct Sets<'r> {
     short_faulty: Vec<&'r Row>,
     /// Pieces of the real healthy recordings read as short records.
     real_short: Vec<&'r Row>,
+    /// Healthy machines whose speed sweeps (the speed-sweep design).
+    sweep: Vec<&'r Row>,
+    /// Their faulty copies.
+    sweep_faulty: Vec<&'r Row>,
 }
 
 /// Each factor's levels as the tables label them, in the design's order.
@@ -441,8 +505,7 @@ impl Levels {
 /// design.
 fn write_md(
     rows: &[Row],
-    exact: &[Row],
-    full_length: &[Row],
+    again: &Again<'_>,
     wall_s: f64,
     cpu_s: Option<f64>,
     out: &Path,
@@ -458,6 +521,8 @@ fn write_md(
         short: of(Kind::ShortHealthy),
         short_faulty: of(Kind::ShortFaulty),
         real_short: of(Kind::RealShort),
+        sweep: of(Kind::SweepHealthy),
+        sweep_faulty: of(Kind::SweepFaulty),
     };
     let levels = Levels::of_design()?;
     let mut md = String::new();
@@ -467,8 +532,9 @@ fn write_md(
     noise_only_section(&mut md, &sets.noise, &levels);
     real_section(&mut md, &sets.real);
     faulty_section(&mut md, &sets.faulty);
-    designation_section(&mut md, &sets, exact);
-    short_section(&mut md, &sets, full_length);
+    designation_section(&mut md, &sets, again.exact);
+    short_section(&mut md, &sets, again.full_length);
+    sweep_section(&mut md, &sets, again);
     method_section(&mut md);
     design_section(&mut md, &sets, &levels);
     std::fs::write(out.join("false_alarm.md"), md)?;
@@ -547,6 +613,13 @@ fn summary_section(
             md,
             "real healthy recordings cut into pieces of 32 shaft turns ([below](#short-records-added-later))",
             &sets.real_short,
+        );
+    }
+    if !sets.sweep.is_empty() {
+        line(
+            md,
+            "simulated healthy machines whose speed sweeps 10–50 % through the recording (added later; [below](#a-speed-that-sweeps-added-later))",
+            &sets.sweep,
         );
     }
     // verdict distribution
@@ -1153,6 +1226,170 @@ fn short_section<'a>(md: &mut String, sets: &Sets<'a>, full_length: &'a [Row]) {
     faulty_tables(md, faulty);
 }
 
+/// The speed-sweep design beside the same machines read at one speed (`steady`): false alarms
+/// of its healthy machines and detection and typing of its faulty ones per span and per shape,
+/// how many were order-tracked, the alarms, and the faulty machines per fault and severity.
+fn sweep_section<'a>(md: &mut String, sets: &Sets<'a>, again: &Again<'a>) {
+    let (healthy, faulty) = (&sets.sweep, &sets.sweep_faulty);
+    if healthy.is_empty() {
+        return;
+    }
+    let _ = write!(
+        md,
+        "\n## A speed that sweeps (added later)\n\n\
+         Every machine above holds one speed (a slow wander of 0.05–0.3 % RMS). A variable-speed \
+         drive's machine runs up, coasts down or moves between set points while it is recorded; \
+         the University of Ottawa's rig sweeps every record by 40–60 % in 10 s. These {nh} \
+         healthy machines (ids `V…`, seed {seed}; the first design's bearings told exactly, its \
+         six mixes, speeds, rates, SNRs and declared-speed errors balanced as there, the speed \
+         being the mean over the record) each sweep their speed through the {dur} s record — a \
+         run-up, a coast-down, up then down or down then up (linear), the fastest and slowest \
+         turn {spans} of the mean apart (balanced) — with {nf} faulty copies (ids `VF…`, {pc} per \
+         fault × severity cell). Diagnosed as a user would (`hybrid-fdd diagnose --rpm <mean>`): \
+         a recording whose whole length shows no accepted shaft comb is read frame by frame and, \
+         where the frames' speeds spread over 4 %, order-tracked along its own comb \
+         (`Diagnosis::order_tracking`); beside each count, the same machines read at one speed \
+         (`--steady-speed`), and the same machines with a tachometer of {ppr} pulse a turn \
+         recorded beside them (`--tach`, the recording resampled at equal shaft angles from its \
+         pulses). A machine without a shaft comb (mixes `none`, `electrical`) cannot be tracked \
+         without a tachometer.\n\n\
+         | recordings | sweep | false alarms (healthy) or detected (faulty) / diagnosed | rate | 95 % CI | right type (faulty) | rate | 95 % CI | errors | order-tracked |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        nh = healthy.len(),
+        seed = corpus::SWEEP_SEED,
+        dur = corpus::DURATION_S,
+        spans = corpus::SWEEP_SPANS
+            .iter()
+            .map(|s| format!("{:.0} %", 100.0 * s))
+            .collect::<Vec<_>>()
+            .join(", "),
+        nf = faulty.len(),
+        pc = corpus::SWEEP_FAULTY_PER_CELL,
+        ppr = corpus::SWEEP_TACH_PULSES_PER_REV,
+    );
+    let tracked = |set: &[&Row]| {
+        set.iter()
+            .filter(|r| r.outcome.as_ref().is_ok_and(|o| o.tracked_rpm.is_some()))
+            .count()
+    };
+    let row = |md: &mut String, label: &str, set: &[&Row], is_faulty: bool| {
+        let mut line = String::new();
+        alarms_row(&mut line, label, set, is_faulty);
+        let _ = writeln!(md, "{} {} |", line.trim_end(), tracked(set));
+    };
+    let steady_h = of_kind(again.steady, Kind::SweepHealthy);
+    let steady_f = of_kind(again.steady, Kind::SweepFaulty);
+    let tach_h = of_kind(again.tachometer, Kind::SweepHealthy);
+    let tach_f = of_kind(again.tachometer, Kind::SweepFaulty);
+    let span_of = |r: &Row| corpus::sweep_of(&r.entry).map_or(0.0, |w| w.span);
+    let shape_of = |r: &Row| corpus::sweep_of(&r.entry).map(|w| w.shape);
+    for (what, set, one, tach, is_faulty) in [
+        ("healthy machines", healthy, &steady_h, &tach_h, false),
+        ("faulty machines", faulty, &steady_f, &tach_f, true),
+    ] {
+        for span in corpus::SWEEP_SPANS {
+            let of_span: Vec<&Row> = set.iter().copied().filter(|r| span_of(r) == span).collect();
+            row(
+                md,
+                &format!("{what} | span {:.0} %", 100.0 * span),
+                &of_span,
+                is_faulty,
+            );
+        }
+        row(md, &format!("{what} | every sweep"), set, is_faulty);
+        row(
+            md,
+            &format!("{what} | the same read at one speed"),
+            one,
+            is_faulty,
+        );
+        for span in corpus::SWEEP_SPANS {
+            let of_span: Vec<&Row> = tach
+                .iter()
+                .copied()
+                .filter(|r| span_of(r) == span)
+                .collect();
+            row(
+                md,
+                &format!("{what} | span {:.0} %, with a tachometer", 100.0 * span),
+                &of_span,
+                is_faulty,
+            );
+        }
+        row(
+            md,
+            &format!("{what} | every sweep, with a tachometer"),
+            tach,
+            is_faulty,
+        );
+    }
+    *md += "\nHealthy machines per shape and per nuisance mix (as diagnosed, read at one speed, and with a tachometer):\n\n| level | false alarms | rate | 95 % CI | read at one speed: false alarms | rate | 95 % CI | with a tachometer: false alarms | rate | 95 % CI | order-tracked (as diagnosed) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    let level_line = |md: &mut String, label: &str, keep: &dyn Fn(&Row) -> bool| {
+        let a: Vec<&Row> = healthy.iter().copied().filter(|r| keep(r)).collect();
+        let b: Vec<&Row> = steady_h.iter().copied().filter(|r| keep(r)).collect();
+        let c: Vec<&Row> = tach_h.iter().copied().filter(|r| keep(r)).collect();
+        let (k, n, _) = count(a.iter().copied(), alarm);
+        let (kb, nb, _) = count(b.iter().copied(), alarm);
+        let (kc, nc, _) = count(c.iter().copied(), alarm);
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} |",
+            rate_cells(k, n),
+            rate_cells(kb, nb),
+            rate_cells(kc, nc),
+            tracked(&a)
+        );
+    };
+    for shape in corpus::SWEEP_SHAPES {
+        level_line(md, shape.name(), &|r: &Row| shape_of(r) == Some(shape));
+    }
+    for mix in corpus::MIXES {
+        let label = mix.label();
+        level_line(md, &label, &|r: &Row| r.entry.nuisances == label);
+    }
+    let alarms: Vec<String> = healthy
+        .iter()
+        .filter(|r| r.outcome.is_ok() && alarm(r))
+        .map(|r| {
+            let w = corpus::sweep_of(&r.entry);
+            format!(
+                "{} ({}, {:.0} rpm mean, {} {:.0} %, {}: {}{})",
+                r.entry.id,
+                r.entry.geometry,
+                r.entry.rpm_true,
+                w.map_or("", |w| w.shape.name()),
+                100.0 * w.map_or(0.0, |w| w.span),
+                r.entry.nuisances,
+                r.verdict(),
+                if tracked(&[*r]) == 1 {
+                    ", order-tracked"
+                } else {
+                    ""
+                }
+            )
+        })
+        .collect();
+    if !alarms.is_empty() {
+        let _ = writeln!(md, "\nThe alarms: {}.", alarms.join("; "));
+    }
+    let tach_alarms: Vec<String> = tach_h
+        .iter()
+        .filter(|r| r.outcome.is_ok() && alarm(r))
+        .map(|r| format!("{} ({}: {})", r.entry.id, r.entry.nuisances, r.verdict()))
+        .collect();
+    if !tach_alarms.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nWith a tachometer, the alarms: {}.",
+            tach_alarms.join("; ")
+        );
+    }
+    *md += "\nTheir faulty machines per fault and severity, and per severity and SNR (as diagnosed):\n\n";
+    faulty_tables(md, faulty);
+    *md += "\nThe same faulty machines with a tachometer:\n\n";
+    faulty_tables(md, &tach_f);
+}
+
 /// How the synthetic recordings are made and how the diagnosis is run.
 fn method_section(md: &mut String) {
     // method
@@ -1303,7 +1540,7 @@ fn design_section(md: &mut String, sets: &Sets<'_>, levels: &Levels) {
         "| declared-speed error | {} |",
         per_level(&|r| speed_error_label(r.entry.speed_error), &levels.errs)
     );
-    *md += "\nPer recording: `false_alarm.csv` (one row each; columns named `…p_…` are every probability-like field the diagnosis's JSON holds, read by name, so new ones appear without a code change) and `false_alarm.json` (the same with the drawn parameters that matter: modes, gear teeth, mains frequency, the fault's mode and slip; the short-record design's and the real pieces' in `false_alarm_short.json`).\n";
+    *md += "\nPer recording: `false_alarm.csv` (one row each; columns named `…p_…` are every probability-like field the diagnosis's JSON holds, read by name, so new ones appear without a code change) and `false_alarm.json` (the same with the drawn parameters that matter: modes, gear teeth, mains frequency, the fault's mode and slip; the short-record design's and the real pieces' in `false_alarm_short.json`, the speed-sweep design's in `false_alarm_sweep.json`).\n";
 }
 
 #[cfg(test)]

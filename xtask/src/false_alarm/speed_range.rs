@@ -312,6 +312,7 @@ mod tests {
                     rpm_used: rpm,
                     band_hz: [0.0, 1.0],
                     p_fields: BTreeMap::new(),
+                    tracked_rpm: None,
                 })
                 .ok_or_else(|| "no shaft comb".to_string()),
             make_s: 0.0,

@@ -70,6 +70,12 @@ pub struct RecordingFlags {
     /// this often (each of the three faults is tested at a third of it).
     #[arg(long, default_value_t = diagnosis::DEFAULT_FALSE_ALARM)]
     pub alpha: f64,
+    /// Read the recording at one speed only: never order-track it along its own shaft comb
+    /// (by default a self-referenced recording with no shaft comb over its whole length, whose
+    /// comb frame by frame shows the speed changing, is order-tracked). For a machine known to
+    /// run at one speed, or to compare the two readings.
+    #[arg(long)]
+    pub steady_speed: bool,
     /// Bearing: `unknown` (the fault's order is found from the envelope's non-integer combs and
     /// its kind from their sidebands; the report says it guessed), a designation from the
     /// built-in catalogue (`hybrid-fdd bearings` lists them;
@@ -141,6 +147,7 @@ impl RecordingFlags {
         Ok(super::Search {
             rpm_range,
             false_alarm: self.alpha,
+            steady_speed: self.steady_speed,
         })
     }
 

@@ -71,6 +71,8 @@ pub struct Search {
     pub rpm_range: Option<[f64; 2]>,
     /// False-alarm probability per recording.
     pub false_alarm: f64,
+    /// Never order-track the recording along its own shaft comb (`--steady-speed`).
+    pub steady_speed: bool,
 }
 
 impl Default for Search {
@@ -78,6 +80,7 @@ impl Default for Search {
         Self {
             rpm_range: None,
             false_alarm: diagnosis::DEFAULT_FALSE_ALARM,
+            steady_speed: false,
         }
     }
 }
@@ -129,6 +132,11 @@ pub fn diagnose_loaded_with(
         }
     }
     .with_false_alarm(search.false_alarm);
+    let options = if search.steady_speed {
+        options.with_steady_speed()
+    } else {
+        options
+    };
     // a machine model is synthesised at a speed: the declared one, else the range's middle
     let rpm = declared.unwrap_or_else(|| {
         let [lo, hi] = search.rpm_range.unwrap_or([0.0, 0.0]);
@@ -268,6 +276,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if args.tach.is_some() && (args.recording.rpm.is_some() || search.rpm_range.is_some()) {
         anyhow::bail!(
             "--tach measures the speed: leave out --rpm and --rpm-range (the recording is diagnosed at the tachometer's mean speed)"
+        );
+    }
+    if args.tach.is_some() && search.steady_speed {
+        anyhow::bail!(
+            "--tach with --steady-speed: the tachometer's order tracking is asked for; leave one of them out"
         );
     }
     if args.tach.is_some() && baseline.is_some() {
