@@ -103,13 +103,14 @@ pub(crate) fn first_look(
         return Ok(FirstLook::Steady(comb));
     };
     // the profile is a speed only if tracking along it shows what the recording did not: a
-    // shaft comb the whole tracked record holds, accepted and refined at the mean speed (frames
-    // of a short or faulty record can follow a fault's near-comb from frame to frame; tracked
-    // along that, the true comb smears and none is accepted)
-    let shown = speed::estimate_speed(engine, &t.samples, t.equivalent_fs_hz, t.mean_rpm)
+    // shaft comb the whole tracked record holds, its leading lines sharp enough to refine the
+    // mean speed (the first order standing and three orders agreeing within 2e-4; frames of a
+    // short or faulty record can follow a fault's near-comb from frame to frame; tracked along
+    // that, the true comb smears and its lines agree on no speed)
+    let shown = speed::leading_lines_speed(engine, &t.samples, t.equivalent_fs_hz, t.mean_rpm)
         .ok()
         .flatten()
-        .and_then(|m| m.accepted.then_some(m.refined_rpm).flatten())
+        .and_then(|m| m.refined_rpm)
         .is_some_and(|r| (r / t.mean_rpm - 1.0).abs() <= TRACKED_COMB_AGREEMENT);
     Ok(if shown {
         FirstLook::Varying(t, comb)

@@ -685,6 +685,53 @@ pub(crate) fn comb_speed(
     refine_resolution: f64,
     coarse: bool,
 ) -> Result<Option<SpeedEstimate>> {
+    comb_speed_refining(
+        engine,
+        x,
+        fs_hz,
+        rpm,
+        (search, refine_resolution, coarse),
+        false,
+    )
+}
+
+/// [`estimate_speed`], the speed refined from the comb's leading lines whether or not the comb
+/// is complete over its orders ([`SpeedEstimate::is_complete`]): its first order standing
+/// [`COMB_MIN_FIRST_ORDER`] over its background and [`REFINE_MIN_ORDERS`] of its lines agreeing
+/// within [`REFINE_CONSISTENCY`], as [`SpeedEstimate::refined_rpm`] asks otherwise. A machine's
+/// shaft comb often falls a few dB an order after the second, so that only its first three to
+/// five orders stand; the order tracking (`order`) asks this of a record tracked along a speed
+/// profile — its lines sharp at the mean speed — where the completeness rule of a steady
+/// recording's speed would refuse most real combs.
+///
+/// # Errors
+/// As [`estimate_speed`].
+pub fn leading_lines_speed(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    rpm: f64,
+) -> Result<Option<SpeedEstimate>> {
+    comb_speed_refining(
+        engine,
+        x,
+        fs_hz,
+        rpm,
+        (SPEED_SEARCH, REFINE_RESOLUTION, false),
+        true,
+    )
+}
+
+/// [`comb_speed`] (its search, resolution and coarseness as one triple), refining an incomplete
+/// comb too when `leading` ([`leading_lines_speed`]).
+fn comb_speed_refining(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    rpm: f64,
+    (search, refine_resolution, coarse): (f64, f64, bool),
+    leading: bool,
+) -> Result<Option<SpeedEstimate>> {
     let Some(c) = CombSpectrum::read(engine, x, fs_hz, rpm, search, coarse)? else {
         return Ok(None);
     };
@@ -713,7 +760,8 @@ pub(crate) fn comb_speed(
     // record, the speed fitted over the largest set of orders that tell one speed, its first
     // order on the strongest line around the shaft rate
     let strongest_1x = c.strongest_1x(search, r_best);
-    let refined_rpm = if a.complete && df <= refine_resolution * fr0 {
+    let refinable = a.complete || (leading && a.first_order >= COMB_MIN_FIRST_ORDER);
+    let refined_rpm = if refinable && df <= refine_resolution * fr0 {
         refine(
             &c.centred,
             fs_hz,
@@ -748,6 +796,34 @@ pub(crate) fn comb_speed(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A steady comb of three strong orders and nothing above them: incomplete over its ten
+    /// orders, so the whole-record rule refines no speed; its leading lines refine it.
+    #[test]
+    fn a_comb_of_three_orders_refines_on_its_leading_lines() {
+        let (fs, fr) = (12_000.0, 24.7);
+        let x: Vec<f64> = (0..(8.0 * fs) as usize)
+            .map(|i| {
+                let t = i as f64 / fs;
+                (1..=3)
+                    .map(|k| {
+                        let k = f64::from(k);
+                        (2.0 * std::f64::consts::PI * k * fr * t + k).sin() / k
+                    })
+                    .sum::<f64>()
+                    + 0.05 * (2.0 * std::f64::consts::PI * 0.37 * t * fs).sin()
+            })
+            .collect();
+        let mut e = SpectralEngine::new();
+        let m = estimate_speed(&mut e, &x, fs, 1500.0).unwrap().unwrap();
+        assert!(!m.is_complete() && m.refined_rpm.is_none(), "{m:?}");
+        let l = leading_lines_speed(&mut e, &x, fs, 1500.0)
+            .unwrap()
+            .unwrap();
+        let r = l.refined_rpm.expect("refined");
+        assert!((r / (60.0 * fr) - 1.0).abs() < 1e-4, "{r}");
+        assert_eq!((l.rpm, l.orders_present), (m.rpm, m.orders_present));
+    }
 
     /// A shaft comb at `t` s: orders 1..=10 of `fr` Hz, each of amplitude `amp` and phase
     /// `phase · k` rad.
