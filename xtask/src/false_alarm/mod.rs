@@ -166,12 +166,21 @@ fn diagnose(
         .map_err(|e| e.to_string())?;
     let d = match bearing {
         BearingAs::Tachometer(ppr) => {
+            // as `hybrid-fdd diagnose --tach` does it (the command's own tracking step)
             let tach = tach.ok_or_else(|| format!("{}: no tachometer", e.id))?;
-            let mut engine = residual_features::SpectralEngine::new();
-            let mut t = residual_features::order_track(&mut engine, x, tach, fs, ppr)
-                .map_err(|e| e.to_string())?;
-            let samples = std::mem::take(&mut t.samples);
-            let tracked = diagnosis::Signal::new(&samples, t.equivalent_fs_hz)
+            let loaded = |samples: &[f64]| -> Result<hybrid_fdd_cli::diagnose::Loaded, String> {
+                Ok(hybrid_fdd_cli::diagnose::Loaded {
+                    samples: samples.to_vec(),
+                    fs_hz: fs,
+                    rpm: None,
+                    unit: bearing_data::SampleUnit::from_code("m/s^2")
+                        .map_err(|e| e.to_string())?,
+                    fault_size_in: None,
+                })
+            };
+            let (l, t) = hybrid_fdd_cli::diagnose::order_tracked(&loaded(x)?, &loaded(tach)?, ppr)
+                .map_err(|e| format!("{e:#}"))?;
+            let tracked = diagnosis::Signal::new(&l.samples, l.fs_hz)
                 .map_err(diagnosis::DiagnosisError::from)
                 .map_err(|e| e.to_string())?;
             diagnosis::diagnose(&tracked, t.mean_rpm, &e.spec, None).map(|mut d| {
