@@ -222,17 +222,18 @@ pub fn false_alarm_headline(paths: &[&Path]) -> Option<FalseAlarmHeadline> {
         // the speed-sweep design's machines diagnosed again with a tachometer: each verdict
         // counted under its record's kind, `… with a tachometer`
         if let Some(again) = v.get("with_tachometer").and_then(|a| a.as_array()) {
+            let by_id: BTreeMap<&str, &serde_json::Value> = records
+                .iter()
+                .filter_map(|r| Some((r.get("id")?.as_str()?, r)))
+                .collect();
             let mut rows = Vec::new();
             for a in again {
-                let id = a.get("id")?.as_str()?;
-                let r = records
-                    .iter()
-                    .find(|r| r.get("id").and_then(|i| i.as_str()) == Some(id))?;
-                let mut row = r.clone();
-                let kind = format!("{} with a tachometer", r.get("kind")?.as_str()?);
-                row["kind"] = kind.into();
-                row["verdict"] = a.get("verdict")?.clone();
-                rows.push(row);
+                let r = by_id.get(a.get("id")?.as_str()?)?;
+                rows.push(serde_json::json!({
+                    "kind": format!("{} with a tachometer", r.get("kind")?.as_str()?),
+                    "verdict": a.get("verdict")?,
+                    "fault": r.get("fault"),
+                }));
             }
             count_records(&mut h, &rows)?;
         }

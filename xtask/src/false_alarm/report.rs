@@ -1267,11 +1267,8 @@ fn sweep_section<'a>(md: &mut String, sets: &Sets<'a>, again: &Again<'a>) {
         pc = corpus::SWEEP_FAULTY_PER_CELL,
         ppr = corpus::SWEEP_TACH_PULSES_PER_REV,
     );
-    let tracked = |set: &[&Row]| {
-        set.iter()
-            .filter(|r| r.outcome.as_ref().is_ok_and(|o| o.tracked_rpm.is_some()))
-            .count()
-    };
+    let is_tracked = |r: &Row| r.outcome.as_ref().is_ok_and(|o| o.tracked_rpm.is_some());
+    let tracked = |set: &[&Row]| set.iter().filter(|r| is_tracked(r)).count();
     let row = |md: &mut String, label: &str, set: &[&Row], is_faulty: bool| {
         let mut line = String::new();
         alarms_row(&mut line, label, set, is_faulty);
@@ -1361,11 +1358,7 @@ fn sweep_section<'a>(md: &mut String, sets: &Sets<'a>, again: &Again<'a>) {
                 100.0 * w.map_or(0.0, |w| w.span),
                 r.entry.nuisances,
                 r.verdict(),
-                if tracked(&[*r]) == 1 {
-                    ", order-tracked"
-                } else {
-                    ""
-                }
+                if is_tracked(r) { ", order-tracked" } else { "" }
             )
         })
         .collect();
