@@ -49,7 +49,7 @@ pub fn diagnose_with_options(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    with_engine(|engine| diagnose_in(engine, signal, bearing, baseline, options, true))
+    with_engine(|engine| diagnose_in(engine, signal, bearing, baseline, options, Look::Track))
 }
 
 /// A recording whose shaft speed spreads more than this (fastest over slowest, less one) through
@@ -62,13 +62,31 @@ pub const SPEED_VARIES: f64 = 0.04;
 pub(crate) enum FirstLook {
     /// A steady speed (or none read): the whole recording's shaft comb, if any.
     Steady(Option<speed::SpeedEstimate>),
-    /// A speed that changes: the recording resampled at equal shaft angles (and the whole
-    /// recording's comb, for the reading at one speed should the tracked one fail).
-    Varying(OrderTracked, Option<speed::SpeedEstimate>),
+    /// A speed that changes: the recording resampled at equal shaft angles, the shaft comb its
+    /// leading lines show at its mean speed (what tracked it right), and the whole recording's
+    /// comb, for the reading at one speed should the tracked one fail.
+    Varying(
+        Box<OrderTracked>,
+        speed::SpeedEstimate,
+        Option<speed::SpeedEstimate>,
+    ),
+}
+
+/// How step 0 ([`first_look`]) reads a recording's speed.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Look {
+    /// Its whole comb and, where that is not clear and the options allow it, frame by frame:
+    /// order tracked where the speed changes.
+    Track,
+    /// An order-tracked record: its speed is the tracking's, the shaft comb its leading lines
+    /// show at the tracked mean (`speed::leading_lines_speed`, refined) — a measured speed, read
+    /// as a refined comb is (`CheckedOptions::find_speed`), not searched again.
+    Tracked(speed::SpeedEstimate),
 }
 
 /// Step 0 of a diagnosis: the length check, the whole recording's shaft comb over the range
-/// searched and — self-referenced, with `track`, and only where that comb is not accepted (a
+/// searched (for a record already tracked, [`Look::Tracked`], the comb that tracking showed) and
+/// — self-referenced, unless the options ask for one speed, and only where that comb is not accepted (a
 /// comb the whole recording holds is a steady speed's) — the speed frame by frame
 /// (`residual_features::order::speed_profile`); a spread over [`SPEED_VARIES`] has the
 /// recording resampled at equal shaft angles along it. Against a baseline nothing is tracked
@@ -78,14 +96,16 @@ pub(crate) fn first_look(
     signal: &Signal<'_>,
     baseline: Option<&Baseline>,
     options: &crate::options::CheckedOptions,
-    track: bool,
+    look: Look,
 ) -> Result<FirstLook> {
     let (x, fs_hz) = (signal.samples(), signal.fs_hz());
     let [rpm_low, rpm_high] = options.search_rpm();
     check_length(x, fs_hz, rpm_low)?;
+    if let Look::Tracked(m) = look {
+        return Ok(FirstLook::Steady(Some(m)));
+    }
     let comb = speed::estimate_speed_in(engine, x, fs_hz, rpm_low, rpm_high)?;
-    if !track
-        || options.steady_speed
+    if options.steady_speed
         || baseline.is_some()
         || comb.is_some_and(|m| m.accepted || m.refined_rpm.is_some())
     {
@@ -102,36 +122,70 @@ pub(crate) fn first_look(
     let Ok(t) = order::order_track_profile(engine, x, fs_hz, &p) else {
         return Ok(FirstLook::Steady(comb));
     };
+    // the speed the tracked angle itself shows (refined by a shaft line's phase) may be steady
+    // where the frames' readings scattered: then the recording is one of a steady speed
+    if t.max_rpm / t.min_rpm - 1.0 <= SPEED_VARIES {
+        return Ok(FirstLook::Steady(comb));
+    }
     // the profile is a speed only if tracking along it shows what the recording did not: a
     // shaft comb the whole tracked record holds, its leading lines sharp enough to refine the
     // mean speed (the first order standing and three orders agreeing within 2e-4; frames of a
     // short or faulty record can follow a fault's near-comb from frame to frame; tracked along
     // that, the true comb smears and its lines agree on no speed)
-    let shown = speed::leading_lines_speed(engine, &t.samples, t.equivalent_fs_hz, t.mean_rpm)
+    // — and that comb must stand out more than the best the recording read at one speed shows
+    // (the comb scores compare: a tracked record holds as many bins an order as turns, as the
+    // recording does): tracking is worth taking only where it sharpens the shaft's comb. A
+    // steady record tracked along a path its frames' lines led astray (2.5 s pieces of CWRU's
+    // ball-fault records, their frames' spectra dense with the fault's lines) holds its comb
+    // weaker tracked than not (score 9–17 against 21–24); every sweeping machine of the
+    // corpus tracked right holds it stronger (1.1–6 times)
+    let shown = speed::leading_lines_speed(engine, &t.samples, t.equivalent_fs_hz, t.mean_rpm, 0.0)
         .ok()
         .flatten()
-        .and_then(|m| m.refined_rpm)
-        .is_some_and(|r| (r / t.mean_rpm - 1.0).abs() <= TRACKED_COMB_AGREEMENT);
-    Ok(if shown {
-        FirstLook::Varying(t, comb)
-    } else {
-        FirstLook::Steady(comb)
+        .filter(|m| {
+            m.refined_rpm
+                .is_some_and(|r| (r / t.mean_rpm - 1.0).abs() <= TRACKED_COMB_AGREEMENT)
+                && comb.is_none_or(|c| m.comb_score > c.comb_score)
+        });
+    Ok(match shown {
+        Some(m) => FirstLook::Varying(Box::new(t), m, comb),
+        None => FirstLook::Steady(comb),
     })
 }
 
 /// A tracked record's refined comb must stand within this of the profile's mean speed.
 pub const TRACKED_COMB_AGREEMENT: f64 = 0.005;
 
-/// `run` on the order-tracked recording `t` (at its equivalent rate, declared at its mean speed,
-/// false-alarm probability `alpha`), the diagnosis then saying how it was tracked.
+/// `run` on the order-tracked recording `t` (at its equivalent rate, at its mean speed, its
+/// speed the comb `shown` of its leading lines, at the user's false-alarm probability), the
+/// diagnosis then saying how it was tracked and, as its declared speed and range, the user's
+/// (`user`): the tracked record's mean is a measured speed, not one declared. Until 2026-12-08
+/// the tracked record was read as if its mean had been declared: its comb searched again by the
+/// whole-record rule (ten orders, most of them refused) and, where that found none, the fault
+/// lines read both at the mean and with templates widened ± 10 % around it, each at half the
+/// false-alarm probability, the report saying "declared" the tracked mean and "no shaft comb".
 pub(crate) fn diagnose_tracked(
     t: OrderTracked,
-    alpha: f64,
-    run: impl FnOnce(&Signal<'_>, &DiagnoseOptions) -> Result<Diagnosis>,
+    shown: speed::SpeedEstimate,
+    user: &crate::options::CheckedOptions,
+    run: impl FnOnce(&Signal<'_>, &DiagnoseOptions, Look) -> Result<Diagnosis>,
 ) -> Result<Diagnosis> {
     let signal = Signal::new(&t.samples, t.equivalent_fs_hz)?;
-    let options = DiagnoseOptions::declared(t.mean_rpm).with_false_alarm(alpha);
-    let mut d = run(&signal, &options)?;
+    let options = DiagnoseOptions::declared(t.mean_rpm).with_false_alarm(user.false_alarm);
+    let mut d = run(&signal, &options, Look::Tracked(shown))?;
+    let declared = user.declared_rpm();
+    if let Some(sp) = d.operating_point.speed.as_mut() {
+        sp.declared_rpm = declared;
+        sp.search_rpm = user.search_rpm();
+        sp.offset_from_declared_percent = declared.map(|r| 100.0 * (sp.rpm_used / r - 1.0));
+        if sp.source == crate::options::SpeedSource::SpectrumComb {
+            sp.note = format!(
+                "shaft comb of the order-tracked recording at its mean speed: {} of {} orders present, refined from its leading lines",
+                shown.orders_present, shown.orders
+            );
+        }
+    }
+    d.operating_point.rpm = declared.unwrap_or(d.operating_point.rpm_used);
     d.order_tracking = Some(OrderTracked {
         samples: Vec::new(),
         ..t
@@ -290,17 +344,17 @@ fn diagnose_in(
     bearing: &BearingSpec,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
-    track: bool,
+    look: Look,
 ) -> Result<Diagnosis> {
     let fs_hz = signal.fs_hz();
     check_fs(fs_hz)?;
     let options = options.check()?;
-    let spectrum_comb = match first_look(engine, signal, baseline, &options, track)? {
+    let spectrum_comb = match first_look(engine, signal, baseline, &options, look)? {
         FirstLook::Steady(c) => c,
         // a tracked record the diagnosis refuses (its equivalent rate too low for the bands,
         // say) is read at one speed instead
-        FirstLook::Varying(t, c) => match diagnose_tracked(t, options.false_alarm, |s, o| {
-            diagnose_in(engine, s, bearing, None, o, false)
+        FirstLook::Varying(t, m, c) => match diagnose_tracked(*t, m, &options, |s, o, l| {
+            diagnose_in(engine, s, bearing, None, o, l)
         }) {
             Ok(d) => return Ok(d),
             Err(_) => c,

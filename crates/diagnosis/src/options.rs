@@ -244,6 +244,11 @@ impl CheckedOptions {
         })
     }
 
+    /// The declared speed, rpm (`None` when only a range was given).
+    pub fn declared_rpm(&self) -> Option<f64> {
+        self.declared_rpm
+    }
+
     /// The speed range searched, rpm.
     pub fn search_rpm(&self) -> [f64; 2] {
         self.range

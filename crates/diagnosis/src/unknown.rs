@@ -47,7 +47,7 @@ use crate::detect::linetest::{BandReading, LineTest};
 use crate::detect::template::{Sidebands, Template, Term, Window};
 use crate::detect::view::{self, BandView};
 use crate::detect::{MIN_MODULATION_DEPTH, Masks, Significance};
-use crate::driver::{FirstLook, analyse, diagnose_tracked, first_look};
+use crate::driver::{FirstLook, Look, analyse, diagnose_tracked, first_look};
 use crate::report::band_choice;
 use crate::{
     Baseline, DiagnoseOptions, Diagnosis, EnvelopeSpectrum, HARMONICS, Hypothesis,
@@ -121,7 +121,7 @@ pub fn diagnose_unknown_bearing(
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis> {
-    crate::driver::with_engine(|engine| unknown_in(engine, signal, baseline, options, true))
+    crate::driver::with_engine(|engine| unknown_in(engine, signal, baseline, options, Look::Track))
 }
 
 fn unknown_in(
@@ -129,20 +129,20 @@ fn unknown_in(
     signal: &crate::Signal<'_>,
     baseline: Option<&Baseline>,
     options: &DiagnoseOptions,
-    track: bool,
+    look: Look,
 ) -> Result<Diagnosis> {
     let fs_hz = signal.fs_hz();
     check_fs(fs_hz)?;
     let options = options.check()?;
-    let spectrum_comb = match first_look(engine, signal, baseline, &options, track)? {
+    let spectrum_comb = match first_look(engine, signal, baseline, &options, look)? {
         FirstLook::Steady(c) => c,
         // a tracked record the search refuses is read at one speed instead
-        FirstLook::Varying(t, c) => match diagnose_tracked(t, options.false_alarm, |s, o| {
-            unknown_in(engine, s, None, o, false)
-        }) {
-            Ok(d) => return Ok(d),
-            Err(_) => c,
-        },
+        FirstLook::Varying(t, m, c) => {
+            match diagnose_tracked(*t, m, &options, |s, o, l| unknown_in(engine, s, None, o, l)) {
+                Ok(d) => return Ok(d),
+                Err(_) => c,
+            }
+        }
     };
     // bands wide enough for three harmonics of the highest order searched
     let plan_orders = FaultOrders {

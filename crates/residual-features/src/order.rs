@@ -209,10 +209,11 @@ pub struct SpeedProfile {
     pub frame_s: f64,
     /// Frame centres, s.
     pub centres_s: Vec<f64>,
-    /// Speed at each centre (the median of three neighbouring frames' readings, then a straight
+    /// Speed at each centre (the median of three neighbouring frames' path speeds, then a straight
     /// line through [`SMOOTH_HALF`] frames each side read at the frame), rpm.
     pub rpm: Vec<f64>,
-    /// Frames whose comb was read (the others took their neighbour's speed).
+    /// Frames whose comb is read at the path's speed (the others take the speed the path
+    /// leads through them).
     pub frames_read: usize,
 }
 
@@ -244,7 +245,7 @@ impl SpeedProfile {
 
 /// Shaft turns a profile frame holds at the slowest speed searched.
 pub const FRAME_TURNS: f64 = 12.0;
-/// Relative half-width of the search around the neighbouring frame's speed.
+/// Largest relative change of the speed from one frame to the next (half a frame apart).
 pub const TRACK_SEARCH: f64 = 0.06;
 /// Frames each side of a frame whose (median-of-three) readings are averaged into its speed:
 /// one frame's reading scatters by about 1 % (its comb's top order smeared by the speed's
@@ -252,20 +253,44 @@ pub const TRACK_SEARCH: f64 = 0.06;
 pub const SMOOTH_HALF: usize = 2;
 /// Fewest frames a profile is read from.
 pub const MIN_FRAMES: usize = 6;
-/// Share of the frames whose comb must be read.
-pub const MIN_FRAMES_READ: f64 = 0.8;
+/// Share of the frames whose comb must be read at the path's speed ([`speed_profile`]). A path
+/// chosen over all frames at once carries a frame whose comb is weak on its neighbours' (a
+/// 12-turn frame of a comb at 0 dB SNR shows its first order at 10 dB in one frame of two or
+/// three); what says a profile is a speed is the tracked record's own comb
+/// (`diagnosis::driver::first_look`, [`crate::speed::leading_lines_speed`]), which refused every
+/// path of the corpus's sweeping machines that strayed more than 10 % from the true speed. Until
+/// 2026-12-08, with frames tracked one by one, 0.8.
+pub const MIN_FRAMES_READ: f64 = 0.25;
 /// A frame whose reading is this far (relative) from the median of it and its two neighbours
-/// is an outlier; a profile with more than a fifth of them is not one.
+/// is an outlier; a profile with more than a fifth of them is not one. The path's frame at the
+/// seed stays within this of the seed's own reading.
 pub const FRAME_OUTLIER: f64 = 0.02;
+/// Step of the speed grid the path through the frames is chosen on (relative, log-spaced).
+pub const PATH_STEP: f64 = 0.002;
+/// The grid reaches this far (relative) each way from the seed's speed: a sweep of a whole
+/// mean speed's span from either end.
+pub const PATH_REACH: f64 = 1.0;
+/// What a change of the speed between neighbouring frames costs the path, per unit of relative
+/// change, in the comb score's units (log₁₀ power: 1 = 10 dB at one order): a 6 % step costs
+/// 0.3, a third of one order standing 10 dB; a frame's noise moves no path, a comb's order does.
+pub const PATH_CHANGE_COST: f64 = 5.0;
 
 /// The shaft speed through the recording `x`, read from its own shaft comb frame by frame:
-/// frames of [`FRAME_TURNS`] turns at `rpm_low` (half overlapping) searched as a whole
-/// recording is ([`crate::speed`]'s comb, its acceptance rules), the first over
-/// `[rpm_low, rpm_high]` at the frame whose comb scores best, every other within
-/// ± [`TRACK_SEARCH`] of its neighbour's — so a sweep may leave the range searched. A frame
-/// whose comb is not accepted takes its neighbour's speed. `None` when fewer than
-/// [`MIN_FRAMES`] frames fit, fewer than [`MIN_FRAMES_READ`] of them are read, or more than a
-/// fifth stand [`FRAME_OUTLIER`] off their neighbours' median (no comb the frames agree on).
+/// frames of [`FRAME_TURNS`] turns at `rpm_low` (half overlapping); a seed, the frame whose comb
+/// over `[rpm_low, rpm_high]` scores best (searched as a whole recording is, [`crate::speed`]'s
+/// comb, the frame read by its rules); then the path of speeds through every frame, on a grid of
+/// [`PATH_STEP`] within ± [`PATH_REACH`] of the seed's speed, that holds the most comb score
+/// (each frame's comb scored at the path's speed, less [`PATH_CHANGE_COST`] per relative change
+/// between frames; no change over [`TRACK_SEARCH`]; at the seed's frame within
+/// [`FRAME_OUTLIER`] of its reading) — chosen over all frames at once by dynamic programming
+/// (Viterbi), so a frame whose comb is weak or smeared takes the speed its neighbours' combs
+/// lead through, and a sweep may leave the range searched. Until 2026-12-08 each frame was
+/// searched around its neighbour's reading in turn and a frame not read kept the neighbour's
+/// speed: one misread frame moved every later one, and the readings' scatter (a 12-turn frame
+/// places a comb of three orders only to a few per cent) refused most sweeping machines. `None`
+/// when fewer than [`MIN_FRAMES`] frames fit, fewer than [`MIN_FRAMES_READ`] of them show a comb
+/// at the path's speed (read by the frame rules), or more than a fifth stand [`FRAME_OUTLIER`]
+/// off their neighbours' median (no comb the frames agree on).
 ///
 /// # Errors
 /// Input errors.
@@ -294,7 +319,7 @@ pub fn speed_profile(
     let mut seed: Option<(usize, f64, f64)> = None;
     for i in 0..frames {
         if let Some(m) = speed::comb_speed(engine, frame(i), fs_hz, centre, search, 0.0, true)?
-            && frame_read(&m)
+            && frame_read(&speed::CombReading::of(&m))
             && seed.is_none_or(|s| m.comb_score > s.2)
         {
             seed = Some((i, m.rpm, m.comb_score));
@@ -303,27 +328,11 @@ pub fn speed_profile(
     let Some((i0, rpm0, _)) = seed else {
         return Ok(None);
     };
-    let mut rpm = vec![rpm0; frames];
-    let mut read = vec![false; frames];
-    read[i0] = true;
-    let mut track = |i: usize, prev: f64| -> Result<f64> {
-        Ok(
-            match speed::comb_speed(engine, frame(i), fs_hz, prev, TRACK_SEARCH, 0.0, true)? {
-                Some(m) if frame_read(&m) => {
-                    read[i] = true;
-                    m.rpm
-                }
-                _ => prev,
-            },
-        )
+    let Some(rpm) = comb_path(engine, x, fs_hz, (len, hop, frames), (i0, rpm0))? else {
+        return Ok(None);
     };
-    for i in i0 + 1..frames {
-        rpm[i] = track(i, rpm[i - 1])?;
-    }
-    for i in (0..i0).rev() {
-        rpm[i] = track(i, rpm[i + 1])?;
-    }
-    let frames_read = read.iter().filter(|r| **r).count();
+    let frames_read = rpm.iter().filter(|r| r.1).count();
+    let rpm: Vec<f64> = rpm.iter().map(|r| r.0).collect();
     if (frames_read as f64) < MIN_FRAMES_READ * frames as f64 {
         return Ok(None);
     }
@@ -373,6 +382,102 @@ pub fn speed_profile(
     }))
 }
 
+/// The path of speeds (rpm) through the `frames` frames of `len` samples `hop` apart that holds
+/// the most comb score ([`speed_profile`]), through the seed's frame `i0` near its reading
+/// `rpm0`, each with whether its comb is read there ([`frame_read`]); `None` when a frame's
+/// spectrum cannot be read.
+fn comb_path(
+    engine: &mut SpectralEngine,
+    x: &[f64],
+    fs_hz: f64,
+    (len, hop, frames): (usize, usize, usize),
+    (i0, rpm0): (usize, f64),
+) -> Result<Option<Vec<(f64, bool)>>> {
+    let half = ((1.0 + PATH_REACH).ln() / PATH_STEP).floor() as i64;
+    let grid: Vec<f64> = (-half..=half)
+        .map(|j| rpm0 * (j as f64 * PATH_STEP).exp())
+        .collect();
+    let m = grid.len();
+    let jump = ((1.0 + TRACK_SEARCH).ln() / PATH_STEP).floor() as usize;
+    let mut combs = Vec::with_capacity(frames);
+    let mut scores: Vec<Vec<f64>> = Vec::with_capacity(frames);
+    for i in 0..frames {
+        let Some(c) =
+            speed::CombFrame::read(engine, &x[i * hop..i * hop + len], fs_hz, rpm0, PATH_REACH)?
+        else {
+            return Ok(None);
+        };
+        // each order's score at each grid speed; an order the mains hide there scores as the
+        // frame's typical order (the median over the grid): neither evidence for the speed nor
+        // against it. A short frame's mains exclusion (± 3.5 bins of 1–4 Hz around every
+        // multiple of 50 and 60 Hz) hides most orders at some speeds — at 1500 rpm in a 0.54 s
+        // frame seven of ten — and the whole-record score (the mean over the orders scored)
+        // then rated those speeds by their strongest orders alone: the path held a frame's
+        // speed near them.
+        let per: Vec<Vec<Option<f64>>> =
+            grid.iter().map(|&g| c.order_scores(g).collect()).collect();
+        let mut all: Vec<f64> = per.iter().flatten().flatten().copied().collect();
+        let typical = if all.is_empty() {
+            0.0
+        } else {
+            let mid = all.len() / 2;
+            *all.select_nth_unstable_by(mid, f64::total_cmp).1
+        };
+        let mut s: Vec<f64> = per
+            .iter()
+            .map(|o| o.iter().map(|v| v.unwrap_or(typical)).sum())
+            .collect();
+        if i == i0 {
+            for (v, g) in s.iter_mut().zip(&grid) {
+                if (g / rpm0 - 1.0).abs() > FRAME_OUTLIER {
+                    *v = f64::NEG_INFINITY;
+                }
+            }
+        }
+        scores.push(s);
+        combs.push(c);
+    }
+    // Viterbi: the best total up to each frame at each grid speed, and where it came from
+    let cost = |d: usize| PATH_CHANGE_COST * d as f64 * PATH_STEP;
+    let mut total = scores[0].clone();
+    let mut from: Vec<Vec<u32>> = Vec::with_capacity(frames);
+    for s in &scores[1..] {
+        let mut next = vec![f64::NEG_INFINITY; m];
+        let mut back = vec![0u32; m];
+        for j in 0..m {
+            let (lo, hi) = (j.saturating_sub(jump), (j + jump).min(m - 1));
+            for (k, t) in total.iter().enumerate().take(hi + 1).skip(lo) {
+                let v = t - cost(j.abs_diff(k));
+                if v > next[j] {
+                    next[j] = v;
+                    back[j] = k as u32;
+                }
+            }
+            next[j] += s[j];
+        }
+        total = next;
+        from.push(back);
+    }
+    let mut j = (0..m)
+        .max_by(|&a, &b| total[a].total_cmp(&total[b]))
+        .unwrap_or(0);
+    if !total[j].is_finite() {
+        return Ok(None);
+    }
+    let mut path = vec![0usize; frames];
+    path[frames - 1] = j;
+    for i in (1..frames).rev() {
+        j = from[i - 1][j] as usize;
+        path[i - 1] = j;
+    }
+    Ok(Some(
+        path.iter()
+            .zip(&combs)
+            .map(|(&j, c)| (grid[j], frame_read(&c.reading(grid[j]))))
+            .collect(),
+    ))
+}
+
 /// Orders a frame's comb must hold present ([`speed::COMB_MIN_ORDER_PRESENT`]), its first among
 /// them at [`speed::COMB_MIN_FIRST_ORDER`], when it is not complete.
 pub const FRAME_MIN_ORDERS: usize = 3;
@@ -385,10 +490,9 @@ pub const FRAME_MIN_ORDERS: usize = 3;
 /// with a shaft comb). Its contrast is not asked — a frame resolves a shaft order to a twelfth
 /// of the shaft rate, so the combs within ± [`speed::CONTRAST_HALF_WIDTH`] read the same bins and
 /// score alike (the neighbouring frames' agreement, [`FRAME_OUTLIER`], is the check instead).
-fn frame_read(m: &speed::SpeedEstimate) -> bool {
-    (m.is_complete() && m.comb_score >= speed::COMB_MIN_PER_ORDER * m.orders as f64)
-        || (m.first_order_score >= speed::COMB_MIN_FIRST_ORDER
-            && m.orders_present >= FRAME_MIN_ORDERS)
+fn frame_read(c: &speed::CombReading) -> bool {
+    (c.is_complete() && c.score >= speed::COMB_MIN_PER_ORDER * c.orders as f64)
+        || (c.first_order >= speed::COMB_MIN_FIRST_ORDER && c.present >= FRAME_MIN_ORDERS)
 }
 
 /// Resample `x` at equal shaft angles along a [`speed_profile`]: the angle first the integral of
@@ -443,6 +547,26 @@ pub fn order_track_profile(
     if refined.windows(2).any(|w| w[1] <= w[0]) {
         return finish(engine, coarse, fs_hz, source(None));
     }
+    // the speed the refined angle shows over each of the profile's frames: the record's range
+    // (and so its band and its samples a turn) from the angle it is resampled along, not from
+    // the frames' comb readings it corrected (a steady record's frames scatter by a few per
+    // cent; its refined angle turns at one speed)
+    let half = (0.5 * profile.frame_s * fs_hz).round() as usize;
+    let refined_rates: Vec<f64> = profile
+        .centres_s
+        .iter()
+        .filter_map(|c| {
+            let mid = (c * fs_hz).round() as usize;
+            let (a, b) = (mid.saturating_sub(half).max(first), (mid + half).min(last));
+            (b > a + half)
+                .then(|| (refined[b - first] - refined[a - first]) * fs_hz / (b - a) as f64)
+        })
+        .collect();
+    let rates = if refined_rates.is_empty() {
+        rates
+    } else {
+        refined_rates
+    };
     let a = angular(&x[first..=last], fs_hz, &refined, &rates)?;
     finish(engine, a, fs_hz, source(Some(k)))
 }
@@ -788,6 +912,36 @@ mod tests {
             .collect()
     }
 
+    /// A 1500 rpm machine sweeping ± 5 % (up, then down) on 50 Hz mains territory: in a frame of
+    /// 0.54 s the mains exclusion hides seven of its ten orders at 1500 rpm itself, and the
+    /// path must still follow the sweep to its top (scored as the mean over the orders left,
+    /// 1500 rpm outscored the sweep's own speeds and the profile read flat).
+    #[test]
+    fn a_sweep_through_a_mains_multiple_is_followed_to_its_top() {
+        let fs = 25_600.0;
+        let (secs, n) = (6.0, (6.0 * fs) as usize);
+        let hz = |t: f64| 25.0 * (1.0 + 0.1 * (0.5 - (2.0 * t / secs - 1.0).abs()) - 0.025);
+        let mut theta = Vec::with_capacity(n);
+        let mut acc = 0.0;
+        for k in 0..n {
+            theta.push(acc);
+            acc += hz(k as f64 / fs) / fs;
+        }
+        let x = comb(&theta, 9);
+        let mut e = SpectralEngine::new();
+        let p = speed_profile(&mut e, &x, fs, 0.9 * 1470.0, 1.1 * 1470.0)
+            .unwrap()
+            .expect("a profile");
+        for (c, r) in p.centres_s.iter().zip(&p.rpm) {
+            let truth = 60.0 * hz(*c);
+            assert!(
+                (r / truth - 1.0).abs() < 0.02,
+                "{r:.0} rpm at {c:.2} s, truth {truth:.0}"
+            );
+        }
+        assert!(p.spread() > 0.07, "{}", p.spread());
+    }
+
     #[test]
     fn a_sweep_is_read_from_the_shaft_comb_frame_by_frame() {
         let fs = 12_000.0;
@@ -880,7 +1034,7 @@ mod tests {
             );
         }
         let o = order_track_profile(&mut e, &x, fs, &p).unwrap();
-        let m = speed::leading_lines_speed(&mut e, &o.samples, o.equivalent_fs_hz, o.mean_rpm)
+        let m = speed::leading_lines_speed(&mut e, &o.samples, o.equivalent_fs_hz, o.mean_rpm, 0.0)
             .unwrap()
             .expect("a comb");
         let r = m.refined_rpm.expect("refined on its leading lines");

@@ -702,7 +702,14 @@ pub(crate) fn comb_speed(
 /// shaft comb often falls a few dB an order after the second, so that only its first three to
 /// five orders stand; the order tracking (`order`) asks this of a record tracked along a speed
 /// profile — its lines sharp at the mean speed — where the completeness rule of a steady
-/// recording's speed would refuse most real combs.
+/// recording's speed would refuse most real combs. The comb is searched within ± `search` of
+/// `rpm` ([`SPEED_SEARCH`] for a declared speed); with `search` 0 it is read at `rpm` itself
+/// and refined from there — a tracked record's lines stand at whole orders of its mean speed
+/// when it was tracked right, and a comb search of a record of a few dozen turns places its comb
+/// only to a bin at its top order, up to a few tenths of a per cent off: its lines' refinement
+/// windows (± [`REFINE_WINDOW`]) then missed the first order. The record need resolve the shaft rate only
+/// to [`LEADING_RESOLUTION`], not to [`REFINE_RESOLUTION`] (nor the comb search to half of
+/// [`SPEED_TOL`]).
 ///
 /// # Errors
 /// As [`estimate_speed`].
@@ -711,15 +718,107 @@ pub fn leading_lines_speed(
     x: &[f64],
     fs_hz: f64,
     rpm: f64,
+    search: f64,
 ) -> Result<Option<SpeedEstimate>> {
     comb_speed_refining(
         engine,
         x,
         fs_hz,
         rpm,
-        (SPEED_SEARCH, REFINE_RESOLUTION, false),
+        (search, LEADING_RESOLUTION, true),
         true,
     )
+}
+
+/// The bin a record read by [`leading_lines_speed`] may have, as a fraction of the shaft rate:
+/// the order tracking's fewest turns ([`crate::order::MIN_TURNS`]). A tracked record's speed is
+/// the profile's mean, known before its comb is looked at; what the check asks is that three of
+/// its leading lines agree on one speed within [`REFINE_CONSISTENCY`], which a line placed by
+/// the zoom DFT does to a small part of a bin. Until 2026-12-08 [`REFINE_RESOLUTION`] (100 turns)
+/// and the search's resolution (67 turns at ten orders): every tracked record of a 6 s sweep
+/// at 600 rpm (60 turns) was refused however sharp its comb, and most sweeping machines of the
+/// corpus at 1000 rpm too.
+pub const LEADING_RESOLUTION: f64 = 1.0 / crate::order::MIN_TURNS;
+
+/// What a frame's shaft comb at one speed shows ([`CombFrame::reading`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CombReading {
+    /// The comb's score ([`SpeedEstimate::comb_score`]).
+    pub score: f64,
+    /// Orders scored below the spectrum's top.
+    pub orders: usize,
+    /// Its first order's score.
+    pub first_order: f64,
+    /// Orders standing [`COMB_MIN_ORDER_PRESENT`] over their background.
+    pub present: usize,
+    /// Orders off every mains multiple.
+    pub scored: usize,
+}
+
+impl CombReading {
+    /// What a comb search's best comb `m` shows.
+    pub fn of(m: &SpeedEstimate) -> Self {
+        Self {
+            score: m.comb_score,
+            orders: m.orders,
+            first_order: m.first_order_score,
+            present: m.orders_present,
+            scored: m.orders_scored,
+        }
+    }
+
+    /// Whether the comb is complete ([`SpeedEstimate::is_complete`]).
+    pub fn is_complete(&self) -> bool {
+        comb_complete(self.first_order, self.present, self.scored)
+    }
+}
+
+/// A frame's log spectrum, for its shaft comb's score at any speed within a stated reach of a
+/// centre speed: what a path of speeds through the frames is chosen on
+/// (`order::speed_profile`).
+pub(crate) struct CombFrame {
+    spectrum: CombSpectrum,
+    rpm: f64,
+}
+
+impl CombFrame {
+    /// The frame `x` (at `fs_hz`) for combs at `rpm` ± `reach` (relative); `None` when it is too
+    /// short or no order fits under its spectrum's top.
+    pub fn read(
+        engine: &mut SpectralEngine,
+        x: &[f64],
+        fs_hz: f64,
+        rpm: f64,
+        reach: f64,
+    ) -> Result<Option<Self>> {
+        Ok(CombSpectrum::read(engine, x, fs_hz, rpm, reach, true)?
+            .map(|spectrum| Self { spectrum, rpm }))
+    }
+
+    /// The comb at `rpm`: its score ([`CombSpectrum::score`]) and what the frame rules ask.
+    pub fn reading(&self, rpm: f64) -> CombReading {
+        let c = &self.spectrum;
+        let r = rpm / self.rpm;
+        CombReading {
+            score: c.score(r),
+            orders: c.orders,
+            first_order: c.order_score(1, r),
+            present: (1..=c.orders)
+                .filter(|&k| c.order_score(k, r) >= COMB_MIN_ORDER_PRESENT)
+                .count(),
+            scored: (1..=c.orders)
+                .filter(|&k| !c.mains(k as f64 * c.fr0 * r))
+                .count(),
+        }
+    }
+
+    /// Each order's score at `rpm` ([`CombSpectrum::order_score`]), `None` for an order on a
+    /// mains multiple ([`MAINS_REACH_BINS`]).
+    pub fn order_scores(&self, rpm: f64) -> impl Iterator<Item = Option<f64>> + '_ {
+        let c = &self.spectrum;
+        let r = rpm / self.rpm;
+        (1..=c.orders).map(move |k| (!c.mains(k as f64 * c.fr0 * r)).then(|| c.order_score(k, r)))
+    }
 }
 
 /// [`comb_speed`] (its search, resolution and coarseness as one triple), refining an incomplete
@@ -739,12 +838,16 @@ fn comb_speed_refining(
     // steps of a quarter bin at the highest order scored
     let step = 0.25 * df / (orders as f64 * fr0);
     let steps = (2.0 * search / step).ceil() as usize;
-    let scores: Vec<(f64, f64)> = (0..=steps)
-        .map(|j| {
-            let r = 1.0 - search + 2.0 * search * j as f64 / steps as f64;
-            (r, c.score(r))
-        })
-        .collect();
+    let scores: Vec<(f64, f64)> = if steps == 0 {
+        vec![(1.0, c.score(1.0))]
+    } else {
+        (0..=steps)
+            .map(|j| {
+                let r = 1.0 - search + 2.0 * search * j as f64 / steps as f64;
+                (r, c.score(r))
+            })
+            .collect()
+    };
     let (mut r_best, mut s_best) =
         scores.iter().copied().fold(
             (1.0, f64::NEG_INFINITY),
@@ -797,32 +900,62 @@ fn comb_speed_refining(
 mod tests {
     use super::*;
 
-    /// A steady comb of three strong orders and nothing above them: incomplete over its ten
-    /// orders, so the whole-record rule refines no speed; its leading lines refine it.
-    #[test]
-    fn a_comb_of_three_orders_refines_on_its_leading_lines() {
-        let (fs, fr) = (12_000.0, 24.7);
-        let x: Vec<f64> = (0..(8.0 * fs) as usize)
+    /// `secs` s at `fs` Hz of a steady comb: orders `1..=orders` of `fr` Hz, order `k` of
+    /// amplitude `1/k`, and a tone of amplitude `tone` at 0.37 `fs` (off every order).
+    fn few_orders(fs: f64, fr: f64, orders: i32, secs: f64, tone: f64) -> Vec<f64> {
+        (0..(secs * fs) as usize)
             .map(|i| {
                 let t = i as f64 / fs;
-                (1..=3)
+                (1..=orders)
                     .map(|k| {
                         let k = f64::from(k);
                         (2.0 * std::f64::consts::PI * k * fr * t + k).sin() / k
                     })
                     .sum::<f64>()
-                    + 0.05 * (2.0 * std::f64::consts::PI * 0.37 * t * fs).sin()
+                    + tone * (2.0 * std::f64::consts::PI * 0.37 * t * fs).sin()
             })
-            .collect();
+            .collect()
+    }
+
+    /// A steady comb of three strong orders and nothing above them: incomplete over its ten
+    /// orders, so the whole-record rule refines no speed; its leading lines refine it.
+    #[test]
+    fn a_comb_of_three_orders_refines_on_its_leading_lines() {
+        let (fs, fr) = (12_000.0, 24.7);
+        let x = few_orders(fs, fr, 3, 8.0, 0.05);
         let mut e = SpectralEngine::new();
         let m = estimate_speed(&mut e, &x, fs, 1500.0).unwrap().unwrap();
         assert!(!m.is_complete() && m.refined_rpm.is_none(), "{m:?}");
-        let l = leading_lines_speed(&mut e, &x, fs, 1500.0)
+        let l = leading_lines_speed(&mut e, &x, fs, 1500.0, SPEED_SEARCH)
             .unwrap()
             .unwrap();
         let r = l.refined_rpm.expect("refined");
         assert!((r / (60.0 * fr) - 1.0).abs() < 1e-4, "{r}");
         assert_eq!((l.rpm, l.orders_present), (m.rpm, m.orders_present));
+    }
+
+    /// Read at a stated speed (`search` 0, as a tracked record is at its mean speed): a comb of
+    /// 40 turns whose lines stand on that speed's whole orders refines to it; the same comb
+    /// 1 % faster (a record tracked along a wrong profile) refines to nothing within the check's
+    /// 0.5 % — its lines lie outside every order's refinement window.
+    #[test]
+    fn a_comb_read_at_a_stated_speed_refines_only_where_its_lines_stand() {
+        let fs = 2_000.0;
+        let comb = |fr: f64| few_orders(fs, fr, 4, 40.0 / 23.3, 0.02);
+        let mut e = SpectralEngine::new();
+        let on = leading_lines_speed(&mut e, &comb(23.3), fs, 1398.0, 0.0)
+            .unwrap()
+            .unwrap();
+        let r = on.refined_rpm.unwrap_or_else(|| panic!("{on:?}"));
+        assert!((r / 1398.0 - 1.0).abs() < 2e-4, "{r}");
+        let off = leading_lines_speed(&mut e, &comb(23.533), fs, 1398.0, 0.0)
+            .unwrap()
+            .unwrap();
+        assert!(
+            off.refined_rpm
+                .is_none_or(|r| (r / 1398.0 - 1.0).abs() > 0.005),
+            "{off:?}"
+        );
     }
 
     /// A shaft comb at `t` s: orders 1..=10 of `fr` Hz, each of amplitude `amp` and phase
